@@ -1,0 +1,391 @@
+//! The binned SAH builder: triangles in, a binary [`Bvh`] of plain arrays out.
+//!
+//! Nodes are built top-down. Each node's triangles are a contiguous slice of the
+//! index array that is partitioned in place, so leaves simply point into it. Subtrees
+//! with at least `parallel_threshold` triangles are built on separate rayon tasks
+//! into their own node vectors and appended afterwards; the result is bit-identical
+//! to a sequential build.
+
+use std::time::Instant;
+
+use glam::Vec3;
+use rayon::prelude::*;
+
+use crate::aabb::Aabb;
+use crate::split::{self, MAX_BINS, Prims, Summary};
+
+/// Most triangles in one leaf; the GPU leaf encoding has four bits for `count - 1`.
+pub const MAX_LEAF_SIZE: usize = 16;
+
+/// Deepest leaf depth (root = 0) the builder produces, which bounds the traversal stack.
+///
+/// Near this depth the builder switches from SAH to median splits (see [`build`]).
+pub const MAX_DEPTH: usize = 64;
+
+/// SAH cost of traversing one interior node, relative to [`SAH_INTERSECTION_COST`].
+pub const SAH_TRAVERSAL_COST: f32 = 1.0;
+
+/// SAH cost of one ray/triangle test. Equal to the traversal cost, as in tinybvh's
+/// defaults; it makes splits cheap enough that leaves stay small.
+pub const SAH_INTERSECTION_COST: f32 = 1.0;
+
+/// Tuning knobs for [`build`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct BuildOptions {
+    /// Bins per axis in the SAH sweep (default 16); clamped to `2..=64`.
+    pub bins: usize,
+    /// Largest leaf the SAH may choose (default 4); nodes with more triangles are
+    /// always split. Clamped to `1..=MAX_LEAF_SIZE`.
+    pub max_leaf_size: usize,
+    /// Nodes with at least this many triangles (default 4096) are binned with parallel
+    /// chunks and have their two subtrees built with `rayon::join`.
+    pub parallel_threshold: usize,
+}
+
+impl Default for BuildOptions {
+    /// 16 bins, leaves of up to 4 triangles, parallel from 4096 triangles on.
+    fn default() -> Self {
+        Self {
+            bins: 16,
+            max_leaf_size: 4,
+            parallel_threshold: 4096,
+        }
+    }
+}
+
+/// Figures describing a finished build, for logs and benchmarks.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct BuildStats {
+    /// Number of nodes, interior and leaf (`2 * leaves - 1` for a non-empty tree).
+    pub nodes: usize,
+    /// Number of leaves.
+    pub leaves: usize,
+    /// Depth of the deepest leaf, the root being at depth 0; also the most entries the
+    /// traversal stack can hold at once.
+    pub max_depth: usize,
+    /// [`sah_cost`] of the tree.
+    pub sah_cost: f32,
+    /// Wall-clock build time in milliseconds (excluding these statistics).
+    pub build_ms: f64,
+}
+
+/// One node of the binary tree.
+///
+/// * Leaf: `count > 0`; its triangles are `indices[first..first + count]`.
+/// * Interior: `count == 0` and `first > 0`; its children are the nodes `first`
+///   (left) and `first + 1` (right), always allocated as an adjacent pair.
+/// * Empty leaf: `count == 0` and `first == 0`; only the root of an empty build
+///   (no node can have the root as a child, so `first == 0` is never an interior).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Node {
+    /// Exact union of the bounds of every triangle below this node.
+    pub bounds: Aabb,
+    /// Left child index (interior) or first slot in [`Bvh::indices`] (leaf).
+    pub first: u32,
+    /// Number of triangles for a leaf, 0 for an interior node.
+    pub count: u32,
+}
+
+impl Node {
+    /// Whether this node is a leaf (possibly the empty root leaf) rather than interior.
+    pub fn is_leaf(&self) -> bool {
+        self.count > 0 || self.first == 0
+    }
+}
+
+/// A binary bounding volume hierarchy over triangles, as plain arrays.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Bvh {
+    /// All nodes, root at 0, sibling pairs adjacent, in depth-first order.
+    pub nodes: Vec<Node>,
+    /// Triangle ids (positions in the input array) in leaf order.
+    pub indices: Vec<u32>,
+    /// Figures about this build.
+    pub stats: BuildStats,
+}
+
+/// Builds a BVH over `triangles` with binned SAH splits.
+///
+/// At each node the triangles' centroids are binned on all three axes and the plane
+/// with the lowest SAH cost is chosen. The node becomes a leaf when it holds at most
+/// one triangle, or when it fits in `max_leaf_size` and the best split is not cheaper
+/// than intersecting all of its triangles. When all centroids coincide, or when the
+/// tree would get deeper than [`MAX_DEPTH`], nodes are split at the median instead,
+/// which keeps the depth logarithmic. Zero-area triangles are handled like any other.
+///
+/// # Panics
+/// If there are `u32::MAX` or more triangles.
+pub fn build(triangles: &[[Vec3; 3]], options: &BuildOptions) -> Bvh {
+    assert!(
+        triangles.len() < u32::MAX as usize,
+        "too many triangles for u32 ids"
+    );
+    let start = Instant::now();
+    let bounds: Vec<Aabb> = triangles.par_iter().map(Aabb::from_triangle).collect();
+    let centroids: Vec<Vec3> = bounds.par_iter().map(Aabb::centroid).collect();
+    let builder = Builder {
+        prims: Prims {
+            bounds: &bounds,
+            centroids: &centroids,
+        },
+        bins: options.bins.clamp(2, MAX_BINS),
+        max_leaf_size: options.max_leaf_size.clamp(1, MAX_LEAF_SIZE),
+        parallel_threshold: options.parallel_threshold,
+    };
+    let mut indices: Vec<u32> = (0..triangles.len() as u32).collect();
+    let nodes = builder.subtree(&mut indices, 0, 0);
+    let build_ms = start.elapsed().as_secs_f64() * 1000.0;
+    let mut bvh = Bvh {
+        nodes,
+        indices,
+        stats: BuildStats::default(),
+    };
+    bvh.stats = measure(&bvh, build_ms);
+    bvh
+}
+
+/// Surface area heuristic cost of `bvh`, normalised by the root's surface area:
+/// `sum(interior) SAH_TRAVERSAL_COST * area + sum(leaves) SAH_INTERSECTION_COST * count * area`,
+/// divided by the root's area — the expected work for a ray that hits the root box.
+///
+/// Returns 0 when the root has no surface area (empty or point/segment-like input,
+/// where no triangle can be hit).
+pub fn sah_cost(bvh: &Bvh) -> f32 {
+    let root_area = bvh.nodes[0].bounds.surface_area();
+    if root_area <= 0.0 {
+        return 0.0;
+    }
+    let total: f32 = bvh
+        .nodes
+        .iter()
+        .map(|node| {
+            let weight = if node.is_leaf() {
+                SAH_INTERSECTION_COST * node.count as f32
+            } else {
+                SAH_TRAVERSAL_COST
+            };
+            weight * node.bounds.surface_area()
+        })
+        .sum();
+    total / root_area
+}
+
+/// Counts leaves and depth and computes the SAH cost of a finished tree.
+fn measure(bvh: &Bvh, build_ms: f64) -> BuildStats {
+    let (mut leaves, mut max_depth) = (0, 0);
+    let mut stack = vec![(0usize, 0usize)];
+    while let Some((index, depth)) = stack.pop() {
+        let node = bvh.nodes[index];
+        if node.is_leaf() {
+            leaves += 1;
+            max_depth = max_depth.max(depth);
+        } else {
+            stack.push((node.first as usize, depth + 1));
+            stack.push((node.first as usize + 1, depth + 1));
+        }
+    }
+    BuildStats {
+        nodes: bvh.nodes.len(),
+        leaves,
+        max_depth,
+        sah_cost: sah_cost(bvh),
+        build_ms,
+    }
+}
+
+/// `ceil(log2(n))` for `n >= 1`, and 0 for `n == 0`.
+fn ceil_log2(n: usize) -> usize {
+    n.next_power_of_two().trailing_zeros() as usize
+}
+
+/// How a node is divided, if at all.
+enum Decision {
+    Leaf,
+    Binned(split::BinnedSplit),
+    Median,
+}
+
+/// Immutable state shared by all (possibly parallel) recursive calls.
+struct Builder<'a> {
+    prims: Prims<'a>,
+    bins: usize,
+    max_leaf_size: usize,
+    parallel_threshold: usize,
+}
+
+impl Builder<'_> {
+    /// Builds the subtree over `indices` (which start at `offset` in the global index
+    /// array) into a fresh vector whose element 0 is the subtree's root.
+    fn subtree(&self, indices: &mut [u32], offset: usize, depth: usize) -> Vec<Node> {
+        let mut nodes = vec![Node::default()];
+        self.subdivide(&mut nodes, 0, indices, offset, depth);
+        nodes
+    }
+
+    /// Fills in `nodes[node]` for the triangles in `indices` and recurses into children.
+    fn subdivide(
+        &self,
+        nodes: &mut Vec<Node>,
+        node: usize,
+        indices: &mut [u32],
+        offset: usize,
+        depth: usize,
+    ) {
+        let parallel = indices.len() >= self.parallel_threshold;
+        let summary = split::summarize(self.prims, indices, parallel);
+        nodes[node].bounds = summary.bounds;
+        let mid = match self.decide(indices, &summary, depth, parallel) {
+            Decision::Leaf => {
+                nodes[node].first = offset as u32;
+                nodes[node].count = indices.len() as u32;
+                return;
+            }
+            Decision::Binned(plane) => split::partition_binned(self.prims, indices, &plane),
+            Decision::Median => split::partition_median(self.prims, indices, &summary.centroids),
+        };
+        let (left, right) = indices.split_at_mut(mid);
+        let first = nodes.len();
+        nodes[node].first = first as u32;
+        if parallel {
+            let (l, r) = rayon::join(
+                || self.subtree(left, offset, depth + 1),
+                || self.subtree(right, offset + mid, depth + 1),
+            );
+            append_pair(nodes, &l, &r);
+        } else {
+            nodes.extend([Node::default(); 2]);
+            self.subdivide(nodes, first, left, offset, depth + 1);
+            self.subdivide(nodes, first + 1, right, offset + mid, depth + 1);
+        }
+    }
+
+    /// Chooses between a leaf, the best binned SAH split and a median split.
+    fn decide(&self, indices: &[u32], summary: &Summary, depth: usize, parallel: bool) -> Decision {
+        let count = indices.len();
+        if count <= 1 {
+            return Decision::Leaf;
+        }
+        let must_split = count > self.max_leaf_size;
+        // Depth guard: below this line every split halves the count, so leaf depth
+        // stays <= MAX_DEPTH (the invariant depth + ceil_log2(count) <= MAX_DEPTH holds).
+        if depth + ceil_log2(count) >= MAX_DEPTH {
+            return if must_split {
+                Decision::Median
+            } else {
+                Decision::Leaf
+            };
+        }
+        match split::best_binned_split(self.prims, indices, &summary.centroids, self.bins, parallel)
+        {
+            Some(plane) if must_split || self.split_pays(&plane, &summary.bounds, count) => {
+                Decision::Binned(plane)
+            }
+            Some(_) => Decision::Leaf,
+            None if must_split => Decision::Median,
+            None => Decision::Leaf,
+        }
+    }
+
+    /// Whether splitting at `plane` is strictly cheaper than a leaf by the SAH
+    /// (both sides multiplied by the node's area to avoid dividing by zero).
+    fn split_pays(&self, plane: &split::BinnedSplit, bounds: &Aabb, count: usize) -> bool {
+        let area = bounds.surface_area();
+        let split_cost = SAH_TRAVERSAL_COST * area + SAH_INTERSECTION_COST * plane.weighted_area;
+        let leaf_cost = SAH_INTERSECTION_COST * count as f32 * area;
+        split_cost < leaf_cost
+    }
+}
+
+/// Appends two independently built subtrees as the child pair starting at `nodes.len()`:
+/// both roots first, then the rest of the left subtree, then the rest of the right one,
+/// shifting the child indices of their interior nodes accordingly.
+fn append_pair(nodes: &mut Vec<Node>, left: &[Node], right: &[Node]) {
+    let first = nodes.len();
+    // A subtree-local index j >= 1 lands at first + 2 + (j - 1) (left) or
+    // first + 2 + (left.len() - 1) + (j - 1) (right); local index 0 is never a child.
+    let left_shift = first + 1;
+    let right_shift = first + left.len();
+    let shifted = |node: &Node, shift: usize| {
+        let mut node = *node;
+        if !node.is_leaf() {
+            node.first += shift as u32;
+        }
+        node
+    };
+    nodes.push(shifted(&left[0], left_shift));
+    nodes.push(shifted(&right[0], right_shift));
+    nodes.extend(left[1..].iter().map(|n| shifted(n, left_shift)));
+    nodes.extend(right[1..].iter().map(|n| shifted(n, right_shift)));
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn grid(n: usize) -> Vec<[Vec3; 3]> {
+        (0..n * n)
+            .map(|i| {
+                let p = Vec3::new((i % n) as f32, (i / n) as f32, (i % 7) as f32 * 0.1);
+                [p, p + Vec3::X, p + Vec3::Y]
+            })
+            .collect()
+    }
+
+    #[test]
+    fn parallel_build_is_identical_to_sequential() {
+        let tris = grid(90);
+        let seq = build(
+            &tris,
+            &BuildOptions {
+                parallel_threshold: usize::MAX,
+                ..Default::default()
+            },
+        );
+        let par = build(
+            &tris,
+            &BuildOptions {
+                parallel_threshold: 64,
+                ..Default::default()
+            },
+        );
+        assert_eq!(seq.nodes, par.nodes);
+        assert_eq!(seq.indices, par.indices);
+        assert_eq!(seq.stats.max_depth, par.stats.max_depth);
+    }
+
+    #[test]
+    fn ceil_log2_values() {
+        assert_eq!(
+            [0, 1, 2, 3, 4, 5, 8, 9].map(ceil_log2),
+            [0, 0, 1, 2, 2, 3, 3, 4]
+        );
+    }
+
+    #[test]
+    fn depth_guard_keeps_exponential_spacing_shallow() {
+        // Exponentially spaced centroids make each binned split peel off only the largest few.
+        let tris: Vec<[Vec3; 3]> = (0..120)
+            .map(|i| {
+                let x = 1.5f32.powi(i);
+                [
+                    Vec3::new(x, 0.0, 0.0),
+                    Vec3::new(x, 1.0, 0.0),
+                    Vec3::new(x, 0.0, 1.0),
+                ]
+            })
+            .collect();
+        let bvh = build(
+            &tris,
+            &BuildOptions {
+                max_leaf_size: 1,
+                ..Default::default()
+            },
+        );
+        assert!(
+            bvh.stats.max_depth <= MAX_DEPTH,
+            "depth {}",
+            bvh.stats.max_depth
+        );
+        assert_eq!(bvh.stats.leaves, 120);
+    }
+}

@@ -1,0 +1,318 @@
+//! Split search for one node: binned SAH over the centroid bounds on all three axes,
+//! plus the object-median split used when binning cannot separate the primitives.
+//!
+//! Everything here works on a node's slice of the global index array and reorders it
+//! in place, so a finished build needs no gather step.
+
+use glam::Vec3;
+use rayon::prelude::*;
+
+use crate::aabb::Aabb;
+
+/// The most bins a binned SAH sweep uses per axis (`BuildOptions::bins` is clamped to it).
+pub const MAX_BINS: usize = 64;
+
+/// Primitives per rayon task when summarising or binning a large node in parallel.
+const PARALLEL_CHUNK: usize = 1024;
+
+/// Per-triangle data the builder reads: bounds for node boxes, centroids for binning.
+#[derive(Clone, Copy)]
+pub(crate) struct Prims<'a> {
+    pub bounds: &'a [Aabb],
+    pub centroids: &'a [Vec3],
+}
+
+/// The bounds of a node's triangles and of their centroids.
+#[derive(Clone, Copy)]
+pub(crate) struct Summary {
+    pub bounds: Aabb,
+    pub centroids: Aabb,
+}
+
+impl Summary {
+    const EMPTY: Summary = Summary {
+        bounds: Aabb::empty(),
+        centroids: Aabb::empty(),
+    };
+
+    fn merge(self, other: Summary) -> Summary {
+        Summary {
+            bounds: self.bounds.union(&other.bounds),
+            centroids: self.centroids.union(&other.centroids),
+        }
+    }
+}
+
+/// Bounds and centroid bounds of the triangles in `indices`, in parallel if asked.
+pub(crate) fn summarize(prims: Prims, indices: &[u32], parallel: bool) -> Summary {
+    let sequential = |chunk: &[u32]| {
+        chunk.iter().fold(Summary::EMPTY, |mut s, &i| {
+            s.bounds = s.bounds.union(&prims.bounds[i as usize]);
+            s.centroids.grow(prims.centroids[i as usize]);
+            s
+        })
+    };
+    if parallel {
+        indices
+            .par_chunks(PARALLEL_CHUNK)
+            .map(sequential)
+            .reduce(|| Summary::EMPTY, Summary::merge)
+    } else {
+        sequential(indices)
+    }
+}
+
+/// Maps centroids to bin numbers along each axis of a node's centroid bounds.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Binning {
+    origin: Vec3,
+    scale: Vec3,
+    bins: usize,
+}
+
+impl Binning {
+    /// Uniform bins over `centroids`; axes without extent get scale 0 and are skipped.
+    fn new(centroids: &Aabb, bins: usize) -> Binning {
+        let extent = centroids.extent();
+        let scale = Vec3::select(extent.cmpgt(Vec3::ZERO), bins as f32 / extent, Vec3::ZERO);
+        Binning {
+            origin: centroids.min,
+            scale,
+            bins,
+        }
+    }
+
+    /// The bin of `centroid` on `axis`; the same formula is used for binning and partitioning,
+    /// so the partition sizes always match the bin counts.
+    fn bin(&self, centroid: Vec3, axis: usize) -> usize {
+        let position = (centroid[axis] - self.origin[axis]) * self.scale[axis];
+        (position as usize).min(self.bins - 1)
+    }
+}
+
+/// Triangle count and bounds accumulated in one bin.
+#[derive(Clone, Copy)]
+struct Bin {
+    bounds: Aabb,
+    count: u32,
+}
+
+/// One row of bins per axis.
+#[derive(Clone, Copy)]
+struct BinGrid([[Bin; MAX_BINS]; 3]);
+
+impl BinGrid {
+    const EMPTY: BinGrid = BinGrid(
+        [[Bin {
+            bounds: Aabb::empty(),
+            count: 0,
+        }; MAX_BINS]; 3],
+    );
+
+    fn fill(mut self, prims: Prims, indices: &[u32], binning: &Binning) -> BinGrid {
+        for &i in indices {
+            let centroid = prims.centroids[i as usize];
+            for axis in 0..3 {
+                let bin = &mut self.0[axis][binning.bin(centroid, axis)];
+                bin.bounds = bin.bounds.union(&prims.bounds[i as usize]);
+                bin.count += 1;
+            }
+        }
+        self
+    }
+
+    fn merge(mut self, other: BinGrid) -> BinGrid {
+        for (row, other_row) in self.0.iter_mut().zip(&other.0) {
+            for (bin, other_bin) in row.iter_mut().zip(other_row) {
+                bin.bounds = bin.bounds.union(&other_bin.bounds);
+                bin.count += other_bin.count;
+            }
+        }
+        self
+    }
+}
+
+/// A binned split plane: triangles whose centroid bin on `axis` is `<= bin` go left.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct BinnedSplit {
+    axis: usize,
+    bin: usize,
+    binning: Binning,
+    /// `area(left) * count(left) + area(right) * count(right)`, the unscaled SAH term.
+    pub weighted_area: f32,
+}
+
+/// The cheapest binned SAH split of `indices` over all axes with centroid extent,
+/// or `None` when every centroid coincides (nothing to separate).
+pub(crate) fn best_binned_split(
+    prims: Prims,
+    indices: &[u32],
+    centroids: &Aabb,
+    bins: usize,
+    parallel: bool,
+) -> Option<BinnedSplit> {
+    let binning = Binning::new(centroids, bins);
+    let grid = if parallel {
+        indices
+            .par_chunks(PARALLEL_CHUNK)
+            .map(|chunk| BinGrid::EMPTY.fill(prims, chunk, &binning))
+            .reduce(|| BinGrid::EMPTY, BinGrid::merge)
+    } else {
+        BinGrid::EMPTY.fill(prims, indices, &binning)
+    };
+    (0..3)
+        .filter(|&axis| binning.scale[axis] > 0.0)
+        .filter_map(|axis| {
+            let (bin, weighted_area) = sweep(&grid.0[axis][..bins])?;
+            Some(BinnedSplit {
+                axis,
+                bin,
+                binning,
+                weighted_area,
+            })
+        })
+        .min_by(|a, b| a.weighted_area.total_cmp(&b.weighted_area))
+}
+
+/// Sweeps the planes between bins of one axis and returns the best `(last left bin, cost)`,
+/// skipping planes with an empty side.
+fn sweep(bins: &[Bin]) -> Option<(usize, f32)> {
+    let planes = bins.len() - 1;
+    let mut left_area = [0.0f32; MAX_BINS];
+    let mut left_count = [0u32; MAX_BINS];
+    let mut bounds = Aabb::empty();
+    let mut count = 0;
+    for (i, bin) in bins[..planes].iter().enumerate() {
+        bounds = bounds.union(&bin.bounds);
+        count += bin.count;
+        left_area[i] = bounds.surface_area();
+        left_count[i] = count;
+    }
+    let mut best: Option<(usize, f32)> = None;
+    bounds = Aabb::empty();
+    count = 0;
+    for plane in (0..planes).rev() {
+        bounds = bounds.union(&bins[plane + 1].bounds);
+        count += bins[plane + 1].count;
+        if count == 0 || left_count[plane] == 0 {
+            continue;
+        }
+        let cost =
+            left_area[plane] * left_count[plane] as f32 + bounds.surface_area() * count as f32;
+        if best.is_none_or(|(_, best_cost)| cost < best_cost) {
+            best = Some((plane, cost));
+        }
+    }
+    best
+}
+
+/// Reorders `indices` so the left side of `split` comes first; returns the left size.
+pub(crate) fn partition_binned(prims: Prims, indices: &mut [u32], split: &BinnedSplit) -> usize {
+    let goes_left =
+        |i: u32| split.binning.bin(prims.centroids[i as usize], split.axis) <= split.bin;
+    let (mut left, mut right) = (0, indices.len());
+    while left < right {
+        if goes_left(indices[left]) {
+            left += 1;
+        } else {
+            right -= 1;
+            indices.swap(left, right);
+        }
+    }
+    left
+}
+
+/// Splits `indices` in half by index after ordering them around the median centroid of the
+/// widest centroid axis; returns the left size. With all centroids equal this is simply
+/// the middle of the index range, which is what keeps duplicated geometry splittable.
+pub(crate) fn partition_median(prims: Prims, indices: &mut [u32], centroids: &Aabb) -> usize {
+    let extent = centroids.extent();
+    let axis = if extent.x >= extent.y && extent.x >= extent.z {
+        0
+    } else if extent.y >= extent.z {
+        1
+    } else {
+        2
+    };
+    let mid = indices.len() / 2;
+    indices.select_nth_unstable_by(mid, |&a, &b| {
+        prims.centroids[a as usize][axis].total_cmp(&prims.centroids[b as usize][axis])
+    });
+    mid
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn line_of_boxes(n: usize) -> (Vec<Aabb>, Vec<Vec3>) {
+        let bounds: Vec<Aabb> = (0..n)
+            .map(|i| Aabb {
+                min: Vec3::new(i as f32, 0.0, 0.0),
+                max: Vec3::new(i as f32 + 0.5, 1.0, 1.0),
+            })
+            .collect();
+        let centroids = bounds.iter().map(Aabb::centroid).collect();
+        (bounds, centroids)
+    }
+
+    #[test]
+    fn binned_split_separates_two_clusters_and_partition_matches() {
+        let (mut bounds, mut centroids) = line_of_boxes(8);
+        for i in 4..8 {
+            bounds[i].min.x += 100.0;
+            bounds[i].max.x += 100.0;
+            centroids[i].x += 100.0;
+        }
+        let prims = Prims {
+            bounds: &bounds,
+            centroids: &centroids,
+        };
+        let mut indices: Vec<u32> = (0..8).rev().collect();
+        let summary = summarize(prims, &indices, false);
+        let split = best_binned_split(prims, &indices, &summary.centroids, 16, false).unwrap();
+        assert_eq!(split.axis, 0);
+        let mid = partition_binned(prims, &mut indices, &split);
+        assert_eq!(mid, 4);
+        assert!(indices[..mid].iter().all(|&i| i < 4));
+    }
+
+    #[test]
+    fn parallel_and_sequential_binning_agree() {
+        let (bounds, centroids) = line_of_boxes(5000);
+        let prims = Prims {
+            bounds: &bounds,
+            centroids: &centroids,
+        };
+        let indices: Vec<u32> = (0..5000).collect();
+        let a = summarize(prims, &indices, false);
+        let b = summarize(prims, &indices, true);
+        assert_eq!((a.bounds, a.centroids), (b.bounds, b.centroids));
+        let sa = best_binned_split(prims, &indices, &a.centroids, 32, false).unwrap();
+        let sb = best_binned_split(prims, &indices, &a.centroids, 32, true).unwrap();
+        assert_eq!(
+            (sa.axis, sa.bin, sa.weighted_area),
+            (sb.axis, sb.bin, sb.weighted_area)
+        );
+    }
+
+    #[test]
+    fn coincident_centroids_have_no_binned_split_but_split_by_median() {
+        let bounds = vec![
+            Aabb {
+                min: Vec3::ZERO,
+                max: Vec3::ONE
+            };
+            7
+        ];
+        let centroids = vec![Vec3::splat(0.5); 7];
+        let prims = Prims {
+            bounds: &bounds,
+            centroids: &centroids,
+        };
+        let mut indices: Vec<u32> = (0..7).collect();
+        let summary = summarize(prims, &indices, false);
+        assert!(best_binned_split(prims, &indices, &summary.centroids, 16, false).is_none());
+        assert_eq!(partition_median(prims, &mut indices, &summary.centroids), 3);
+    }
+}

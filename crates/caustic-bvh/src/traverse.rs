@@ -1,0 +1,260 @@
+//! CPU traversal of the GPU layout: the twin of the WGSL traversal, used by tests
+//! to check the layout and the shader logic against brute force.
+//!
+//! The loop keeps one "current" child word and a fixed stack of deferred ones:
+//! * a leaf word: test its triangles, then pop;
+//! * an interior word: slab-test both children of that node; descend into the one
+//!   with the smaller entry distance and push the other if it was hit too; pop if
+//!   neither was hit.
+//!
+//! Popped words are not re-culled against the current closest hit (the stack holds no
+//! distances), which keeps the shader's stack at one `u32` per entry.
+
+use glam::Vec3;
+
+use crate::build::MAX_DEPTH;
+use crate::layout::{EMPTY_CHILD, GpuBvh, GpuNode, LEAF_BIT, decode_leaf};
+use crate::triangle::{Hit, Ray, intersect_triangle};
+
+/// Entries in the traversal stack. Every push happens at an interior node on the
+/// current path, at most one per level, so trees from [`crate::build`] (leaf depth
+/// at most [`MAX_DEPTH`]) never overflow it.
+pub const STACK_SIZE: usize = MAX_DEPTH;
+
+/// Direction components smaller than this in magnitude are replaced by it (keeping the
+/// sign) before inverting, so inverse directions stay finite and slab products never
+/// compute `0 * inf`. The price: a ray parallel to an axis whose origin lies exactly on
+/// a box face plane of that axis only touches that box at `t = 0`; it could only have
+/// grazed the boundary of the triangles inside, never crossed them.
+pub const MIN_DIRECTION: f32 = 1e-20;
+
+/// Slab exit distances are scaled by `1 + 2 * gamma(3)` with `gamma(n) = n*eps/(1 - n*eps)`,
+/// `eps = 2^-24` (Pharr, Jakob & Humphreys, PBRT 3, section 3.9.2), so rounding in the
+/// box test cannot reject a ray that touches the box, e.g. at a vertex on its boundary.
+pub const SLAB_EXIT_SCALE: f32 = 1.0 + 2.0 * (3.0 * EPS_HALF_ULP / (1.0 - 3.0 * EPS_HALF_ULP));
+
+/// Unit roundoff of `f32` (half an ulp of 1.0).
+const EPS_HALF_ULP: f32 = f32::EPSILON * 0.5;
+
+/// A ray with the per-ray constants of the slab test.
+struct SlabRay {
+    origin: Vec3,
+    inv_dir: Vec3,
+    negative: glam::BVec3,
+}
+
+impl SlabRay {
+    fn new(ray: &Ray) -> SlabRay {
+        let d = ray.direction;
+        let tiny = Vec3::splat(MIN_DIRECTION).copysign(d);
+        let safe = Vec3::select(d.abs().cmplt(Vec3::splat(MIN_DIRECTION)), tiny, d);
+        let inv_dir = safe.recip();
+        SlabRay {
+            origin: ray.origin,
+            inv_dir,
+            negative: inv_dir.cmplt(Vec3::ZERO),
+        }
+    }
+
+    /// Entry distance into `bounds` if the ray overlaps it within `[0, t_limit]`,
+    /// else `f32::INFINITY`.
+    ///
+    /// Sign-aware slabs: the near plane on each axis is `min` for a positive inverse
+    /// direction and `max` for a negative one. `enter = max(near_x, near_y, near_z, 0)`,
+    /// `exit = min(far_x, far_y, far_z, t_limit) * SLAB_EXIT_SCALE`, hit iff
+    /// `enter <= exit`. An inverted (empty) box gives `near > far` and always misses.
+    fn entry(&self, min: Vec3, max: Vec3, t_limit: f32) -> f32 {
+        let near_plane = Vec3::select(self.negative, max, min);
+        let far_plane = Vec3::select(self.negative, min, max);
+        let near = (near_plane - self.origin) * self.inv_dir;
+        let far = (far_plane - self.origin) * self.inv_dir;
+        let enter = near.x.max(near.y).max(near.z).max(0.0);
+        let exit = far.x.min(far.y).min(far.z).min(t_limit) * SLAB_EXIT_SCALE;
+        if enter <= exit { enter } else { f32::INFINITY }
+    }
+}
+
+/// Work counters of one traversal.
+#[derive(Default)]
+struct Counters {
+    nodes: usize,
+    triangles: usize,
+}
+
+impl GpuBvh {
+    /// The nearest hit with `0 < t < ray.t_max`, reporting the original triangle id.
+    ///
+    /// When several triangles share the nearest `t`, which one is reported depends on
+    /// the traversal order (the `t` does not).
+    pub fn closest_hit(&self, ray: &Ray) -> Option<Hit> {
+        self.traverse(ray, false, &mut Counters::default())
+    }
+
+    /// Whether anything is hit with `0 < t < ray.t_max`; stops at the first hit (shadow rays).
+    pub fn any_hit(&self, ray: &Ray) -> bool {
+        self.traverse(ray, true, &mut Counters::default()).is_some()
+    }
+
+    /// The work a [`GpuBvh::closest_hit`] query does: `(nodes visited, triangles tested)`.
+    pub fn visit_counts(&self, ray: &Ray) -> (usize, usize) {
+        let mut counters = Counters::default();
+        self.traverse(ray, false, &mut counters);
+        (counters.nodes, counters.triangles)
+    }
+
+    /// The shared traversal loop; `any` stops at the first hit.
+    ///
+    /// # Panics
+    /// If `nodes` is empty or the tree is deeper than [`STACK_SIZE`]; [`crate::flatten`]
+    /// never produces either.
+    fn traverse(&self, ray: &Ray, any: bool, counters: &mut Counters) -> Option<Hit> {
+        let slab = SlabRay::new(ray);
+        let mut clipped = *ray;
+        let mut best = None;
+        let mut stack = [0u32; STACK_SIZE];
+        let mut depth = 0;
+        let mut current = 0u32;
+        loop {
+            if current & LEAF_BIT != 0 {
+                if let Some(hit) = self.intersect_leaf(&clipped, current, any, counters) {
+                    clipped.t_max = hit.t;
+                    best = Some(hit);
+                    if any {
+                        break;
+                    }
+                }
+            } else {
+                counters.nodes += 1;
+                let node = &self.nodes[current as usize];
+                if let Some((near, far)) = order_children(node, &slab, clipped.t_max) {
+                    if let Some(far) = far {
+                        stack[depth] = far;
+                        depth += 1;
+                    }
+                    current = near;
+                    continue;
+                }
+            }
+            if depth == 0 {
+                break;
+            }
+            depth -= 1;
+            current = stack[depth];
+        }
+        best
+    }
+
+    /// Tests the triangles of a leaf word, returning the nearest hit inside `ray`'s range.
+    fn intersect_leaf(
+        &self,
+        ray: &Ray,
+        leaf: u32,
+        any: bool,
+        counters: &mut Counters,
+    ) -> Option<Hit> {
+        let (first, count) = decode_leaf(leaf);
+        let mut clipped = *ray;
+        let mut best = None;
+        for triangle in &self.triangles[first as usize..(first + count) as usize] {
+            counters.triangles += 1;
+            let [v0, v1, v2] = triangle.vertices();
+            if let Some((t, u, v)) = intersect_triangle(&clipped, v0, v1, v2) {
+                clipped.t_max = t;
+                best = Some(Hit {
+                    t,
+                    u,
+                    v,
+                    triangle: triangle.id,
+                });
+                if any {
+                    break;
+                }
+            }
+        }
+        best
+    }
+}
+
+/// Slab-tests both children of `node`; returns `(nearer, farther if also hit)`, or `None`
+/// if neither is hit. Ties go to child 0. [`EMPTY_CHILD`] links are skipped explicitly.
+fn order_children(node: &GpuNode, slab: &SlabRay, t_limit: f32) -> Option<(u32, Option<u32>)> {
+    let entry = |child: usize| {
+        let bounds = node.bounds(child);
+        if node.child(child) == EMPTY_CHILD {
+            f32::INFINITY
+        } else {
+            slab.entry(bounds.min, bounds.max, t_limit)
+        }
+    };
+    let (d0, d1) = (entry(0), entry(1));
+    let (near, d_near, far, d_far) = if d0 <= d1 {
+        (node.child0, d0, node.child1, d1)
+    } else {
+        (node.child1, d1, node.child0, d0)
+    };
+    if d_near == f32::INFINITY {
+        return None;
+    }
+    Some((near, (d_far != f32::INFINITY).then_some(far)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::aabb::Aabb;
+
+    #[test]
+    fn slab_constants() {
+        assert_eq!(
+            SLAB_EXIT_SCALE,
+            1.0 + 3.0 * f32::EPSILON,
+            "rounds to 1 + 3 ulp = 1.0000003576"
+        );
+        let ray = Ray {
+            origin: Vec3::ZERO,
+            direction: Vec3::new(1.0, 0.0, -0.0),
+            t_max: f32::INFINITY,
+        };
+        let slab = SlabRay::new(&ray);
+        assert!(slab.inv_dir.is_finite());
+        assert!(!slab.negative.x && !slab.negative.y && slab.negative.z);
+    }
+
+    #[test]
+    fn slab_entry_hits_boxes_and_misses_empty_ones() {
+        let ray = Ray {
+            origin: Vec3::new(-1.0, 0.5, 0.5),
+            direction: Vec3::X,
+            t_max: f32::INFINITY,
+        };
+        let slab = SlabRay::new(&ray);
+        assert_eq!(slab.entry(Vec3::ZERO, Vec3::ONE, f32::INFINITY), 1.0);
+        assert_eq!(slab.entry(Vec3::ZERO, Vec3::ONE, 0.5), f32::INFINITY);
+        let empty = Aabb::empty();
+        assert_eq!(
+            slab.entry(empty.min, empty.max, f32::INFINITY),
+            f32::INFINITY
+        );
+        let down = SlabRay::new(&Ray {
+            origin: Vec3::new(0.5, 2.0, 0.5),
+            direction: Vec3::NEG_Y,
+            ..ray
+        });
+        assert_eq!(
+            down.entry(
+                Vec3::new(0.0, 0.5, 0.0),
+                Vec3::new(1.0, 0.5, 1.0),
+                f32::INFINITY
+            ),
+            1.5
+        );
+        let behind = Ray {
+            direction: Vec3::NEG_X,
+            ..ray
+        };
+        assert_eq!(
+            SlabRay::new(&behind).entry(Vec3::ZERO, Vec3::ONE, f32::INFINITY),
+            f32::INFINITY
+        );
+    }
+}

@@ -1,0 +1,184 @@
+//! Rays, hits and the watertight ray/triangle test shared by every traversal.
+//!
+//! [`intersect_triangle`] is the reference that the WGSL shader mirrors line by line,
+//! so it uses only `f32` arithmetic, no fused multiply-adds and no early-outs that a
+//! shader could not express.
+
+use glam::Vec3;
+
+/// A ray segment: the points `origin + t * direction` for `t` in `(0, t_max)`.
+///
+/// `direction` need not be normalised; `t` is measured in multiples of it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Ray {
+    /// Where the ray starts.
+    pub origin: Vec3,
+    /// Where the ray goes; any non-zero length.
+    pub direction: Vec3,
+    /// Exclusive upper limit on accepted hit distances (`f32::INFINITY` for none).
+    pub t_max: f32,
+}
+
+/// The nearest intersection found along a ray.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hit {
+    /// Ray parameter of the hit point: `origin + t * direction`.
+    pub t: f32,
+    /// Barycentric weight of the triangle's second vertex `v1`.
+    pub u: f32,
+    /// Barycentric weight of the triangle's third vertex `v2` (`v0` has `1 - u - v`).
+    pub v: f32,
+    /// Index of the hit triangle in the array given to [`crate::build`] (not the leaf order).
+    pub triangle: u32,
+}
+
+/// The index of the largest component, first axis winning ties.
+fn largest_axis(v: Vec3) -> usize {
+    if v.x >= v.y && v.x >= v.z {
+        0
+    } else if v.y >= v.z {
+        1
+    } else {
+        2
+    }
+}
+
+/// Watertight two-sided ray/triangle intersection (Woop, Benthin & Wald, JCGT 2013).
+///
+/// Returns `(t, u, v)` with `u`, `v` the barycentric weights of `v1`, `v2`, or `None`
+/// unless `0 < t < ray.t_max`. Why watertight: every vertex is transformed into a
+/// ray-centred space once per ray with the same operations, and the 2D edge functions
+/// of an edge shared by two triangles are exact negations of each other in floating
+/// point, so a ray through an edge or vertex hits at least one of its triangles.
+///
+/// Steps (WGSL mirrors them; keep it free of fused multiply-add):
+/// 1. `kz` = axis of the largest `|direction|` (ties: lowest axis), `kx = (kz+1)%3`,
+///    `ky = (kx+1)%3`; swap `kx`, `ky` if `direction[kz] < 0` to keep the winding.
+/// 2. Shear constants `sx = d[kx]/d[kz]`, `sy = d[ky]/d[kz]`, `sz = 1/d[kz]`.
+/// 3. `A = v0 - o`, `B = v1 - o`, `C = v2 - o`; `Ax = A[kx] - sx*A[kz]`,
+///    `Ay = A[ky] - sy*A[kz]`, likewise for `B`, `C`.
+/// 4. Scaled barycentrics `U = Cx*By - Cy*Bx`, `V = Ax*Cy - Ay*Cx`, `W = Bx*Ay - By*Ax`.
+///    (The paper's `f64` recompute when one is exactly zero is omitted: a zero counts
+///    as on the edge and is accepted by both neighbours.)
+/// 5. Miss if the signs are mixed: `(U<0 || V<0 || W<0) && (U>0 || V>0 || W>0)`.
+/// 6. `det = U + V + W`; miss if `det == 0` (ray in the triangle's plane or degenerate).
+/// 7. `Az = sz*A[kz]`, `Bz = sz*B[kz]`, `Cz = sz*C[kz]`; `T = U*Az + V*Bz + W*Cz`.
+/// 8. `inv = 1/det`, `t = T*inv`; miss unless `t > 0 && t < t_max` (NaN fails too).
+/// 9. `u = V*inv`, `v = W*inv`.
+pub fn intersect_triangle(ray: &Ray, v0: Vec3, v1: Vec3, v2: Vec3) -> Option<(f32, f32, f32)> {
+    let d = ray.direction;
+    let kz = largest_axis(d.abs());
+    let (mut kx, mut ky) = ((kz + 1) % 3, (kz + 2) % 3);
+    if d[kz] < 0.0 {
+        std::mem::swap(&mut kx, &mut ky);
+    }
+    let sx = d[kx] / d[kz];
+    let sy = d[ky] / d[kz];
+    let sz = 1.0 / d[kz];
+
+    let a = v0 - ray.origin;
+    let b = v1 - ray.origin;
+    let c = v2 - ray.origin;
+    let ax = a[kx] - sx * a[kz];
+    let ay = a[ky] - sy * a[kz];
+    let bx = b[kx] - sx * b[kz];
+    let by = b[ky] - sy * b[kz];
+    let cx = c[kx] - sx * c[kz];
+    let cy = c[ky] - sy * c[kz];
+
+    let u = cx * by - cy * bx;
+    let v = ax * cy - ay * cx;
+    let w = bx * ay - by * ax;
+    if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
+        return None;
+    }
+    let det = u + v + w;
+    if det == 0.0 {
+        return None;
+    }
+
+    let az = sz * a[kz];
+    let bz = sz * b[kz];
+    let cz = sz * c[kz];
+    let t_scaled = u * az + v * bz + w * cz;
+    let inv_det = 1.0 / det;
+    let t = t_scaled * inv_det;
+    if !(t > 0.0 && t < ray.t_max) {
+        return None;
+    }
+    Some((t, v * inv_det, w * inv_det))
+}
+
+/// The nearest hit found by testing every triangle: the ground truth for the BVH.
+///
+/// Ties on `t` keep the lowest triangle index.
+pub fn closest_hit_brute_force(triangles: &[[Vec3; 3]], ray: &Ray) -> Option<Hit> {
+    let mut best: Option<Hit> = None;
+    let mut clipped = *ray;
+    for (index, [v0, v1, v2]) in triangles.iter().enumerate() {
+        if let Some((t, u, v)) = intersect_triangle(&clipped, *v0, *v1, *v2) {
+            clipped.t_max = t;
+            best = Some(Hit {
+                t,
+                u,
+                v,
+                triangle: index as u32,
+            });
+        }
+    }
+    best
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn ray(origin: Vec3, direction: Vec3) -> Ray {
+        Ray {
+            origin,
+            direction,
+            t_max: f32::INFINITY,
+        }
+    }
+
+    #[test]
+    fn hits_both_facings_with_barycentrics() {
+        let tri = [Vec3::ZERO, Vec3::X, Vec3::Y];
+        let front = ray(Vec3::new(0.25, 0.5, 2.0), Vec3::NEG_Z);
+        let (t, u, v) = intersect_triangle(&front, tri[0], tri[1], tri[2]).unwrap();
+        assert_eq!((t, u, v), (2.0, 0.25, 0.5));
+        let back = ray(Vec3::new(0.25, 0.5, -4.0), Vec3::new(0.0, 0.0, 2.0));
+        let (t, u, v) = intersect_triangle(&back, tri[0], tri[1], tri[2]).unwrap();
+        assert_eq!((t, u, v), (2.0, 0.25, 0.5));
+    }
+
+    #[test]
+    fn respects_t_range_and_misses_outside() {
+        let tri = [Vec3::ZERO, Vec3::X, Vec3::Y];
+        let mut r = ray(Vec3::new(0.25, 0.25, 1.0), Vec3::NEG_Z);
+        r.t_max = 1.0;
+        assert!(intersect_triangle(&r, tri[0], tri[1], tri[2]).is_none());
+        let behind = ray(Vec3::new(0.25, 0.25, 1.0), Vec3::Z);
+        assert!(intersect_triangle(&behind, tri[0], tri[1], tri[2]).is_none());
+        let outside = ray(Vec3::new(0.75, 0.75, 1.0), Vec3::NEG_Z);
+        assert!(intersect_triangle(&outside, tri[0], tri[1], tri[2]).is_none());
+        let degenerate = [Vec3::ZERO, Vec3::X, Vec3::X * 2.0];
+        let at_line = ray(Vec3::new(0.5, 0.0, 1.0), Vec3::NEG_Z);
+        assert!(
+            intersect_triangle(&at_line, degenerate[0], degenerate[1], degenerate[2]).is_none()
+        );
+    }
+
+    #[test]
+    fn brute_force_picks_nearest_and_lowest_index_on_ties() {
+        let near = [
+            Vec3::new(-1.0, -1.0, 1.0),
+            Vec3::new(1.0, -1.0, 1.0),
+            Vec3::new(0.0, 1.0, 1.0),
+        ];
+        let far = near.map(|p| p - Vec3::Z);
+        let r = ray(Vec3::new(0.0, 0.0, 5.0), Vec3::NEG_Z);
+        let hit = closest_hit_brute_force(&[far, near, near], &r).unwrap();
+        assert_eq!((hit.triangle, hit.t), (1, 4.0));
+    }
+}

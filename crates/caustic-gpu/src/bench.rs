@@ -1,0 +1,233 @@
+//! Ray-throughput benchmark of the device BVH: closest-hit rays per second.
+
+use crate::readback::read_buffer;
+use crate::shaders::Program;
+use crate::{GpuContext, GpuError, GpuScene};
+use bytemuck::{Pod, Zeroable};
+use caustic_scene::Camera;
+use std::time::Instant;
+use wgpu::util::DeviceExt;
+
+/// Which rays are traced.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RayKind {
+    /// One ray through the centre of each pixel: coherent.
+    Primary,
+    /// A cosine-distributed bounce off each primary hit (misses start at random points inside
+    /// the scene bounds in random directions): incoherent.
+    Incoherent,
+}
+
+/// One measured ray set.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BenchResult {
+    /// Which rays.
+    pub kind: RayKind,
+    /// Rays per set.
+    pub rays: u64,
+    /// Best submit-to-completion time over the repeats.
+    pub best_seconds: f64,
+    /// Millions of rays per second at the best time.
+    pub mrays_per_second: f64,
+    /// Fraction of rays that hit a triangle.
+    pub hit_fraction: f64,
+    /// Mean BVH nodes visited per ray.
+    pub mean_nodes_visited: f64,
+}
+
+/// Mirrors `BenchParams` in `shaders/bench/rays.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+struct BenchParams {
+    eye: [f32; 3],
+    width: u32,
+    right: [f32; 3],
+    height: u32,
+    up: [f32; 3],
+    seed: u32,
+    forward: [f32; 3],
+    _pad0: u32,
+    bounds_min: [f32; 3],
+    _pad1: u32,
+    bounds_max: [f32; 3],
+    _pad2: u32,
+}
+
+const RAY_BYTES: u64 = 32;
+const RESULT_BYTES: u64 = 16;
+
+/// Kernels and buffers for `size x size` rays from `camera` against one uploaded scene.
+pub struct RayBench<'a> {
+    ctx: &'a GpuContext,
+    generate_primary: wgpu::ComputePipeline,
+    generate_incoherent: wgpu::ComputePipeline,
+    trace_rays: wgpu::ComputePipeline,
+    bind_group: wgpu::BindGroup,
+    rays: wgpu::Buffer,
+    results: wgpu::Buffer,
+    ray_count: u32,
+}
+
+/// One traced ray as the device saw it, for comparison with the CPU traversal.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TracedRay {
+    /// Ray origin.
+    pub origin: glam::Vec3,
+    /// Ray direction.
+    pub direction: glam::Vec3,
+    /// Closest hit distance (the ray's t_max on a miss).
+    pub t: f32,
+    /// Scene triangle hit, or `None`.
+    pub triangle: Option<u32>,
+}
+
+impl<'a> RayBench<'a> {
+    /// Compiles the kernels and allocates ray and result buffers.
+    pub fn new(ctx: &'a GpuContext, gpu: &GpuScene, camera: &Camera, size: u32) -> Result<Self, GpuError> {
+        let ray_count = size * size;
+        let (right, up, forward) = camera.frame();
+        let half = (camera.fov_y * 0.5).tan();
+        let params = BenchParams {
+            eye: camera.eye.to_array(),
+            width: size,
+            right: (right * half).to_array(),
+            height: size,
+            up: (up * half).to_array(),
+            seed: 7,
+            forward: forward.to_array(),
+            bounds_min: gpu.bounds.0.to_array(),
+            bounds_max: gpu.bounds.1.to_array(),
+            ..Default::default()
+        };
+        let device = &ctx.device;
+        let params = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("bench params"),
+            contents: bytemuck::bytes_of(&params),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        let storage = |label, bytes| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: bytes,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            })
+        };
+        let rays = storage("bench rays", u64::from(ray_count) * RAY_BYTES);
+        let results = storage("bench results", u64::from(ray_count) * RESULT_BYTES);
+        let module = Program::RayBench.module(device);
+        let layout = bind_group_layout(device);
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("ray bench"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let pipeline = |entry: &str| {
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(entry),
+                layout: Some(&pipeline_layout),
+                module: &module,
+                entry_point: Some(entry),
+                compilation_options: Default::default(),
+                cache: None,
+            })
+        };
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("ray bench"),
+            layout: &layout,
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: params.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 1, resource: gpu.nodes.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 2, resource: gpu.triangles.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 3, resource: rays.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 4, resource: results.as_entire_binding() },
+            ],
+        });
+        let bench = RayBench {
+            ctx,
+            generate_primary: pipeline("generate_primary"),
+            generate_incoherent: pipeline("generate_incoherent"),
+            trace_rays: pipeline("trace_rays"),
+            bind_group,
+            rays,
+            results,
+            ray_count,
+        };
+        ctx.check()?;
+        Ok(bench)
+    }
+
+    /// Generates the rays of `kind`, then traces them `repeats` times and keeps the best time.
+    pub fn run(&self, kind: RayKind, repeats: u32) -> Result<BenchResult, GpuError> {
+        self.dispatch(&self.generate_primary)?;
+        if kind == RayKind::Incoherent {
+            self.dispatch(&self.trace_rays)?;
+            self.dispatch(&self.generate_incoherent)?;
+        }
+        let mut best = f64::INFINITY;
+        for _ in 0..repeats.max(1) {
+            let start = Instant::now();
+            self.dispatch(&self.trace_rays)?;
+            best = best.min(start.elapsed().as_secs_f64());
+        }
+        let results: Vec<[u32; 4]> = read_buffer(self.ctx, &self.results)?;
+        let hits = results.iter().filter(|r| r[1] != u32::MAX).count();
+        let nodes: u64 = results.iter().map(|r| u64::from(r[3])).sum();
+        let rays = u64::from(self.ray_count);
+        Ok(BenchResult {
+            kind,
+            rays,
+            best_seconds: best,
+            mrays_per_second: rays as f64 / best / 1e6,
+            hit_fraction: hits as f64 / rays as f64,
+            mean_nodes_visited: nodes as f64 / rays as f64,
+        })
+    }
+
+    /// The rays of the last [`RayBench::run`] and what the device found for each.
+    pub fn traced_rays(&self) -> Result<Vec<TracedRay>, GpuError> {
+        let rays: Vec<[f32; 8]> = read_buffer(self.ctx, &self.rays)?;
+        let results: Vec<[u32; 4]> = read_buffer(self.ctx, &self.results)?;
+        Ok(rays
+            .iter()
+            .zip(&results)
+            .map(|(ray, result)| TracedRay {
+                origin: glam::Vec3::new(ray[0], ray[1], ray[2]),
+                direction: glam::Vec3::new(ray[4], ray[5], ray[6]),
+                t: f32::from_bits(result[0]),
+                triangle: (result[1] != u32::MAX).then_some(result[1]),
+            })
+            .collect())
+    }
+
+    fn dispatch(&self, pipeline: &wgpu::ComputePipeline) -> Result<(), GpuError> {
+        let mut encoder = self.ctx.device.create_command_encoder(&Default::default());
+        {
+            let mut pass = encoder.begin_compute_pass(&Default::default());
+            pass.set_pipeline(pipeline);
+            pass.set_bind_group(0, &self.bind_group, &[]);
+            pass.dispatch_workgroups(self.ray_count.div_ceil(64), 1, 1);
+        }
+        self.ctx.queue.submit([encoder.finish()]);
+        self.ctx.wait()
+    }
+}
+
+fn bind_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
+    let entry = |binding, ty| wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty,
+        count: None,
+    };
+    let storage = |read_only| wgpu::BindingType::Buffer {
+        ty: wgpu::BufferBindingType::Storage { read_only },
+        has_dynamic_offset: false,
+        min_binding_size: None,
+    };
+    let uniform = wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Uniform, has_dynamic_offset: false, min_binding_size: None };
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("ray bench"),
+        entries: &[entry(0, uniform), entry(1, storage(true)), entry(2, storage(true)), entry(3, storage(false)), entry(4, storage(false))],
+    })
+}

@@ -1,0 +1,133 @@
+//! Choosing a Vulkan adapter and opening a device with its real limits.
+
+use crate::GpuError;
+use std::sync::{Arc, Mutex};
+
+/// What a user needs to know about the adapter a render ran on.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct AdapterSummary {
+    /// Adapter name, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)".
+    pub name: String,
+    /// Device type: DiscreteGpu, IntegratedGpu, VirtualGpu, Cpu or Other.
+    pub device_type: String,
+    /// Driver name and version.
+    pub driver: String,
+    /// Graphics backend.
+    pub backend: String,
+}
+
+impl std::fmt::Display for AdapterSummary {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{} ({}, {}, {})", self.name, self.device_type, self.driver, self.backend)
+    }
+}
+
+/// An open device and queue, with the adapter they came from and the first error the device
+/// reported (validation failures and device loss are turned into [`GpuError::Runtime`]).
+pub struct GpuContext {
+    /// The wgpu device.
+    pub device: wgpu::Device,
+    /// Its queue.
+    pub queue: wgpu::Queue,
+    /// Which adapter it is.
+    pub adapter: AdapterSummary,
+    /// The limits the device was opened with (the adapter's own).
+    pub limits: wgpu::Limits,
+    first_error: Arc<Mutex<Option<String>>>,
+}
+
+impl GpuContext {
+    /// Opens a device on the adapter whose name contains `wanted` (case-insensitive), or on the
+    /// best adapter present (discrete, integrated, virtual, then CPU) when `wanted` is `None`.
+    pub fn new(wanted: Option<&str>) -> Result<GpuContext, GpuError> {
+        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor {
+            backends: wgpu::Backends::VULKAN,
+            ..wgpu::InstanceDescriptor::new_without_display_handle()
+        });
+        let adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::VULKAN));
+        let adapter = choose_adapter(adapters, wanted)?;
+        let info = adapter.get_info();
+        let summary = AdapterSummary {
+            name: info.name.clone(),
+            device_type: format!("{:?}", info.device_type),
+            driver: format!("{} {}", info.driver, info.driver_info).trim().to_string(),
+            backend: format!("{:?}", info.backend),
+        };
+        let limits = adapter.limits();
+        let descriptor = wgpu::DeviceDescriptor {
+            label: Some("caustic"),
+            required_features: wgpu::Features::empty(),
+            required_limits: limits.clone(),
+            ..Default::default()
+        };
+        let (device, queue) = pollster::block_on(adapter.request_device(&descriptor))
+            .map_err(|e| GpuError::Device { adapter: info.name.clone(), message: e.to_string() })?;
+        let first_error = Arc::new(Mutex::new(None));
+        install_error_handlers(&device, &first_error);
+        Ok(GpuContext { device, queue, adapter: summary, limits, first_error })
+    }
+
+    /// The first error the device reported since it was opened, as a [`GpuError`].
+    pub fn check(&self) -> Result<(), GpuError> {
+        match self.first_error.lock().map(|e| e.clone()) {
+            Ok(None) => Ok(()),
+            Ok(Some(message)) => Err(GpuError::Runtime(message)),
+            Err(_) => Err(GpuError::Runtime("error handler poisoned".into())),
+        }
+    }
+
+    /// Blocks until all submitted work is done, then reports any device error.
+    pub fn wait(&self) -> Result<(), GpuError> {
+        self.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| GpuError::Runtime(format!("waiting for the device failed: {e}")))?;
+        self.check()
+    }
+
+    /// Largest storage buffer binding the device allows, in bytes.
+    pub fn max_storage_binding(&self) -> u64 {
+        u64::from(self.limits.max_storage_buffer_binding_size).min(self.limits.max_buffer_size)
+    }
+}
+
+fn rank(device_type: wgpu::DeviceType) -> u32 {
+    match device_type {
+        wgpu::DeviceType::DiscreteGpu => 0,
+        wgpu::DeviceType::IntegratedGpu => 1,
+        wgpu::DeviceType::VirtualGpu => 2,
+        wgpu::DeviceType::Cpu => 3,
+        wgpu::DeviceType::Other => 4,
+    }
+}
+
+fn choose_adapter(adapters: Vec<wgpu::Adapter>, wanted: Option<&str>) -> Result<wgpu::Adapter, GpuError> {
+    if adapters.is_empty() {
+        return Err(GpuError::NoAdapter);
+    }
+    let Some(wanted) = wanted.filter(|w| !w.is_empty()) else {
+        return Ok(adapters.into_iter().min_by_key(|a| rank(a.get_info().device_type)).expect("not empty"));
+    };
+    let needle = wanted.to_lowercase();
+    let available = adapters.iter().map(|a| a.get_info().name).collect::<Vec<_>>().join(", ");
+    adapters
+        .into_iter()
+        .find(|a| a.get_info().name.to_lowercase().contains(&needle))
+        .ok_or_else(|| GpuError::AdapterNotFound { wanted: wanted.to_string(), available })
+}
+
+fn install_error_handlers(device: &wgpu::Device, first_error: &Arc<Mutex<Option<String>>>) {
+    let sink = first_error.clone();
+    device.on_uncaptured_error(Arc::new(move |error: wgpu::Error| record(&sink, error.to_string())));
+    let sink = first_error.clone();
+    device.set_device_lost_callback(move |reason, message| {
+        if reason != wgpu::DeviceLostReason::Destroyed {
+            record(&sink, format!("device lost ({reason:?}): {message}"));
+        }
+    });
+}
+
+fn record(sink: &Mutex<Option<String>>, message: String) {
+    if let Ok(mut slot) = sink.lock() {
+        slot.get_or_insert(message);
+    }
+}

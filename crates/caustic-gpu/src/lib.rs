@@ -1,0 +1,22 @@
+//! Caustic's GPU renderer: device selection, scene upload and the WGSL kernels.
+//!
+//! [`GpuContext`] picks a Vulkan adapter and opens a device with the adapter's real limits.
+//! [`GpuScene`] builds the BVH and uploads the scene as storage buffers whose structs are
+//! declared once in [`gpu_types`] and mirrored in `shaders/common/types.wgsl`.
+//! [`PathTracer`] accumulates samples one bounded dispatch at a time; [`RayBench`] measures
+//! raw traversal throughput.
+
+mod bench;
+mod context;
+mod error;
+pub mod gpu_types;
+mod path_tracer;
+mod readback;
+mod scene_buffers;
+pub mod shaders;
+
+pub use bench::{BenchResult, RayBench, RayKind, TracedRay};
+pub use context::{AdapterSummary, GpuContext};
+pub use error::GpuError;
+pub use path_tracer::{PathTracer, RenderSettings};
+pub use scene_buffers::GpuScene;

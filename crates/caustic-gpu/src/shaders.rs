@@ -1,0 +1,81 @@
+//! WGSL sources: each program is a concatenation of small files from `shaders/`.
+
+/// A named WGSL file, embedded at compile time.
+pub struct ShaderFile {
+    /// Path relative to `shaders/`.
+    pub name: &'static str,
+    /// Its text.
+    pub source: &'static str,
+}
+
+macro_rules! shader_file {
+    ($name:literal) => {
+        ShaderFile { name: $name, source: include_str!(concat!("../../../shaders/", $name)) }
+    };
+}
+
+const COMMON: [ShaderFile; 5] = [
+    shader_file!("common/types.wgsl"),
+    shader_file!("common/rng.wgsl"),
+    shader_file!("common/sampling.wgsl"),
+    shader_file!("common/ray.wgsl"),
+    shader_file!("bvh/intersect.wgsl"),
+];
+
+const TRAVERSAL: [ShaderFile; 2] = [shader_file!("bvh/bindings.wgsl"), shader_file!("bvh/traverse.wgsl")];
+
+const PATH_TRACER: [ShaderFile; 7] = [
+    shader_file!("integrator/bindings.wgsl"),
+    shader_file!("integrator/camera.wgsl"),
+    shader_file!("integrator/environment.wgsl"),
+    shader_file!("integrator/surface.wgsl"),
+    shader_file!("bsdf/lambert.wgsl"),
+    shader_file!("lights/area.wgsl"),
+    shader_file!("integrator/path.wgsl"),
+];
+
+const RAY_BENCH: [ShaderFile; 1] = [shader_file!("bench/rays.wgsl")];
+
+/// The files of one program, in order.
+pub fn program_files(program: Program) -> Vec<&'static ShaderFile> {
+    let own: &[ShaderFile] = match program {
+        Program::PathTracer => &PATH_TRACER,
+        Program::RayBench => &RAY_BENCH,
+    };
+    COMMON.iter().chain(TRAVERSAL.iter()).chain(own.iter()).collect()
+}
+
+/// The WGSL programs Caustic compiles.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Program {
+    /// `integrator/path.wgsl`: the accumulating path tracer.
+    PathTracer,
+    /// `bench/rays.wgsl`: ray generation and closest-hit throughput.
+    RayBench,
+}
+
+impl Program {
+    /// Every program, for validation tests.
+    pub const ALL: [Program; 2] = [Program::PathTracer, Program::RayBench];
+
+    /// The assembled WGSL source, each file introduced by a comment naming it.
+    pub fn source(self) -> String {
+        program_files(self).iter().map(|f| format!("// ---- shaders/{} ----\n{}\n", f.name, f.source)).collect()
+    }
+
+    /// Compiles the program into a shader module.
+    pub fn module(self, device: &wgpu::Device) -> wgpu::ShaderModule {
+        device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(self.label()),
+            source: wgpu::ShaderSource::Wgsl(self.source().into()),
+        })
+    }
+
+    /// Debug label.
+    pub fn label(self) -> &'static str {
+        match self {
+            Program::PathTracer => "path tracer",
+            Program::RayBench => "ray bench",
+        }
+    }
+}

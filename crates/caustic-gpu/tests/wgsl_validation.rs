@@ -1,0 +1,49 @@
+//! Every WGSL program parses and validates with naga, and the host structs match naga's layout
+//! of their WGSL mirrors. Needs no device.
+
+use caustic_gpu::gpu_types::{AccumTexel, Frame, GpuLight, GpuMaterial, TriangleShading};
+use caustic_gpu::shaders::Program;
+
+fn parse(program: Program) -> naga::Module {
+    let source = program.source();
+    naga::front::wgsl::parse_str(&source).unwrap_or_else(|e| panic!("{}: {}", program.label(), e.emit_to_string(&source)))
+}
+
+#[test]
+fn every_program_validates() {
+    for program in Program::ALL {
+        let module = parse(program);
+        let mut validator = naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::all());
+        if let Err(e) = validator.validate(&module) {
+            panic!("{}: {}", program.label(), e.emit_to_string(&program.source()));
+        }
+        println!("{}: {} functions, {} entry points valid", program.label(), module.functions.len(), module.entry_points.len());
+    }
+}
+
+fn wgsl_struct_size(module: &naga::Module, name: &str) -> u32 {
+    let (_, ty) = module.types.iter().find(|(_, t)| t.name.as_deref() == Some(name)).unwrap_or_else(|| panic!("no WGSL struct {name}"));
+    match ty.inner {
+        naga::TypeInner::Struct { span, .. } => span,
+        _ => panic!("{name} is not a struct"),
+    }
+}
+
+#[test]
+fn host_structs_match_wgsl_layout() {
+    let module = parse(Program::PathTracer);
+    let expected = [
+        ("Frame", size_of::<Frame>()),
+        ("TriangleShading", size_of::<TriangleShading>()),
+        ("Material", size_of::<GpuMaterial>()),
+        ("Light", size_of::<GpuLight>()),
+        ("AccumTexel", size_of::<AccumTexel>()),
+        ("BvhNode", size_of::<caustic_bvh::GpuNode>()),
+        ("BvhTriangle", size_of::<caustic_bvh::GpuTriangle>()),
+    ];
+    for (name, host) in expected {
+        let wgsl = wgsl_struct_size(&module, name);
+        println!("{name}: WGSL {wgsl} bytes, Rust {host} bytes");
+        assert_eq!(wgsl as usize, host, "{name} differs between WGSL and Rust");
+    }
+}

@@ -1,0 +1,21 @@
+//! Caustic's film: linear HDR images, tone mapping, atomic output files and
+//! image-error metrics.
+//!
+//! Renders are kept as linear, scene-referred RGB ([`Image`]). They are saved
+//! losslessly to EXR/HDR, or through exposure, a [`ToneMap`] and the sRGB
+//! curve to 8-bit PNG/BMP/JPEG ([`to_srgb8`]). Every save is atomic. The
+//! [`metrics`] module compares renders against references. The crate holds
+//! no GPU types, so every consumer can depend on it.
+
+mod display;
+mod error;
+mod film;
+mod io;
+pub mod metrics;
+mod tonemap;
+
+pub use display::{SaveOptions, linear_to_srgb, srgb_to_linear, to_srgb8};
+pub use error::{ImageError, SUPPORTED_EXTENSIONS};
+pub use film::Image;
+pub use io::check_output_path;
+pub use tonemap::{ParseToneMapError, ToneMap};

@@ -1,0 +1,80 @@
+//! Error metrics against analytic values.
+
+use caustic_image::metrics::{RELMSE_EPSILON, mean_absolute_error, mean_ratio, relative_mse, rmse};
+use caustic_image::{Image, ImageError};
+
+/// Half the pixels 0.5, half 2.0, in every channel.
+fn two_level() -> Image {
+    let mut image = Image::new(8, 4);
+    for (i, p) in image.pixels.iter_mut().enumerate() {
+        *p = [if i % 2 == 0 { 0.5 } else { 2.0 }; 3];
+    }
+    image
+}
+
+fn scaled(image: &Image, factor: f32) -> Image {
+    let pixels = image.pixels.iter().map(|p| p.map(|c| c * factor)).collect();
+    Image {
+        pixels,
+        ..image.clone()
+    }
+}
+
+#[test]
+fn metrics_of_an_image_against_itself_are_zero() {
+    let image = two_level();
+    assert_eq!(relative_mse(&image, &image, RELMSE_EPSILON).unwrap(), 0.0);
+    assert_eq!(rmse(&image, &image).unwrap(), 0.0);
+    assert_eq!(mean_absolute_error(&image, &image).unwrap(), 0.0);
+    assert_eq!(mean_ratio(&image, &image).unwrap(), [1.0; 3]);
+}
+
+#[test]
+fn metrics_of_a_scaled_copy_match_analytic_values() {
+    let reference = two_level();
+    let image = scaled(&reference, 1.1);
+    // Per value r the error is 0.1 r: relMSE term 0.01 r^2 / (r^2 + 0.01).
+    let term = |r: f64| 0.01 * r * r / (r * r + 0.01);
+    let expected_relmse = (term(0.5) + term(2.0)) / 2.0;
+    let expected_rmse = ((0.05f64.powi(2) + 0.2f64.powi(2)) / 2.0).sqrt();
+    let expected_mae = (0.05 + 0.2) / 2.0;
+    let relmse = relative_mse(&image, &reference, RELMSE_EPSILON).unwrap();
+    let rmse_value = rmse(&image, &reference).unwrap();
+    let mae = mean_absolute_error(&image, &reference).unwrap();
+    println!("x1.1 copy: relMSE {relmse:.8} (analytic {expected_relmse:.8})");
+    println!(
+        "x1.1 copy: RMSE {rmse_value:.8} (analytic {expected_rmse:.8}), MAE {mae:.8} (analytic {expected_mae:.8})"
+    );
+    // 1.1 is not exact in f32; allow its rounding.
+    assert!((relmse / expected_relmse - 1.0).abs() < 1e-5);
+    assert!((rmse_value / expected_rmse - 1.0).abs() < 1e-5);
+    assert!((mae / expected_mae - 1.0).abs() < 1e-5);
+}
+
+#[test]
+fn mean_ratio_detects_a_factor_of_two() {
+    let reference = two_level();
+    let ratio = mean_ratio(&scaled(&reference, 2.0), &reference).unwrap();
+    println!("mean ratio of x2 copy: {ratio:?}");
+    assert_eq!(ratio, [2.0; 3]);
+}
+
+#[test]
+fn size_mismatch_and_empty_images_are_errors() {
+    let error = rmse(&Image::new(4, 4), &Image::new(4, 2)).unwrap_err();
+    println!("{error}");
+    assert!(matches!(
+        error,
+        ImageError::SizeMismatch {
+            image: (4, 4),
+            reference: (4, 2)
+        }
+    ));
+    assert!(relative_mse(&Image::new(2, 2), &Image::new(3, 2), RELMSE_EPSILON).is_err());
+    assert!(mean_ratio(&Image::new(2, 2), &Image::new(2, 3)).is_err());
+    let empty = Image::new(0, 5);
+    assert!(matches!(
+        mean_absolute_error(&empty, &empty),
+        Err(ImageError::Empty { .. })
+    ));
+}

@@ -1,0 +1,43 @@
+//! The pinhole camera.
+
+use glam::Vec3;
+
+/// A pinhole look-at camera. Image right is `normalize(cross(target - eye, up))`, the
+/// convention of the Mitsuba references in `../shared/references/`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Camera {
+    /// Centre of projection, world space.
+    pub eye: Vec3,
+    /// A point the camera looks at.
+    pub target: Vec3,
+    /// Approximate up direction; made orthogonal to the view direction.
+    pub up: Vec3,
+    /// Full vertical field of view in radians.
+    pub fov_y: f32,
+}
+
+impl Camera {
+    /// Orthonormal camera frame: (right, up, forward).
+    pub fn frame(&self) -> (Vec3, Vec3, Vec3) {
+        let forward = (self.target - self.eye).normalize();
+        let right = forward.cross(self.up).normalize();
+        let up = right.cross(forward);
+        (right, up, forward)
+    }
+
+    /// A camera that frames a bounding box from the -Z side with a 40 degree field of view.
+    pub fn framing(min: Vec3, max: Vec3) -> Camera {
+        let centre = (min + max) * 0.5;
+        let radius = ((max - min).length() * 0.5).max(1e-6);
+        let fov_y = 40f32.to_radians();
+        let distance = radius / (fov_y * 0.5).sin();
+        Camera { eye: centre + Vec3::new(0.0, 0.0, distance), target: centre, up: Vec3::Y, fov_y }
+    }
+
+    /// Whether every field is finite and the frame is well defined.
+    pub fn is_valid(&self) -> bool {
+        let finite = self.eye.is_finite() && self.target.is_finite() && self.up.is_finite();
+        let (right, _, forward) = self.frame();
+        finite && self.fov_y > 0.0 && self.fov_y < std::f32::consts::PI && right.is_finite() && forward.is_finite()
+    }
+}

@@ -1,0 +1,29 @@
+//! Caustic's scene model and its loaders.
+//!
+//! The model is plain data with no GPU types: world-space triangle meshes, materials,
+//! a pinhole camera, the image size and the environment. Loaders turn files (glTF, OBJ,
+//! PLY) or built-in names (`cornell`) into a [`Scene`]; [`Scene::validate`] rejects data the
+//! renderer cannot trust (non-finite vertices, indices out of range) with an error that names
+//! the object and the problem.
+
+mod camera;
+mod cornell;
+mod environment;
+mod error;
+mod gltf_loader;
+mod load;
+mod material;
+mod mesh;
+mod mesh_scene;
+mod obj_loader;
+mod ply_loader;
+mod scene;
+
+pub use camera::Camera;
+pub use cornell::cornell_box;
+pub use environment::{Environment, EnvironmentMap};
+pub use error::SceneError;
+pub use load::{load_scene, SceneSource};
+pub use material::Material;
+pub use mesh::Mesh;
+pub use scene::{EmissiveTriangle, Scene};

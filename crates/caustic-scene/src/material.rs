@@ -1,0 +1,77 @@
+//! Surface materials.
+
+use glam::Vec3;
+
+/// A surface material in the metallic-roughness vocabulary of glTF, which every loader maps
+/// onto. The renderer documents which fields its BSDFs use (`docs/MATERIALS.md`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Material {
+    /// Name from the source file, for messages and inspectors.
+    pub name: String,
+    /// Diffuse reflectance (albedo) in linear RGB, each channel in [0, 1].
+    pub base_color: Vec3,
+    /// Emitted radiance in linear RGB (W sr^-1 m^-2 per channel), from the front face only.
+    pub emission: Vec3,
+    /// glTF metallic factor in [0, 1].
+    pub metallic: f32,
+    /// glTF perceptual roughness in [0, 1].
+    pub roughness: f32,
+    /// `KHR_materials_specular` factor: 0 makes the surface purely diffuse.
+    pub specular: f32,
+    /// Index of refraction of the inside (glTF default 1.5).
+    pub ior: f32,
+    /// `KHR_materials_transmission` factor in [0, 1].
+    pub transmission: f32,
+}
+
+impl Material {
+    /// A purely diffuse (Lambertian) material.
+    pub fn diffuse(name: &str, albedo: Vec3) -> Material {
+        Material { name: name.to_string(), base_color: albedo, ..Material::default() }
+    }
+
+    /// A black, purely emissive material.
+    pub fn emitter(name: &str, radiance: Vec3) -> Material {
+        Material { name: name.to_string(), base_color: Vec3::ZERO, emission: radiance, ..Material::default() }
+    }
+
+    /// Whether the material emits light.
+    pub fn is_emissive(&self) -> bool {
+        self.emission.max_element() > 0.0
+    }
+
+    /// Checks ranges and finiteness, naming the offending field.
+    pub fn validate(&self) -> Result<(), crate::SceneError> {
+        let bad = |field: &str| Err(crate::SceneError::invalid(format!("material '{}'", self.name), format!("{field} is out of range or not finite")));
+        if !self.base_color.is_finite() || self.base_color.min_element() < 0.0 {
+            return bad("base colour");
+        }
+        if !self.emission.is_finite() || self.emission.min_element() < 0.0 {
+            return bad("emission");
+        }
+        for (field, value) in [("metallic", self.metallic), ("roughness", self.roughness), ("specular", self.specular), ("transmission", self.transmission)] {
+            if !(0.0..=1.0).contains(&value) {
+                return bad(field);
+            }
+        }
+        if !self.ior.is_finite() || self.ior <= 0.0 {
+            return bad("ior");
+        }
+        Ok(())
+    }
+}
+
+impl Default for Material {
+    fn default() -> Self {
+        Material {
+            name: String::new(),
+            base_color: Vec3::splat(0.8),
+            emission: Vec3::ZERO,
+            metallic: 0.0,
+            roughness: 1.0,
+            specular: 0.0,
+            ior: 1.5,
+            transmission: 0.0,
+        }
+    }
+}

@@ -1,0 +1,49 @@
+//! What the loaders share: turning loaded meshes into a [`Scene`].
+//!
+//! OBJ and PLY files describe geometry (and, for OBJ, materials) but no camera, image size or
+//! lighting. [`assemble`] supplies them the same way for both formats:
+//!
+//! * camera: [`Camera::framing`] of the scene bounds (looking down -Z at the whole model);
+//! * resolution: [`DEFAULT_RESOLUTION`];
+//! * environment: a **white sky** (`Environment::Constant(1, 1, 1)`) when no mesh uses an
+//!   emissive material, so that a bare mesh is lit and visible; black otherwise, so that a
+//!   scene with its own lights (such as the OBJ Cornell box) is lit only by them.
+
+use crate::{Camera, Environment, Material, Mesh, Scene, SceneError};
+use glam::Vec3;
+use std::path::Path;
+
+/// Image size (width, height) of scenes whose file does not give one.
+pub(crate) const DEFAULT_RESOLUTION: (u32, u32) = (512, 512);
+
+/// The material of meshes that have none: diffuse, 80% grey.
+pub(crate) fn default_material() -> Material {
+    Material::diffuse("default", Vec3::splat(0.8))
+}
+
+/// The scene name of a file: its stem, or "scene" when it has none.
+pub(crate) fn scene_name(path: &Path) -> String {
+    path.file_stem().map_or_else(|| "scene".to_string(), |s| s.to_string_lossy().into_owned())
+}
+
+/// Prints a loader warning about `path` on stderr: the file still loads.
+pub(crate) fn warn(path: &Path, message: &str) {
+    eprintln!("warning: {}: {message}", path.display());
+}
+
+/// A camera framing every vertex of `meshes`; an error naming `path` when there are no
+/// triangles to look at.
+pub(crate) fn framing_camera(path: &Path, meshes: &[Mesh]) -> Result<Camera, SceneError> {
+    let mut points = meshes.iter().filter(|m| m.triangle_count() > 0).flat_map(|m| m.positions.iter().copied());
+    let first = points.next().ok_or_else(|| SceneError::file(path, "contains no triangles"))?;
+    let (min, max) = points.fold((first, first), |(lo, hi), p| (lo.min(p), hi.max(p)));
+    Ok(Camera::framing(min, max))
+}
+
+/// Builds the scene of a mesh file (OBJ, PLY) as the module documentation describes.
+pub(crate) fn assemble(path: &Path, meshes: Vec<Mesh>, materials: Vec<Material>) -> Result<Scene, SceneError> {
+    let camera = framing_camera(path, &meshes)?;
+    let lit = meshes.iter().any(|m| materials.get(m.material as usize).is_some_and(Material::is_emissive));
+    let environment = if lit { Environment::default() } else { Environment::Constant(Vec3::ONE) };
+    Ok(Scene { name: scene_name(path), meshes, materials, camera, resolution: DEFAULT_RESOLUTION, environment })
+}

@@ -1,0 +1,107 @@
+//! The scene: everything a render needs, as plain data.
+
+use crate::{Camera, Environment, Material, Mesh, SceneError};
+use glam::Vec3;
+
+/// A complete scene. Meshes are in world space; instanced meshes are expanded by the loaders.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Scene {
+    /// Name for messages and output metadata (file stem or built-in name).
+    pub name: String,
+    /// Triangle meshes in world space.
+    pub meshes: Vec<Mesh>,
+    /// Materials referenced by [`Mesh::material`].
+    pub materials: Vec<Material>,
+    /// The camera rendered from.
+    pub camera: Camera,
+    /// Image size in pixels (width, height).
+    pub resolution: (u32, u32),
+    /// Radiance of rays that escape.
+    pub environment: Environment,
+}
+
+/// One emissive triangle: an area light.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EmissiveTriangle {
+    /// Corners, counter-clockwise seen from the emitting side.
+    pub vertices: [Vec3; 3],
+    /// Emitted radiance.
+    pub radiance: Vec3,
+    /// Index of this triangle in [`Scene::triangles`] order (meshes in order, then triangles).
+    pub triangle: u32,
+}
+
+impl EmissiveTriangle {
+    /// Area of the triangle.
+    pub fn area(&self) -> f32 {
+        let [a, b, c] = self.vertices;
+        0.5 * (b - a).cross(c - a).length()
+    }
+
+    /// Emitted power up to the constant factor pi: area x luminance of the radiance.
+    pub fn power(&self) -> f32 {
+        self.area() * luminance(self.radiance)
+    }
+}
+
+/// Rec. 709 luminance of a linear RGB colour.
+pub fn luminance(rgb: Vec3) -> f32 {
+    rgb.dot(Vec3::new(0.2126, 0.7152, 0.0722))
+}
+
+impl Scene {
+    /// Total number of triangles over all meshes.
+    pub fn triangle_count(&self) -> usize {
+        self.meshes.iter().map(Mesh::triangle_count).sum()
+    }
+
+    /// All triangles' corners in scene order (meshes in order, then their triangles).
+    pub fn triangles(&self) -> impl Iterator<Item = [Vec3; 3]> + '_ {
+        self.meshes.iter().flat_map(|m| (0..m.triangle_count()).map(move |t| m.triangle(t)))
+    }
+
+    /// Every triangle with an emissive material and non-zero area: the scene's area lights.
+    pub fn emissive_triangles(&self) -> Vec<EmissiveTriangle> {
+        let mut lights = Vec::new();
+        let mut index = 0u32;
+        for mesh in &self.meshes {
+            let material = &self.materials[mesh.material as usize];
+            for t in 0..mesh.triangle_count() {
+                let light = EmissiveTriangle { vertices: mesh.triangle(t), radiance: material.emission, triangle: index + t as u32 };
+                if material.is_emissive() && light.area() > 0.0 {
+                    lights.push(light);
+                }
+            }
+            index += mesh.triangle_count() as u32;
+        }
+        lights
+    }
+
+    /// World-space bounds of all vertices, or `None` for an empty scene.
+    pub fn bounds(&self) -> Option<(Vec3, Vec3)> {
+        let mut points = self.meshes.iter().flat_map(|m| m.positions.iter().copied());
+        let first = points.next()?;
+        Some(points.fold((first, first), |(lo, hi), p| (lo.min(p), hi.max(p))))
+    }
+
+    /// Checks every mesh, material, the camera and the resolution; the first fault is returned.
+    pub fn validate(&self) -> Result<(), SceneError> {
+        for material in &self.materials {
+            material.validate()?;
+        }
+        for mesh in &self.meshes {
+            mesh.validate(self.materials.len())?;
+        }
+        if !self.camera.is_valid() {
+            return Err(SceneError::invalid("camera", format!("degenerate camera {:?}", self.camera)));
+        }
+        let (w, h) = self.resolution;
+        if w == 0 || h == 0 || w > 16384 || h > 16384 {
+            return Err(SceneError::invalid("image", format!("size {w}x{h} is outside 1..=16384")));
+        }
+        if self.triangle_count() >= (1 << 27) {
+            return Err(SceneError::invalid("scene", format!("{} triangles exceed the limit of 2^27", self.triangle_count())));
+        }
+        Ok(())
+    }
+}

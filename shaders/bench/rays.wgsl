@@ -1,0 +1,90 @@
+// Ray-throughput benchmark: generate primary or diffuse-bounce rays into a buffer, then time
+// `trace_rays` alone (closest hit).
+
+struct BenchParams {
+    eye: vec3<f32>,
+    width: u32,
+    right: vec3<f32>,
+    height: u32,
+    up: vec3<f32>,
+    seed: u32,
+    forward: vec3<f32>,
+    _pad0: u32,
+    bounds_min: vec3<f32>,
+    _pad1: u32,
+    bounds_max: vec3<f32>,
+    _pad2: u32,
+}
+
+struct BenchRay {
+    origin: vec3<f32>,
+    t_max: f32,
+    direction: vec3<f32>,
+    _pad: f32,
+}
+
+// x = t (bits), y = scene triangle id (NO_HIT on a miss), z = gathered slot, w = nodes visited.
+@group(0) @binding(0) var<uniform> params: BenchParams;
+@group(0) @binding(3) var<storage, read_write> rays: array<BenchRay>;
+@group(0) @binding(4) var<storage, read_write> results: array<vec4<u32>>;
+
+fn ray_count() -> u32 {
+    return params.width * params.height;
+}
+
+@compute @workgroup_size(64)
+fn generate_primary(@builtin(global_invocation_id) id: vec3<u32>) {
+    if id.x >= ray_count() {
+        return;
+    }
+    let size = vec2<f32>(f32(params.width), f32(params.height));
+    let film = vec2<f32>(f32(id.x % params.width), f32(id.x / params.width)) + 0.5;
+    let ndc = vec2<f32>(2.0 * film.x / size.x - 1.0, 1.0 - 2.0 * film.y / size.y);
+    let direction = normalize(params.forward + ndc.x * params.right + ndc.y * params.up);
+    rays[id.x] = BenchRay(params.eye, 3.0e38, direction, 0.0);
+}
+
+// Cosine-distributed bounce off each primary hit; rays whose primary missed start at a random
+// point inside the scene bounds in a uniformly random direction.
+@compute @workgroup_size(64)
+fn generate_incoherent(@builtin(global_invocation_id) id: vec3<u32>) {
+    if id.x >= ray_count() {
+        return;
+    }
+    var rng = rng_for_sample(id.x, 1u, params.seed);
+    let primary = rays[id.x];
+    let result = results[id.x];
+    if result.y == NO_HIT {
+        let u = next_2d(&rng);
+        let origin = mix(params.bounds_min, params.bounds_max, vec3<f32>(u, next_f32(&rng)));
+        let d = square_to_uniform_sphere(next_2d(&rng));
+        rays[id.x] = BenchRay(origin, 3.0e38, d, 0.0);
+        return;
+    }
+    let t = bitcast<f32>(result.x);
+    let slot = result.z;
+    let tri = bvh_triangles[slot];
+    let face = normalize(cross(tri.v1 - tri.v0, tri.v2 - tri.v0));
+    let n = select(face, -face, dot(face, primary.direction) > 0.0);
+    let p = primary.origin + t * primary.direction;
+    let d = frame_to_world(frame_from_normal(n), square_to_cosine_hemisphere(next_2d(&rng)));
+    rays[id.x] = BenchRay(offset_ray_origin(p, n), 3.0e38, d, 0.0);
+}
+
+fn square_to_uniform_sphere(u: vec2<f32>) -> vec3<f32> {
+    let z = 1.0 - 2.0 * u.x;
+    let r = sqrt(max(0.0, 1.0 - z * z));
+    let phi = 2.0 * PI * u.y;
+    return vec3<f32>(r * cos(phi), r * sin(phi), z);
+}
+
+@compute @workgroup_size(64)
+fn trace_rays(@builtin(global_invocation_id) id: vec3<u32>) {
+    if id.x >= ray_count() {
+        return;
+    }
+    let ray = rays[id.x];
+    var cost = TraversalCost(0u, 0u);
+    let hit = trace(Ray(ray.origin, ray.direction), ray.t_max, false, &cost);
+    results[id.x] = vec4<u32>(bitcast<u32>(hit.t), hit.triangle, hit.slot, cost.nodes);
+}

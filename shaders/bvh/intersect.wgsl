@@ -1,0 +1,105 @@
+// Ray-box and ray-triangle tests. The CPU twin is crates/caustic-bvh/src/triangle.rs.
+
+// A ray prepared for traversal: inverse direction for slabs, and the watertight test's
+// per-ray axis permutation and shear folded into three row vectors, so that a vertex a
+// (relative to the origin) transforms to (dot(shear_x, a), dot(shear_y, a), dot(shear_z, a))
+// = (a[kx] - Sx a[kz], a[ky] - Sy a[kz], Sz a[kz]) without per-lane dynamic indexing.
+struct TraversalRay {
+    origin: vec3<f32>,
+    inv_direction: vec3<f32>,
+    shear_x: vec3<f32>,
+    shear_y: vec3<f32>,
+    shear_z: vec3<f32>,
+}
+
+// 1 / d with directions below 1e-20 in magnitude clamped to +-1e-20, as the CPU twin does.
+fn safe_inverse(d: f32) -> f32 {
+    let tiny = 1e-20;
+    if abs(d) < tiny {
+        return 1.0 / select(-tiny, tiny, d >= 0.0);
+    }
+    return 1.0 / d;
+}
+
+fn max_dimension(v: vec3<f32>) -> u32 {
+    if v.x > v.y {
+        return select(2u, 0u, v.x > v.z);
+    }
+    return select(2u, 1u, v.y > v.z);
+}
+
+fn unit_axis(k: u32) -> vec3<f32> {
+    return vec3<f32>(f32(k == 0u), f32(k == 1u), f32(k == 2u));
+}
+
+fn prepare_ray(ray: Ray) -> TraversalRay {
+    let d = ray.direction;
+    let kz = max_dimension(abs(d));
+    var kx = (kz + 1u) % 3u;
+    var ky = (kx + 1u) % 3u;
+    if d[kz] < 0.0 {
+        let swap = kx;
+        kx = ky;
+        ky = swap;
+    }
+    let ez = unit_axis(kz);
+    let shear_x = unit_axis(kx) - (d[kx] / d[kz]) * ez;
+    let shear_y = unit_axis(ky) - (d[ky] / d[kz]) * ez;
+    let shear_z = ez / d[kz];
+    let inv = vec3<f32>(safe_inverse(d.x), safe_inverse(d.y), safe_inverse(d.z));
+    return TraversalRay(ray.origin, inv, shear_x, shear_y, shear_z);
+}
+
+// Slack on the exit distance (1 + 3 ulp) so rays aimed exactly at shared vertices cannot
+// slip between boxes; the CPU twin uses the same constant (caustic_bvh::SLAB_EXIT_SCALE).
+const SLAB_EXIT_SCALE: f32 = 1.0000003576;
+
+// Entry distance of the ray into a box, or a negative value on a miss.
+fn intersect_box(r: TraversalRay, lo: vec3<f32>, hi: vec3<f32>, t_max: f32) -> f32 {
+    let t0 = (lo - r.origin) * r.inv_direction;
+    let t1 = (hi - r.origin) * r.inv_direction;
+    let near = min(t0, t1);
+    let far = max(t0, t1);
+    let t_enter = max(max(near.x, near.y), max(near.z, 0.0));
+    let t_exit = min(min(far.x, far.y), min(far.z, t_max)) * SLAB_EXIT_SCALE;
+    return select(-1.0, t_enter, t_enter <= t_exit);
+}
+
+struct TriangleHit {
+    t: f32,
+    u: f32,
+    v: f32,
+}
+
+// Watertight ray-triangle test (Woop, Benthin & Wald, JCGT 2013), two-sided. Returns
+// t < 0 on a miss; (u, v) are the barycentric weights of v1 and v2.
+fn intersect_triangle(r: TraversalRay, v0: vec3<f32>, v1: vec3<f32>, v2: vec3<f32>, t_max: f32) -> TriangleHit {
+    let miss = TriangleHit(-1.0, 0.0, 0.0);
+    let a = v0 - r.origin;
+    let b = v1 - r.origin;
+    let c = v2 - r.origin;
+    let ax = dot(r.shear_x, a);
+    let ay = dot(r.shear_y, a);
+    let bx = dot(r.shear_x, b);
+    let by = dot(r.shear_y, b);
+    let cx = dot(r.shear_x, c);
+    let cy = dot(r.shear_y, c);
+    let u = cx * by - cy * bx;
+    let v = ax * cy - ay * cx;
+    let w = bx * ay - by * ax;
+    if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
+        return miss;
+    }
+    let det = u + v + w;
+    if det == 0.0 {
+        return miss;
+    }
+    let az = dot(r.shear_z, a);
+    let bz = dot(r.shear_z, b);
+    let cz = dot(r.shear_z, c);
+    let t = (u * az + v * bz + w * cz) / det;
+    if !(t > 0.0 && t < t_max) {
+        return miss;
+    }
+    return TriangleHit(t, v / det, w / det);
+}

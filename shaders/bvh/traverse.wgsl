@@ -1,0 +1,98 @@
+// Stack-based traversal of the two-wide BVH, nearest child first. The CPU twin is
+// crates/caustic-bvh/src/traverse.rs.
+
+const LEAF_BIT: u32 = 0x80000000u;
+const EMPTY_CHILD: u32 = 0xffffffffu;
+const STACK_SIZE: u32 = 64u;
+
+struct Hit {
+    t: f32,
+    u: f32,
+    v: f32,
+    // Scene triangle index, or NO_HIT.
+    triangle: u32,
+    // Gathered triangle index (for fetching its corners again).
+    slot: u32,
+}
+
+// Counters for the BVH-cost debug views and the benchmark.
+struct TraversalCost {
+    nodes: u32,
+    triangles: u32,
+}
+
+fn is_leaf(child: u32) -> bool {
+    return (child & LEAF_BIT) != 0u;
+}
+
+fn leaf_first(child: u32) -> u32 {
+    return child & 0x07ffffffu;
+}
+
+fn leaf_count(child: u32) -> u32 {
+    return ((child >> 27u) & 0xfu) + 1u;
+}
+
+// Closest hit along the ray in (0, t_max); with `any_hit` it returns at the first hit found.
+fn trace(ray: Ray, t_max: f32, any_hit: bool, cost: ptr<function, TraversalCost>) -> Hit {
+    let r = prepare_ray(ray);
+    var hit = Hit(t_max, 0.0, 0.0, NO_HIT, 0u);
+    var stack_child: array<u32, STACK_SIZE>;
+    var sp = 0u;
+    var current = 0u;
+    loop {
+        if is_leaf(current) {
+            let first = leaf_first(current);
+            let end = first + leaf_count(current);
+            for (var i = first; i < end; i++) {
+                let tri = bvh_triangles[i];
+                let th = intersect_triangle(r, tri.v0, tri.v1, tri.v2, hit.t);
+                (*cost).triangles += 1u;
+                if th.t > 0.0 {
+                    hit = Hit(th.t, th.u, th.v, tri.id, i);
+                    if any_hit {
+                        return hit;
+                    }
+                }
+            }
+        } else {
+            let node = bvh_nodes[current];
+            (*cost).nodes += 1u;
+            let t0 = intersect_box(r, node.min0, node.max0, hit.t);
+            let t1 = intersect_box(r, node.min1, node.max1, hit.t);
+            let hit0 = t0 >= 0.0 && node.child0 != EMPTY_CHILD;
+            let hit1 = t1 >= 0.0 && node.child1 != EMPTY_CHILD;
+            if hit0 && hit1 {
+                let near_first = t0 <= t1;
+                let far = select(node.child0, node.child1, near_first);
+                if sp < STACK_SIZE {
+                    stack_child[sp] = far;
+                    sp++;
+                }
+                current = select(node.child1, node.child0, near_first);
+                continue;
+            }
+            if hit0 || hit1 {
+                current = select(node.child1, node.child0, hit0);
+                continue;
+            }
+        }
+        // Pop the next subtree that can still hold a closer hit.
+        if sp == 0u {
+            break;
+        }
+        sp--;
+        current = stack_child[sp];
+    }
+    return hit;
+}
+
+fn closest_hit(ray: Ray, t_max: f32) -> Hit {
+    var cost = TraversalCost(0u, 0u);
+    return trace(ray, t_max, false, &cost);
+}
+
+fn occluded(ray: Ray, t_max: f32) -> bool {
+    var cost = TraversalCost(0u, 0u);
+    return trace(ray, t_max, true, &cost).triangle != NO_HIT;
+}

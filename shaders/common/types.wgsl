@@ -1,0 +1,101 @@
+// Structs shared with the CPU. Each is mirrored byte for byte by a `#[repr(C)]` bytemuck
+// struct in crates/caustic-gpu/src/gpu_types.rs (BvhNode and BvhTriangle in
+// crates/caustic-bvh/src/layout.rs); a unit test checks the sizes.
+
+// Per-pass constants: camera, image, tile, sample index, integrator settings.
+struct Frame {
+    eye: vec3<f32>,
+    width: u32,
+    // Image right, scaled by tan(fov_y / 2) * aspect.
+    right: vec3<f32>,
+    height: u32,
+    // Image up, scaled by tan(fov_y / 2).
+    up: vec3<f32>,
+    sample_index: u32,
+    forward: vec3<f32>,
+    seed: u32,
+    environment_color: vec3<f32>,
+    // 0 = constant colour, 1 = latitude-longitude map.
+    environment_mode: u32,
+    tile_start: u32,
+    tile_pixels: u32,
+    // Maximum number of bounces (scattering events).
+    max_depth: u32,
+    light_count: u32,
+    // Sum over emissive triangles of area x luminance(radiance).
+    total_light_power: f32,
+    // Bounces before Russian roulette starts.
+    rr_start: u32,
+    _pad0: u32,
+    _pad1: u32,
+}
+
+// Binary BVH node holding both children's bounds (64 bytes).
+// child codes: bit 31 clear = interior node index; bit 31 set = leaf with
+// count - 1 in bits 27..30 and the first gathered triangle in bits 0..26;
+// 0xffffffff = no child.
+struct BvhNode {
+    min0: vec3<f32>,
+    child0: u32,
+    max0: vec3<f32>,
+    child1: u32,
+    min1: vec3<f32>,
+    _pad0: u32,
+    max1: vec3<f32>,
+    _pad1: u32,
+}
+
+// Triangle corners gathered in BVH leaf order; `id` is the scene's triangle index.
+struct BvhTriangle {
+    v0: vec3<f32>,
+    id: u32,
+    v1: vec3<f32>,
+    _pad0: u32,
+    v2: vec3<f32>,
+    _pad1: u32,
+}
+
+// Shading attributes of one triangle, indexed by scene triangle index.
+struct TriangleShading {
+    n0: vec3<f32>,
+    material: u32,
+    n1: vec3<f32>,
+    // Bit 0: has per-vertex normals (else the flat geometric normal is used).
+    flags: u32,
+    n2: vec3<f32>,
+    _pad0: u32,
+    uv0: vec2<f32>,
+    uv1: vec2<f32>,
+    uv2: vec2<f32>,
+    _pad1: vec2<f32>,
+}
+
+struct Material {
+    base_color: vec3<f32>,
+    flags: u32,
+    emission: vec3<f32>,
+    _pad0: u32,
+}
+
+// One emissive triangle; `cdf` is the inclusive upper end of its share of total power.
+struct Light {
+    v0: vec3<f32>,
+    cdf: f32,
+    e1: vec3<f32>,
+    area: f32,
+    e2: vec3<f32>,
+    triangle: u32,
+    radiance: vec3<f32>,
+    select_pdf: f32,
+}
+
+// Running sum of one pixel's samples with Kahan compensation; w counts samples.
+struct AccumTexel {
+    sum: vec4<f32>,
+    compensation: vec4<f32>,
+}
+
+const PI: f32 = 3.14159265358979;
+const INV_PI: f32 = 0.318309886183791;
+const FLAG_VERTEX_NORMALS: u32 = 1u;
+const NO_HIT: u32 = 0xffffffffu;

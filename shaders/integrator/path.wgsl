@@ -1,0 +1,104 @@
+// The unidirectional path tracer: one sample of every pixel of a tile per dispatch.
+// Lambertian surfaces, emissive triangles with next-event estimation and MIS (power
+// heuristic), Russian roulette. The pixel's running sum is updated with Kahan summation.
+
+const SAFETY_MAX_BOUNCES: u32 = 1024u;
+
+// Direct light at a diffuse surface from one light sample, MIS-weighted against BSDF sampling.
+fn next_event(si: SurfaceInteraction, local: Frame3, rng: ptr<function, Rng>) -> vec3<f32> {
+    let u_select = next_f32(rng);
+    let u_point = next_2d(rng);
+    if frame.light_count == 0u {
+        return vec3<f32>(0.0);
+    }
+    let ls = sample_light(si.p, u_select, u_point);
+    let cos_surface = dot(ls.wi, si.ns);
+    if ls.pdf <= 0.0 || cos_surface <= 0.0 || dot(ls.wi, si.ng) <= 0.0 {
+        return vec3<f32>(0.0);
+    }
+    let shadow = spawn_ray(si, ls.wi);
+    if occluded(shadow, ls.distance * (1.0 - 1e-4)) {
+        return vec3<f32>(0.0);
+    }
+    let wi_local = vec3<f32>(dot(ls.wi, local.t), dot(ls.wi, local.b), cos_surface);
+    let f = lambert_eval(si.material.base_color, wi_local);
+    let weight = power_heuristic(ls.pdf, lambert_pdf(wi_local));
+    return f * ls.radiance * (weight / ls.pdf);
+}
+
+fn trace_path(primary: Ray, rng: ptr<function, Rng>) -> vec3<f32> {
+    var ray = primary;
+    var radiance = vec3<f32>(0.0);
+    var throughput = vec3<f32>(1.0);
+    var bsdf_pdf = 0.0;
+    let max_bounces = min(frame.max_depth, SAFETY_MAX_BOUNCES);
+    for (var bounce = 0u; ; bounce++) {
+        let hit = closest_hit(ray, 3.0e38);
+        if hit.triangle == NO_HIT {
+            radiance += throughput * environment_radiance(ray.direction);
+            break;
+        }
+        let si = surface_interaction(ray, hit);
+        if si.front_face && any(si.material.emission > vec3<f32>(0.0)) {
+            var weight = 1.0;
+            if bounce > 0u {
+                let cos_light = dot(si.ng, -ray.direction);
+                weight = power_heuristic(bsdf_pdf, light_pdf(si.material.emission, hit.t, cos_light));
+            }
+            radiance += throughput * si.material.emission * weight;
+        }
+        if bounce >= max_bounces {
+            break;
+        }
+        let local = frame_from_normal(si.ns);
+        radiance += throughput * next_event(si, local, rng);
+        let bs = lambert_sample(si.material.base_color, next_2d(rng));
+        let wi = frame_to_world(local, bs.wi);
+        if bs.pdf <= 0.0 || dot(wi, si.ng) <= 0.0 {
+            break;
+        }
+        throughput *= bs.weight;
+        bsdf_pdf = bs.pdf;
+        if bounce + 1u >= frame.rr_start {
+            let survive = min(max(throughput.x, max(throughput.y, throughput.z)), 0.95);
+            if next_f32(rng) >= survive {
+                break;
+            }
+            throughput /= survive;
+        }
+        ray = spawn_ray(si, wi);
+    }
+    return radiance;
+}
+
+fn accumulate(pixel: u32, value: vec3<f32>) {
+    var texel = accumulation[pixel];
+    let y = vec4<f32>(value, 1.0) - texel.compensation;
+    let t = texel.sum + y;
+    texel.compensation = (t - texel.sum) - y;
+    texel.sum = t;
+    accumulation[pixel] = texel;
+}
+
+// Whether no component is NaN or infinite, by the exponent bits (immune to fast-math folding).
+fn is_finite3(v: vec3<f32>) -> bool {
+    let exponent = bitcast<vec3<u32>>(v) & vec3<u32>(0x7f800000u);
+    return all(exponent != vec3<u32>(0x7f800000u));
+}
+
+@compute @workgroup_size(64)
+fn render_sample(@builtin(global_invocation_id) id: vec3<u32>) {
+    if id.x >= frame.tile_pixels {
+        return;
+    }
+    let pixel = frame.tile_start + id.x;
+    let xy = vec2<u32>(pixel % frame.width, pixel / frame.width);
+    var rng = rng_for_sample(pixel, frame.sample_index, frame.seed);
+    let film = vec2<f32>(xy) + next_2d(&rng);
+    let value = trace_path(camera_ray(film), &rng);
+    if is_finite3(value) {
+        accumulate(pixel, value);
+    } else {
+        atomicAdd(&counters[0], 1u);
+    }
+}

@@ -1,0 +1,110 @@
+//! The command-line contract: JSON report fields, outputs, and clear failures on bad input that
+//! leave no output file behind.
+
+mod support;
+
+use std::path::Path;
+
+#[test]
+fn render_reports_json_and_writes_every_format() {
+    let dir = support::scratch("formats");
+    for extension in ["png", "exr", "hdr", "bmp", "jpg"] {
+        let out = dir.join(format!("cornell.{extension}"));
+        let report = support::caustic_json(&["render", "--size", "32x32", "--spp", "2", "-o", out.to_str().unwrap(), "--json"]);
+        for key in ["adapter", "triangles", "bvh_build_ms", "spp", "seconds", "samples_per_second", "nonfinite_samples", "output"] {
+            assert!(!report[key].is_null(), "JSON report lacks '{key}': {report}");
+        }
+        assert_eq!(report["triangles"], 32);
+        assert_eq!(report["spp"], 2);
+        let image = caustic_image::Image::load(&out).expect("written image loads");
+        assert_eq!((image.width, image.height), (32, 32));
+        println!("{extension}: mean {:?}", image.mean());
+        assert!(image.mean().iter().all(|&c| c > 0.0), "{extension} image is black");
+    }
+}
+
+#[test]
+fn time_budget_stops_the_render() {
+    let out = support::scratch("time").join("t.exr");
+    let report = support::caustic_json(&["render", "--size", "16x16", "--time", "0.5", "-o", out.to_str().unwrap(), "--json"]);
+    let seconds = report["seconds"].as_f64().unwrap();
+    println!("--time 0.5 rendered {} spp in {seconds:.2} s", report["spp"]);
+    assert!(report["spp"].as_u64().unwrap() >= 1);
+    assert!(seconds >= 0.5, "stopped early");
+}
+
+#[test]
+fn same_seed_gives_the_same_image() {
+    let dir = support::scratch("seed");
+    let render = |name: &str, seed: &str| {
+        let out = dir.join(name);
+        support::caustic_json(&["render", "--size", "24x24", "--spp", "3", "--seed", seed, "-o", out.to_str().unwrap(), "--json"]);
+        caustic_image::Image::load(&out).unwrap()
+    };
+    let a = render("a.exr", "5");
+    let b = render("b.exr", "5");
+    let c = render("c.exr", "6");
+    assert_eq!(a, b, "same seed, different images");
+    assert_ne!(a, c, "different seeds, same image");
+}
+
+/// A binary PLY triangle whose second vertex has a NaN coordinate.
+fn binary_ply_with_nan_vertex() -> Vec<u8> {
+    let header = "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+    let mut bytes = header.as_bytes().to_vec();
+    for v in [0.0f32, 0.0, 0.0, 1.0, f32::NAN, 0.0, 0.0, 1.0, 0.0] {
+        bytes.extend_from_slice(&v.to_le_bytes());
+    }
+    bytes.push(3);
+    for i in [0i32, 1, 2] {
+        bytes.extend_from_slice(&i.to_le_bytes());
+    }
+    bytes
+}
+
+fn assert_fails(args: &[&str], expected: &[&str], output: &Path) {
+    let result = support::caustic(args);
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    assert!(!result.status.success(), "caustic {args:?} should fail");
+    assert!(!stderr.contains("panicked"), "caustic {args:?} panicked: {stderr}");
+    for text in expected {
+        assert!(stderr.contains(text), "error for {args:?} should mention '{text}': {stderr}");
+    }
+    assert!(!output.exists(), "a failed run left {}", output.display());
+}
+
+#[test]
+fn bad_input_fails_clearly_without_output() {
+    let dir = support::scratch("bad");
+    let out = dir.join("out.png");
+    let o = out.to_str().unwrap();
+    assert_fails(&["render", "no-such-scene.gltf", "-o", o], &["no-such-scene.gltf", "no such file"], &out);
+    let unsupported = dir.join("scene.xyz");
+    std::fs::write(&unsupported, "hello").unwrap();
+    assert_fails(&["render", unsupported.to_str().unwrap(), "-o", o], &["scene.xyz", "unsupported"], &out);
+    let garbage = dir.join("broken.gltf");
+    std::fs::write(&garbage, "{ this is not json").unwrap();
+    assert_fails(&["render", garbage.to_str().unwrap(), "-o", o], &["broken.gltf"], &out);
+    let nan = dir.join("nan.ply");
+    std::fs::write(&nan, binary_ply_with_nan_vertex()).unwrap();
+    assert_fails(&["render", nan.to_str().unwrap(), "-o", o], &["nan.ply", "not finite"], &out);
+    let missing_folder = dir.join("missing/out.png");
+    assert_fails(&["render", "--size", "8x8", "-o", missing_folder.to_str().unwrap()], &["missing"], &missing_folder);
+    assert_fails(&["render", "--spp", "0", "-o", o], &["--spp 0"], &out);
+    assert_fails(&["render", "--size", "8x8", "-o", dir.join("out.tiff").to_str().unwrap()], &["out.tiff"], &dir.join("out.tiff"));
+    assert_fails(&["render", "--environment", "nowhere.hdr", "-o", o], &["nowhere.hdr"], &out);
+    assert_fails(&["render", "--adapter", "no-such-gpu", "--size", "8x8", "-o", o], &["no-such-gpu", "available"], &out);
+    let leftovers: Vec<_> = std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name()).collect();
+    println!("scratch folder after the failures: {leftovers:?}");
+}
+
+#[test]
+fn bench_reports_throughput() {
+    let report = support::caustic_json(&["bench", "--rays", "128", "--repeats", "1", "--json"]);
+    let mesh = &report["meshes"][0];
+    println!("bench: {mesh}");
+    assert_eq!(mesh["triangles"], 32);
+    assert!(mesh["primary_mrays_per_second"].as_f64().unwrap() > 0.0);
+    assert!(mesh["incoherent_mrays_per_second"].as_f64().unwrap() > 0.0);
+    assert!(mesh["primary_hit_fraction"].as_f64().unwrap() > 0.9, "the Cornell camera sees the box everywhere");
+}
