@@ -25,12 +25,14 @@ impl Camera {
         (right, up, forward)
     }
 
-    /// A camera that frames a bounding box from the -Z side with a 40 degree field of view.
+    /// A camera on the +Z side of a bounding box, looking down -Z at its centre with a 40 degree
+    /// field of view, just far enough back that the box's front face fits a square image with
+    /// a 10% margin (the box's depth is added so its nearest part stays in front).
     pub fn framing(min: Vec3, max: Vec3) -> Camera {
         let centre = (min + max) * 0.5;
-        let radius = ((max - min).length() * 0.5).max(1e-6);
+        let half = ((max - min) * 0.5).max(Vec3::splat(1e-6));
         let fov_y = 40f32.to_radians();
-        let distance = radius / (fov_y * 0.5).sin();
+        let distance = 1.1 * half.x.max(half.y) / (fov_y * 0.5).tan() + half.z;
         Camera { eye: centre + Vec3::new(0.0, 0.0, distance), target: centre, up: Vec3::Y, fov_y }
     }
 

@@ -1,0 +1,50 @@
+//! The device traversal (`shaders/bvh`) against its CPU twin (`caustic_bvh::GpuBvh`) on the
+//! very rays the device traced: coherent primary rays and incoherent bounce rays.
+
+use caustic_bvh::{BuildOptions, Ray};
+use caustic_gpu::{GpuContext, GpuScene, RayBench, RayKind};
+use caustic_scene::{SceneSource, load_scene};
+use std::path::Path;
+
+fn compare_on(scene_name: &str) {
+    let scene = load_scene(&SceneSource::parse(scene_name)).expect("scene loads");
+    let ctx = GpuContext::new(std::env::var("CAUSTIC_ADAPTER").ok().as_deref()).expect("device");
+    println!("adapter: {}", ctx.adapter);
+    let gpu = GpuScene::upload(&ctx, &scene).expect("upload");
+    let triangles: Vec<_> = scene.triangles().collect();
+    let cpu = caustic_bvh::flatten(&caustic_bvh::build(&triangles, &BuildOptions::default()), &triangles);
+    let bench = RayBench::new(&ctx, &gpu, &scene.camera, 192).expect("bench kernels");
+    for kind in [RayKind::Primary, RayKind::Incoherent] {
+        bench.run(kind, 1).expect("trace");
+        let rays = bench.traced_rays().expect("read back");
+        let (mut hits, mut different, mut worst_t) = (0usize, 0usize, 0f32);
+        for traced in &rays {
+            let ray = Ray { origin: traced.origin, direction: traced.direction, t_max: 3.0e38 };
+            let expected = cpu.closest_hit(&ray);
+            hits += usize::from(expected.is_some());
+            match (expected, traced.triangle) {
+                (Some(e), Some(t)) if e.triangle == t => worst_t = worst_t.max((e.t - traced.t).abs() / e.t),
+                (None, None) => {}
+                _ => different += 1,
+            }
+        }
+        println!("{scene_name} {kind:?}: {} rays, {hits} hits, {different} differ from the CPU twin, worst relative t error {worst_t:.2e}", rays.len());
+        assert!(different * 10_000 <= rays.len(), "{different} of {} rays found another triangle than the CPU twin", rays.len());
+        assert!(worst_t < 1e-5, "t differs by {worst_t:.2e} relative");
+    }
+}
+
+#[test]
+fn device_traversal_matches_the_cpu_twin_on_the_cornell_box() {
+    compare_on("cornell");
+}
+
+#[test]
+fn device_traversal_matches_the_cpu_twin_on_the_dragon() {
+    let dragon = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/assets/meshes/stanford-dragon-100k.ply");
+    if !dragon.exists() {
+        eprintln!("skipping: ../shared not found beside the checkout");
+        return;
+    }
+    compare_on(dragon.to_str().unwrap());
+}
