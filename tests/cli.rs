@@ -34,6 +34,44 @@ fn time_budget_stops_the_render() {
 }
 
 #[test]
+fn time_budget_is_honoured_within_a_pass() {
+    let out = support::scratch("time-pass").join("t.exr");
+    // At 512x512 one sample pass takes longer than the budget on a CPU device.
+    let report = support::caustic_json(&["render", "--time", "0.3", "-o", out.to_str().unwrap(), "--json"]);
+    let seconds = report["seconds"].as_f64().unwrap();
+    println!("--time 0.3 at 512x512 stopped after {seconds:.3} s with {} complete spp", report["spp"]);
+    assert!(seconds < 0.3 + 0.5, "--time 0.3 overran to {seconds:.3} s");
+    let image = caustic_image::Image::load(&out).expect("partial image written");
+    assert!(image.mean()[0] > 0.0, "the tiles rendered before the deadline are in the image");
+}
+
+#[test]
+fn ctrl_c_writes_the_partial_image() {
+    let out = support::scratch("ctrl-c").join("partial.exr");
+    let child = std::process::Command::new(env!("CARGO_BIN_EXE_caustic"))
+        .args(["render", "--size", "64x64", "--spp", "1000000", "-o", out.to_str().unwrap(), "--json"])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("start caustic");
+    std::thread::sleep(std::time::Duration::from_secs(3));
+    let killed = std::process::Command::new("kill").args(["-INT", &child.id().to_string()]).status().expect("kill");
+    assert!(killed.success());
+    let output = child.wait_with_output().expect("caustic ends");
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    println!("{stderr}");
+    assert!(!output.status.success(), "an interrupted render exits non-zero");
+    assert!(stderr.contains("interrupted"), "says it was interrupted");
+    let report: serde_json::Value = serde_json::from_slice(&output.stdout).expect("JSON report");
+    assert_eq!(report["interrupted"], true);
+    let spp = report["spp"].as_u64().unwrap();
+    println!("interrupted after {spp} spp");
+    assert!(spp >= 1, "some samples were accumulated in 3 s");
+    let image = caustic_image::Image::load(&out).expect("partial image written");
+    assert!(image.mean()[0] > 0.0);
+}
+
+#[test]
 fn same_seed_gives_the_same_image() {
     let dir = support::scratch("seed");
     let render = |name: &str, seed: &str| {

@@ -5,6 +5,6 @@
 @group(0) @binding(4) var<storage, read> materials: array<Material>;
 @group(0) @binding(5) var<storage, read> lights: array<Light>;
 @group(0) @binding(6) var<storage, read_write> accumulation: array<AccumTexel>;
-// [0]: samples rejected as non-finite.
-@group(0) @binding(7) var<storage, read_write> counters: array<atomic<u32>>;
+// Per pixel: samples rejected because a component was NaN or infinite.
+@group(0) @binding(7) var<storage, read_write> nonfinite_counts: array<atomic<u32>>;
 @group(0) @binding(8) var environment_map: texture_2d<f32>;

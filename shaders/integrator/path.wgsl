@@ -99,6 +99,6 @@ fn render_sample(@builtin(global_invocation_id) id: vec3<u32>) {
     if is_finite3(value) {
         accumulate(pixel, value);
     } else {
-        atomicAdd(&counters[0], 1u);
+        atomicAdd(&nonfinite_counts[pixel], 1u);
     }
 }

@@ -2,12 +2,14 @@
 
 use crate::args::{RenderArgs, parse_environment};
 use anyhow::{Context, bail};
-use caustic_gpu::{GpuContext, GpuScene, PathTracer, RenderSettings};
+use caustic_gpu::{GpuContext, GpuScene, PassOutcome, PathTracer, RenderSettings};
 use caustic_image::SaveOptions;
 use caustic_scene::{SceneSource, load_scene};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
 use std::path::PathBuf;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 const DEFAULT_SPP: u32 = 64;
@@ -28,6 +30,10 @@ struct RenderReport {
     seconds: f64,
     samples_per_second: f64,
     nonfinite_samples: u64,
+    /// Up to 16 pixels that rejected non-finite samples: (x, y, count), most first.
+    nonfinite_pixels: Vec<(u32, u32, u32)>,
+    /// Whether Ctrl-C ended the render early (the image holds what was accumulated).
+    interrupted: bool,
     output: PathBuf,
 }
 
@@ -51,8 +57,12 @@ impl Budget {
         Ok(Budget { spp, seconds: args.time })
     }
 
-    fn done(&self, spp: u32, elapsed: f64) -> bool {
-        self.spp.is_some_and(|n| spp >= n) || self.seconds.is_some_and(|t| elapsed >= t)
+    fn spp_reached(&self, spp: u32) -> bool {
+        self.spp.is_some_and(|n| spp >= n)
+    }
+
+    fn time_spent(&self, elapsed: f64) -> bool {
+        self.seconds.is_some_and(|t| elapsed >= t)
     }
 }
 
@@ -78,16 +88,24 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let gpu_scene = GpuScene::upload(&ctx, &scene)?;
     let settings = RenderSettings { max_depth, seed: args.seed, ..RenderSettings::default() };
     let mut tracer = PathTracer::new(&ctx, &scene, &gpu_scene, &settings)?;
+    let interrupted = interrupt_flag()?;
     let progress = progress_bar(&budget);
     let start = Instant::now();
-    while !budget.done(tracer.samples_per_pixel(), start.elapsed().as_secs_f64()) {
-        tracer.render_sample()?;
+    let stop = || interrupted.load(Ordering::SeqCst) || budget.time_spent(start.elapsed().as_secs_f64());
+    while !budget.spp_reached(tracer.samples_per_pixel()) {
+        if tracer.render_sample_until(&stop)? == PassOutcome::Stopped {
+            break;
+        }
         progress.set_position(progress_position(&budget, tracer.samples_per_pixel(), start.elapsed().as_secs_f64()));
     }
     let seconds = start.elapsed().as_secs_f64();
     progress.finish_and_clear();
     let image = tracer.image()?;
-    let nonfinite_samples = tracer.nonfinite_samples()?;
+    let nonfinite = tracer.nonfinite_counts()?;
+    let interrupted = interrupted.load(Ordering::SeqCst);
+    if interrupted {
+        eprintln!("interrupted: writing the image accumulated so far ({} complete samples per pixel)", tracer.samples_per_pixel());
+    }
     image.save(&output, &SaveOptions { exposure: args.exposure, tone_map: args.tone_map })?;
     let (width, height) = scene.resolution;
     let spp = tracer.samples_per_pixel();
@@ -104,10 +122,38 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         spp,
         seconds,
         samples_per_second: f64::from(width) * f64::from(height) * f64::from(spp) / seconds.max(1e-9),
-        nonfinite_samples,
+        nonfinite_samples: nonfinite.iter().map(|&c| u64::from(c)).sum(),
+        nonfinite_pixels: worst_pixels(&nonfinite, width),
+        interrupted,
         output,
     };
-    print_report(&report, args.device.json)
+    print_report(&report, args.device.json)?;
+    if interrupted {
+        bail!("interrupted by Ctrl-C after {spp} samples per pixel; the partial image was written");
+    }
+    Ok(())
+}
+
+/// A flag that Ctrl-C (SIGINT) or SIGTERM sets, so the render stops at the next tile and writes
+/// what it has.
+fn interrupt_flag() -> anyhow::Result<Arc<AtomicBool>> {
+    let flag = Arc::new(AtomicBool::new(false));
+    let handler_flag = flag.clone();
+    ctrlc::set_handler(move || handler_flag.store(true, Ordering::SeqCst)).context("cannot install the Ctrl-C handler")?;
+    Ok(flag)
+}
+
+/// The pixels with the most non-finite samples, as (x, y, count), at most 16.
+fn worst_pixels(counts: &[u32], width: u32) -> Vec<(u32, u32, u32)> {
+    let mut pixels: Vec<(u32, u32, u32)> = counts
+        .iter()
+        .enumerate()
+        .filter(|(_, c)| **c > 0)
+        .map(|(i, &c)| (i as u32 % width, i as u32 / width, c))
+        .collect();
+    pixels.sort_by(|a, b| b.2.cmp(&a.2));
+    pixels.truncate(16);
+    pixels
 }
 
 fn progress_bar(budget: &Budget) -> ProgressBar {
@@ -135,7 +181,7 @@ fn print_report(report: &RenderReport, json: bool) -> anyhow::Result<()> {
         return Ok(());
     }
     eprintln!(
-        "{}: {}x{}, {} triangles, {} spp in {:.2} s ({:.2} M samples/s), BVH {:.1} ms, {} non-finite samples -> {}",
+        "{}: {}x{}, {} triangles, {} spp in {:.2} s ({:.2} M samples/s), BVH {:.1} ms, {} non-finite samples{} -> {}",
         report.scene,
         report.width,
         report.height,
@@ -145,6 +191,7 @@ fn print_report(report: &RenderReport, json: bool) -> anyhow::Result<()> {
         report.samples_per_second / 1e6,
         report.bvh_build_ms,
         report.nonfinite_samples,
+        if report.nonfinite_pixels.is_empty() { String::new() } else { format!(" (worst pixels x, y, count: {:?})", report.nonfinite_pixels) },
         report.output.display()
     );
     Ok(())

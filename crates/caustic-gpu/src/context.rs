@@ -117,13 +117,22 @@ fn choose_adapter(adapters: Vec<wgpu::Adapter>, wanted: Option<&str>) -> Result<
 
 fn install_error_handlers(device: &wgpu::Device, first_error: &Arc<Mutex<Option<String>>>) {
     let sink = first_error.clone();
-    device.on_uncaptured_error(Arc::new(move |error: wgpu::Error| record(&sink, error.to_string())));
+    device.on_uncaptured_error(Arc::new(move |error: wgpu::Error| record(&sink, describe(&error))));
     let sink = first_error.clone();
     device.set_device_lost_callback(move |reason, message| {
         if reason != wgpu::DeviceLostReason::Destroyed {
             record(&sink, format!("device lost ({reason:?}): {message}"));
         }
     });
+}
+
+/// The full text of a device error: its description, or its source chain.
+fn describe(error: &wgpu::Error) -> String {
+    match error {
+        wgpu::Error::Validation { description, .. } => format!("validation error: {description}"),
+        wgpu::Error::Internal { description, .. } => format!("internal error: {description}"),
+        wgpu::Error::OutOfMemory { source } => format!("out of device memory: {source}"),
+    }
 }
 
 fn record(sink: &Mutex<Option<String>>, message: String) {

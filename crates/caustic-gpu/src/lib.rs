@@ -18,5 +18,5 @@ pub mod shaders;
 pub use bench::{BenchResult, RayBench, RayKind, TracedRay};
 pub use context::{AdapterSummary, GpuContext};
 pub use error::GpuError;
-pub use path_tracer::{PathTracer, RenderSettings};
+pub use path_tracer::{PassOutcome, PathTracer, RenderSettings};
 pub use scene_buffers::GpuScene;

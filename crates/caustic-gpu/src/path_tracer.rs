@@ -6,6 +6,7 @@ use crate::shaders::Program;
 use crate::{GpuContext, GpuError, GpuScene};
 use caustic_image::Image;
 use caustic_scene::Scene;
+use std::time::{Duration, Instant};
 use wgpu::util::DeviceExt;
 
 /// Integrator settings that do not come from the scene.
@@ -18,34 +19,53 @@ pub struct RenderSettings {
     pub seed: u32,
     /// Bounces before Russian roulette starts.
     pub rr_start: u32,
-    /// Most pixels one dispatch traces, bounding the work of a single submit.
-    pub tile_pixels: u32,
+    /// Global index of the first sample drawn: a render of samples `first_sample..` draws the
+    /// same random numbers as the matching passes of a render started at 0.
+    pub first_sample: u32,
+    /// Target duration of one submit; the tile size adapts to it so that no submit runs long
+    /// and a stop request is honoured within about this time.
+    pub target_submit: Duration,
 }
 
 impl Default for RenderSettings {
     fn default() -> Self {
-        RenderSettings { max_depth: None, seed: 0, rr_start: 3, tile_pixels: 1 << 18 }
+        RenderSettings { max_depth: None, seed: 0, rr_start: 3, first_sample: 0, target_submit: Duration::from_millis(100) }
     }
 }
 
+/// How a sample pass ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PassOutcome {
+    /// Every pixel received the sample.
+    Complete,
+    /// The stop request came first; the pixels of the finished tiles hold one sample more.
+    Stopped,
+}
+
 const WORKGROUP_SIZE: u32 = 64;
+const MIN_TILE_PIXELS: u32 = 4096;
+const MAX_TILE_PIXELS: u32 = WORKGROUP_SIZE * 65535;
 
 /// A progressive render of one scene: call [`PathTracer::render_sample`] repeatedly, then read
-/// the mean with [`PathTracer::image`].
+/// the per-pixel mean with [`PathTracer::image`].
 pub struct PathTracer<'a> {
     ctx: &'a GpuContext,
     pipeline: wgpu::ComputePipeline,
     bind_group: wgpu::BindGroup,
     frame_buffer: wgpu::Buffer,
     accumulation: wgpu::Buffer,
-    counters: wgpu::Buffer,
+    nonfinite_counts: wgpu::Buffer,
     frame: Frame,
+    target_submit: Duration,
     tile_pixels: u32,
-    samples: u32,
+    first_sample: u32,
+    complete_passes: u32,
+    /// First pixel of the pass in progress that has not received its sample yet.
+    next_pixel: u32,
 }
 
 impl<'a> PathTracer<'a> {
-    /// Compiles the kernel and allocates the accumulation buffer for `scene`'s camera and size.
+    /// Compiles the kernel and allocates the accumulation buffers for `scene`'s camera and size.
     pub fn new(ctx: &'a GpuContext, scene: &Scene, gpu: &GpuScene, settings: &RenderSettings) -> Result<Self, GpuError> {
         let (width, height) = scene.resolution;
         let pixels = u64::from(width) * u64::from(height);
@@ -64,17 +84,16 @@ impl<'a> PathTracer<'a> {
             contents: bytemuck::bytes_of(&frame),
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
         });
-        let accumulation = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("accumulation"),
-            size: accumulation_bytes,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-            mapped_at_creation: false,
-        });
-        let counters = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("counters"),
-            contents: bytemuck::cast_slice(&[0u32; 4]),
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-        });
+        let storage = |label, size| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            })
+        };
+        let accumulation = storage("accumulation", accumulation_bytes);
+        let nonfinite_counts = storage("non-finite counts", pixels * 4);
         let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some("render_sample"),
             layout: None,
@@ -91,7 +110,7 @@ impl<'a> PathTracer<'a> {
             wgpu::BindGroupEntry { binding: 4, resource: gpu.materials.as_entire_binding() },
             wgpu::BindGroupEntry { binding: 5, resource: gpu.lights.as_entire_binding() },
             wgpu::BindGroupEntry { binding: 6, resource: accumulation.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 7, resource: counters.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 7, resource: nonfinite_counts.as_entire_binding() },
             wgpu::BindGroupEntry { binding: 8, resource: wgpu::BindingResource::TextureView(&gpu.environment_view) },
         ];
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -100,37 +119,78 @@ impl<'a> PathTracer<'a> {
             entries: &entries,
         });
         ctx.check()?;
-        let tile_pixels = settings.tile_pixels.clamp(WORKGROUP_SIZE, WORKGROUP_SIZE * 65535);
-        Ok(PathTracer { ctx, pipeline, bind_group, frame_buffer, accumulation, counters, frame, tile_pixels, samples: 0 })
+        Ok(PathTracer {
+            ctx,
+            pipeline,
+            bind_group,
+            frame_buffer,
+            accumulation,
+            nonfinite_counts,
+            frame,
+            target_submit: settings.target_submit,
+            tile_pixels: MIN_TILE_PIXELS,
+            first_sample: settings.first_sample,
+            complete_passes: 0,
+            next_pixel: 0,
+        })
     }
 
-    /// Adds one sample to every pixel, one submit per tile, and waits for the device.
+    /// Adds one sample to every pixel and waits for the device.
     pub fn render_sample(&mut self) -> Result<(), GpuError> {
-        let pixels = self.frame.width * self.frame.height;
-        self.frame.sample_index = self.samples;
-        let mut start = 0;
-        while start < pixels {
-            self.frame.tile_start = start;
-            self.frame.tile_pixels = self.tile_pixels.min(pixels - start);
-            self.ctx.queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&self.frame));
-            let mut encoder = self.ctx.device.create_command_encoder(&Default::default());
-            {
-                let mut pass = encoder.begin_compute_pass(&Default::default());
-                pass.set_pipeline(&self.pipeline);
-                pass.set_bind_group(0, &self.bind_group, &[]);
-                pass.dispatch_workgroups(self.frame.tile_pixels.div_ceil(WORKGROUP_SIZE), 1, 1);
-            }
-            self.ctx.queue.submit([encoder.finish()]);
-            self.ctx.wait()?;
-            start += self.frame.tile_pixels;
-        }
-        self.samples += 1;
-        Ok(())
+        self.render_sample_until(&|| false).map(|_| ())
     }
 
-    /// Samples per pixel accumulated so far.
+    /// Adds one sample to every pixel, tile by tile, asking `stop` before each tile. A stopped
+    /// pass leaves the finished tiles one sample ahead (the image is a per-pixel mean, so it
+    /// stays correct) and is resumed where it stopped by the next call.
+    pub fn render_sample_until(&mut self, stop: &dyn Fn() -> bool) -> Result<PassOutcome, GpuError> {
+        let pixels = self.frame.width * self.frame.height;
+        self.frame.sample_index = self.first_sample + self.complete_passes;
+        while self.next_pixel < pixels {
+            if stop() {
+                return Ok(PassOutcome::Stopped);
+            }
+            let tile = self.tile_pixels.min(pixels - self.next_pixel);
+            let began = Instant::now();
+            self.dispatch_tile(self.next_pixel, tile)?;
+            self.adapt_tile_size(tile, began.elapsed());
+            self.next_pixel += tile;
+        }
+        self.next_pixel = 0;
+        self.complete_passes += 1;
+        Ok(PassOutcome::Complete)
+    }
+
+    fn dispatch_tile(&mut self, start: u32, pixels: u32) -> Result<(), GpuError> {
+        self.frame.tile_start = start;
+        self.frame.tile_pixels = pixels;
+        self.ctx.queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&self.frame));
+        let mut encoder = self.ctx.device.create_command_encoder(&Default::default());
+        {
+            let mut pass = encoder.begin_compute_pass(&Default::default());
+            pass.set_pipeline(&self.pipeline);
+            pass.set_bind_group(0, &self.bind_group, &[]);
+            pass.dispatch_workgroups(pixels.div_ceil(WORKGROUP_SIZE), 1, 1);
+        }
+        self.ctx.queue.submit([encoder.finish()]);
+        self.ctx.wait()
+    }
+
+    /// Scales the tile so the next submit takes about the target time.
+    fn adapt_tile_size(&mut self, pixels: u32, took: Duration) {
+        let ratio = self.target_submit.as_secs_f64() / took.as_secs_f64().max(1e-6);
+        let next = (f64::from(pixels) * ratio.clamp(0.5, 2.0)) as u32;
+        self.tile_pixels = next.clamp(MIN_TILE_PIXELS, MAX_TILE_PIXELS);
+    }
+
+    /// Complete sample passes so far (every pixel has at least this many samples).
     pub fn samples_per_pixel(&self) -> u32 {
-        self.samples
+        self.complete_passes
+    }
+
+    /// The global sample range of the complete passes: `first_sample..first_sample + spp`.
+    pub fn sample_range(&self) -> std::ops::Range<u32> {
+        self.first_sample..self.first_sample + self.complete_passes
     }
 
     /// The mean of the accumulated samples of each pixel (linear radiance).
@@ -146,10 +206,14 @@ impl<'a> PathTracer<'a> {
         Ok(Image::from_rgba(self.frame.width, self.frame.height, &rgba))
     }
 
-    /// Samples rejected because a component was NaN or infinite.
+    /// Samples rejected because a component was NaN or infinite, per pixel (row-major).
+    pub fn nonfinite_counts(&self) -> Result<Vec<u32>, GpuError> {
+        read_buffer(self.ctx, &self.nonfinite_counts)
+    }
+
+    /// Total samples rejected as non-finite.
     pub fn nonfinite_samples(&self) -> Result<u64, GpuError> {
-        let counters: Vec<u32> = read_buffer(self.ctx, &self.counters)?;
-        Ok(u64::from(counters[0]))
+        Ok(self.nonfinite_counts()?.iter().map(|&c| u64::from(c)).sum())
     }
 }
 
