@@ -43,6 +43,13 @@ impl GpuScene {
     /// Builds the BVH on the CPU and uploads everything. Fails with a clear error when a buffer
     /// exceeds the device's storage binding limit or the BVH is deeper than the kernels allow.
     pub fn upload(ctx: &GpuContext, scene: &Scene) -> Result<GpuScene, GpuError> {
+        if !scene.shapes.is_empty() || !scene.lights.is_empty() {
+            return Err(GpuError::Scene(format!(
+                "the scene has {} analytic shapes and {} point/directional/quad lights; the GPU renderer draws triangle meshes and emissive triangles only so far",
+                scene.shapes.len(),
+                scene.lights.len()
+            )));
+        }
         let triangles: Vec<[Vec3; 3]> = scene.triangles().collect();
         let bvh = caustic_bvh::build(&triangles, &BuildOptions::default());
         if bvh.stats.max_depth >= MAX_BVH_DEPTH {

@@ -96,6 +96,7 @@ pub fn cornell_box() -> Scene {
         },
         resolution: (512, 512),
         environment: Environment::Constant(Vec3::ZERO),
+        ..Scene::default()
     }
 }
 

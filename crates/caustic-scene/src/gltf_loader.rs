@@ -55,7 +55,7 @@ pub(crate) fn load(path: &Path) -> Result<Scene, SceneError> {
         None => (framing_camera(path, &walk.meshes)?, DEFAULT_RESOLUTION),
     };
     let environment = sidecar_environment(path)?;
-    Ok(Scene { name: scene_name(path), meshes: walk.meshes, materials: walk.materials, camera, resolution, environment })
+    Ok(Scene { name: scene_name(path), meshes: walk.meshes, materials: walk.materials, camera, resolution, environment, ..Scene::default() })
 }
 
 /// Parses and validates the file and loads its buffers. Images are not decoded: this part of
@@ -138,6 +138,7 @@ fn material(m: &gltf::Material) -> Material {
         specular: m.specular().map_or(1.0, |s| s.specular_factor()),
         ior: m.ior().unwrap_or(1.5),
         transmission: m.transmission().map_or(0.0, |t| t.transmission_factor()),
+        ..Material::default()
     }
 }
 

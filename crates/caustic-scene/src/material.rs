@@ -22,6 +22,42 @@ pub struct Material {
     pub ior: f32,
     /// `KHR_materials_transmission` factor in [0, 1].
     pub transmission: f32,
+    /// Which reflection model shades the surface.
+    pub model: ShadingModel,
+    /// Classic ambient term: radiance the ray tracer adds regardless of lights.
+    pub ambient: Vec3,
+    /// Classic specular colour: weight of the Phong highlight and of mirror reflection.
+    pub specular_color: Vec3,
+    /// Phong exponent of the highlight (classic `shininess`).
+    pub shininess: f32,
+    /// Weight of perfect mirror reflection in [0, 1] (scene language `reflectance`).
+    pub reflectance: f32,
+    /// Weight of refraction in [0, 1] (scene language `transparency`).
+    pub transparency: f32,
+    /// Angular blur of reflections (scene language `gloss`; 0 = sharp).
+    pub gloss: f32,
+    /// Angular blur of refractions (scene language `frost`; 0 = clear).
+    pub frost: f32,
+}
+
+/// Reflection models a material can select.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ShadingModel {
+    /// Ideal diffuse.
+    #[default]
+    Lambert,
+    /// Lambert plus a Phong highlight (classic ray tracer; modified Phong in the path tracer).
+    Phong,
+    /// Lambert plus a Blinn-Phong highlight.
+    BlinnPhong,
+    /// GGX microfacet (CSE168 `brdf ggx`).
+    Ggx,
+    /// Cartoon shading: lit colour without gradation.
+    Flat,
+    /// Thin translucent surface that scatters light through.
+    Translucent,
+    /// A 3D checker pattern for debugging.
+    Checkers,
 }
 
 impl Material {
@@ -49,7 +85,28 @@ impl Material {
         if !self.emission.is_finite() || self.emission.min_element() < 0.0 {
             return bad("emission");
         }
-        for (field, value) in [("metallic", self.metallic), ("roughness", self.roughness), ("specular", self.specular), ("transmission", self.transmission)] {
+        if !self.ambient.is_finite() || self.ambient.min_element() < 0.0 {
+            return bad("ambient");
+        }
+        if !self.specular_color.is_finite() || self.specular_color.min_element() < 0.0 {
+            return bad("specular colour");
+        }
+        if !self.shininess.is_finite() || self.shininess < 0.0 {
+            return bad("shininess");
+        }
+        for (field, value) in [("gloss", self.gloss), ("frost", self.frost)] {
+            if !value.is_finite() || value < 0.0 {
+                return bad(field);
+            }
+        }
+        for (field, value) in [
+            ("metallic", self.metallic),
+            ("roughness", self.roughness),
+            ("specular", self.specular),
+            ("transmission", self.transmission),
+            ("reflectance", self.reflectance),
+            ("transparency", self.transparency),
+        ] {
             if !(0.0..=1.0).contains(&value) {
                 return bad(field);
             }
@@ -72,6 +129,14 @@ impl Default for Material {
             specular: 0.0,
             ior: 1.5,
             transmission: 0.0,
+            model: ShadingModel::default(),
+            ambient: Vec3::ZERO,
+            specular_color: Vec3::ZERO,
+            shininess: 1.0,
+            reflectance: 0.0,
+            transparency: 0.0,
+            gloss: 0.0,
+            frost: 0.0,
         }
     }
 }

@@ -45,5 +45,5 @@ pub(crate) fn assemble(path: &Path, meshes: Vec<Mesh>, materials: Vec<Material>)
     let camera = framing_camera(path, &meshes)?;
     let lit = meshes.iter().any(|m| materials.get(m.material as usize).is_some_and(Material::is_emissive));
     let environment = if lit { Environment::default() } else { Environment::Constant(Vec3::ONE) };
-    Ok(Scene { name: scene_name(path), meshes, materials, camera, resolution: DEFAULT_RESOLUTION, environment })
+    Ok(Scene { name: scene_name(path), meshes, materials, camera, resolution: DEFAULT_RESOLUTION, environment, ..Scene::default() })
 }

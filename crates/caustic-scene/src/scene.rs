@@ -1,6 +1,6 @@
 //! The scene: everything a render needs, as plain data.
 
-use crate::{Camera, Environment, Material, Mesh, SceneError};
+use crate::{Camera, Environment, Light, Material, Mesh, RenderOptions, SceneError, Shape};
 use glam::Vec3;
 
 /// A complete scene. Meshes are in world space; instanced meshes are expanded by the loaders.
@@ -18,6 +18,29 @@ pub struct Scene {
     pub resolution: (u32, u32),
     /// Radiance of rays that escape.
     pub environment: Environment,
+    /// Analytic shapes (spheres, planes, disks, boxes).
+    pub shapes: Vec<Shape>,
+    /// Lights that are not emissive geometry.
+    pub lights: Vec<Light>,
+    /// What the scene asks of the renderer.
+    pub options: RenderOptions,
+}
+
+impl Default for Scene {
+    /// An empty 512x512 scene seen from (0, 0, 5) towards the origin, black environment.
+    fn default() -> Self {
+        Scene {
+            name: "scene".to_string(),
+            meshes: Vec::new(),
+            materials: Vec::new(),
+            camera: Camera { eye: Vec3::new(0.0, 0.0, 5.0), target: Vec3::ZERO, up: Vec3::Y, fov_y: 40f32.to_radians() },
+            resolution: (512, 512),
+            environment: Environment::default(),
+            shapes: Vec::new(),
+            lights: Vec::new(),
+            options: RenderOptions::default(),
+        }
+    }
 }
 
 /// One emissive triangle: an area light.
@@ -77,11 +100,13 @@ impl Scene {
         lights
     }
 
-    /// World-space bounds of all vertices, or `None` for an empty scene.
+    /// World-space bounds of all vertices and bounded shapes, or `None` when there are none.
     pub fn bounds(&self) -> Option<(Vec3, Vec3)> {
-        let mut points = self.meshes.iter().flat_map(|m| m.positions.iter().copied());
-        let first = points.next()?;
-        Some(points.fold((first, first), |(lo, hi), p| (lo.min(p), hi.max(p))))
+        let vertices = self.meshes.iter().flat_map(|m| m.positions.iter().map(|p| (*p, *p)));
+        let shapes = self.shapes.iter().filter_map(Shape::world_bounds);
+        let mut boxes = vertices.chain(shapes);
+        let first = boxes.next()?;
+        Some(boxes.fold(first, |(lo, hi), (a, b)| (lo.min(a), hi.max(b))))
     }
 
     /// Checks every mesh, material, the camera and the resolution; the first fault is returned.
@@ -91,6 +116,12 @@ impl Scene {
         }
         for mesh in &self.meshes {
             mesh.validate(self.materials.len())?;
+        }
+        for (index, shape) in self.shapes.iter().enumerate() {
+            shape.validate(index, self.materials.len())?;
+        }
+        for (index, light) in self.lights.iter().enumerate() {
+            light.validate(index)?;
         }
         if !self.camera.is_valid() {
             return Err(SceneError::invalid("camera", format!("degenerate camera {:?}", self.camera)));

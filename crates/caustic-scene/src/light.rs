@@ -1,0 +1,80 @@
+//! Lights that are not emissive geometry: points, directions and parallelograms.
+
+use glam::Vec3;
+
+/// Distance falloff of a point light: the light's colour is divided by
+/// `constant + linear d + quadratic d^2`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Attenuation {
+    /// Constant term (1 = no falloff with the other terms 0).
+    pub constant: f32,
+    /// Linear term.
+    pub linear: f32,
+    /// Quadratic term (1 with the others 0 = physical inverse-square falloff).
+    pub quadratic: f32,
+}
+
+impl Default for Attenuation {
+    fn default() -> Self {
+        Attenuation { constant: 1.0, linear: 0.0, quadratic: 0.0 }
+    }
+}
+
+/// A light source.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Light {
+    /// A point light of colour `color` at `position`, attenuated with distance.
+    Point {
+        /// Position in world space.
+        position: Vec3,
+        /// Colour (the classic ray tracer's light intensity).
+        color: Vec3,
+        /// Falloff with distance.
+        attenuation: Attenuation,
+    },
+    /// A light infinitely far away; `direction` points from the scene towards the light.
+    Directional {
+        /// Unit direction towards the light.
+        direction: Vec3,
+        /// Colour (irradiance at normal incidence).
+        color: Vec3,
+    },
+    /// A one-sided emitting parallelogram `corner + s edge_a + t edge_b`, s, t in [0, 1]
+    /// (the CSE168 `quadLight`); it emits towards `edge_a x edge_b`.
+    Quad {
+        /// One corner.
+        corner: Vec3,
+        /// First edge.
+        edge_a: Vec3,
+        /// Second edge.
+        edge_b: Vec3,
+        /// Emitted radiance.
+        radiance: Vec3,
+    },
+}
+
+impl Light {
+    /// Checks finiteness and non-negative colours, naming the light by its index.
+    pub fn validate(&self, index: usize) -> Result<(), crate::SceneError> {
+        let (kind, vectors, color) = match self {
+            Light::Point { position, color, .. } => ("point light", vec![*position], *color),
+            Light::Directional { direction, color } => ("directional light", vec![*direction], *color),
+            Light::Quad { corner, edge_a, edge_b, radiance } => ("quad light", vec![*corner, *edge_a, *edge_b], *radiance),
+        };
+        let object = format!("{kind} {index}");
+        if vectors.iter().any(|v| !v.is_finite()) || !color.is_finite() || color.min_element() < 0.0 {
+            return Err(crate::SceneError::invalid(object, "has a non-finite value or a negative colour"));
+        }
+        if let Light::Directional { direction, .. } = self {
+            if direction.length_squared() == 0.0 {
+                return Err(crate::SceneError::invalid(object, "has a zero direction"));
+            }
+        }
+        if let Light::Point { attenuation: a, .. } = self {
+            if a.constant < 0.0 || a.linear < 0.0 || a.quadratic < 0.0 || a.constant + a.linear + a.quadratic <= 0.0 {
+                return Err(crate::SceneError::invalid(object, "attenuation terms must be >= 0 and not all 0"));
+            }
+        }
+        Ok(())
+    }
+}
