@@ -9,11 +9,11 @@ struct BenchParams {
     up: vec3<f32>,
     seed: u32,
     forward: vec3<f32>,
-    _pad0: u32,
+    first_plane: u32,
     bounds_min: vec3<f32>,
-    _pad1: u32,
+    shape_count: u32,
     bounds_max: vec3<f32>,
-    _pad2: u32,
+    _pad0: u32,
 }
 
 struct BenchRay {
@@ -62,13 +62,21 @@ fn generate_incoherent(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let t = bitcast<f32>(result.x);
-    let slot = result.z;
-    let tri = bvh_triangles[slot];
-    let face = normalize(cross(tri.v1 - tri.v0, tri.v2 - tri.v0));
-    let n = select(face, -face, dot(face, primary.direction) > 0.0);
     let p = primary.origin + t * primary.direction;
+    let face = primitive_normal(result.y, result.z, p);
+    let n = select(face, -face, dot(face, primary.direction) > 0.0);
     let d = frame_to_world(frame_from_normal(n), square_to_cosine_hemisphere(next_2d(&rng)));
     rays[id.x] = BenchRay(offset_ray_origin(p, n), 3.0e38, d, 0.0);
+}
+
+// Geometric normal of the primitive hit at p (scene id, slot as the traversal reports them).
+fn primitive_normal(id: u32, slot: u32, p: vec3<f32>) -> vec3<f32> {
+    if (id & SHAPE_BIT) != 0u {
+        let shape = bvh_shapes[slot];
+        return shape_normal_to_world(shape, shape_object_normal(shape.kind, shape_point_to_object(shape, p)));
+    }
+    let tri = bvh_triangles[slot];
+    return normalize(cross(tri.v1 - tri.v0, tri.v2 - tri.v0));
 }
 
 fn square_to_uniform_sphere(u: vec2<f32>) -> vec3<f32> {
@@ -83,6 +91,7 @@ fn trace_rays(@builtin(global_invocation_id) id: vec3<u32>) {
     if id.x >= ray_count() {
         return;
     }
+    plane_range = vec2<u32>(params.first_plane, params.shape_count);
     let ray = rays[id.x];
     var cost = TraversalCost(0u, 0u);
     let hit = trace(Ray(ray.origin, ray.direction), ray.t_max, false, &cost);

@@ -3,3 +3,7 @@
 
 @group(0) @binding(1) var<storage, read> bvh_nodes: array<BvhNode>;
 @group(0) @binding(2) var<storage, read> bvh_triangles: array<BvhTriangle>;
+@group(0) @binding(9) var<storage, read> bvh_shapes: array<BvhShape>;
+
+// Shapes [x, y) are planes; each entry point sets this from its uniform before tracing.
+var<private> plane_range: vec2<u32>;

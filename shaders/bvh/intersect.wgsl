@@ -21,11 +21,12 @@ fn safe_inverse(d: f32) -> f32 {
     return 1.0 / d;
 }
 
+// Axis of the largest component, the first axis winning ties (as the CPU twin).
 fn max_dimension(v: vec3<f32>) -> u32 {
-    if v.x > v.y {
-        return select(2u, 0u, v.x > v.z);
+    if v.x >= v.y && v.x >= v.z {
+        return 0u;
     }
-    return select(2u, 1u, v.y > v.z);
+    return select(2u, 1u, v.y >= v.z);
 }
 
 fn unit_axis(k: u32) -> vec3<f32> {

@@ -11,7 +11,8 @@ struct Hit {
     v: f32,
     // Scene triangle index, or NO_HIT.
     triangle: u32,
-    // Gathered triangle index (for fetching its corners again).
+    // Gathered triangle index (for fetching its corners again), or the shape's slot in
+    // bvh_shapes for shape hits.
     slot: u32,
 }
 
@@ -46,8 +47,19 @@ fn trace(ray: Ray, t_max: f32, any_hit: bool, cost: ptr<function, TraversalCost>
             let end = first + leaf_count(current);
             for (var i = first; i < end; i++) {
                 let tri = bvh_triangles[i];
-                let th = intersect_triangle(r, tri.v0, tri.v1, tri.v2, hit.t);
                 (*cost).triangles += 1u;
+                if (tri.id & SHAPE_BIT) != 0u {
+                    let shape = bvh_shapes[tri.id & ~SHAPE_BIT];
+                    let t = intersect_shape(ray, shape, hit.t);
+                    if t > 0.0 {
+                        hit = Hit(t, 0.0, 0.0, SHAPE_BIT | shape.id, tri.id & ~SHAPE_BIT);
+                        if any_hit {
+                            return hit;
+                        }
+                    }
+                    continue;
+                }
+                let th = intersect_triangle(r, tri.v0, tri.v1, tri.v2, hit.t);
                 if th.t > 0.0 {
                     hit = Hit(th.t, th.u, th.v, tri.id, i);
                     if any_hit {
@@ -77,12 +89,31 @@ fn trace(ray: Ray, t_max: f32, any_hit: bool, cost: ptr<function, TraversalCost>
                 continue;
             }
         }
-        // Pop the next subtree that can still hold a closer hit.
+        // Pop the next subtree.
         if sp == 0u {
             break;
         }
         sp--;
         current = stack_child[sp];
+    }
+    return intersect_planes(ray, hit, any_hit);
+}
+
+// The planes, which the tree cannot bound, after the tree.
+fn intersect_planes(ray: Ray, closest: Hit, any_hit: bool) -> Hit {
+    var hit = closest;
+    if any_hit && hit.triangle != NO_HIT {
+        return hit;
+    }
+    for (var i = plane_range.x; i < plane_range.y; i++) {
+        let shape = bvh_shapes[i];
+        let t = intersect_shape(ray, shape, hit.t);
+        if t > 0.0 {
+            hit = Hit(t, 0.0, 0.0, SHAPE_BIT | shape.id, i);
+            if any_hit {
+                return hit;
+            }
+        }
     }
     return hit;
 }

@@ -26,8 +26,14 @@ struct Frame {
     total_light_power: f32,
     // Bounces before Russian roulette starts.
     rr_start: u32,
+    // Shapes from first_plane to shape_count are planes, tested after the BVH.
+    first_plane: u32,
+    shape_count: u32,
+    // Scene triangles; shape i's shading attributes sit at triangle_count + i.
+    triangle_count: u32,
     _pad0: u32,
     _pad1: u32,
+    _pad2: u32,
 }
 
 // Binary BVH node holding both children's bounds (64 bytes).
@@ -52,6 +58,16 @@ struct BvhTriangle {
     v1: vec3<f32>,
     _pad0: u32,
     v2: vec3<f32>,
+    _pad1: u32,
+}
+
+// An analytic shape: rows of its world-to-object transform, its kind (0 sphere, 1 disk,
+// 2 box, 3 plane) and its scene index.
+struct BvhShape {
+    world_to_object: array<vec4<f32>, 3>,
+    kind: u32,
+    id: u32,
+    _pad0: u32,
     _pad1: u32,
 }
 
@@ -99,3 +115,5 @@ const PI: f32 = 3.14159265358979;
 const INV_PI: f32 = 0.318309886183791;
 const FLAG_VERTEX_NORMALS: u32 = 1u;
 const NO_HIT: u32 = 0xffffffffu;
+// Flag of a hit's primitive id (and a gathered record's id) marking an analytic shape.
+const SHAPE_BIT: u32 = 0x80000000u;

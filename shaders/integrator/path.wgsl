@@ -91,6 +91,7 @@ fn render_sample(@builtin(global_invocation_id) id: vec3<u32>) {
     if id.x >= frame.tile_pixels {
         return;
     }
+    plane_range = vec2<u32>(frame.first_plane, frame.shape_count);
     let pixel = frame.tile_start + id.x;
     let xy = vec2<u32>(pixel % frame.width, pixel / frame.width);
     var rng = rng_for_sample(pixel, frame.sample_index, frame.seed);

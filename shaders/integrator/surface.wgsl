@@ -12,6 +12,9 @@ struct SurfaceInteraction {
 }
 
 fn surface_interaction(ray: Ray, hit: Hit) -> SurfaceInteraction {
+    if (hit.triangle & SHAPE_BIT) != 0u {
+        return shape_interaction(ray, hit);
+    }
     let tri = bvh_triangles[hit.slot];
     let attributes = shading[hit.triangle];
     let w = 1.0 - hit.u - hit.v;
@@ -29,6 +32,19 @@ fn surface_interaction(ray: Ray, hit: Hit) -> SurfaceInteraction {
         }
     }
     return SurfaceInteraction(p, ng, ns, front_face, materials[attributes.material]);
+}
+
+// Analytic shapes: the normal comes from the object-space hit point; the material from the
+// shading entry after the triangles'.
+fn shape_interaction(ray: Ray, hit: Hit) -> SurfaceInteraction {
+    let shape = bvh_shapes[hit.slot];
+    let p = ray.origin + hit.t * ray.direction;
+    let p_object = shape_point_to_object(shape, p);
+    let normal = shape_normal_to_world(shape, shape_object_normal(shape.kind, p_object));
+    let front_face = dot(normal, ray.direction) < 0.0;
+    let ng = select(-normal, normal, front_face);
+    let attributes = shading[frame.triangle_count + shape.id];
+    return SurfaceInteraction(p, ng, ng, front_face, materials[attributes.material]);
 }
 
 fn spawn_ray(si: SurfaceInteraction, direction: vec3<f32>) -> Ray {

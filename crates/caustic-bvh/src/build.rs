@@ -12,6 +12,7 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 use crate::aabb::Aabb;
+use crate::shape::ShapeInput;
 use crate::split::{self, MAX_BINS, Prims, Summary};
 
 /// Most triangles in one leaf; the GPU leaf encoding has four bits for `count - 1`.
@@ -116,23 +117,38 @@ pub struct Bvh {
 /// # Panics
 /// If there are `u32::MAX` or more triangles.
 pub fn build(triangles: &[[Vec3; 3]], options: &BuildOptions) -> Bvh {
-    assert!(
-        triangles.len() < u32::MAX as usize,
-        "too many triangles for u32 ids"
-    );
     let start = Instant::now();
     let bounds: Vec<Aabb> = triangles.par_iter().map(Aabb::from_triangle).collect();
+    build_from_bounds(&bounds, options, start)
+}
+
+/// Builds a BVH over triangles followed by the bounded shapes among `shapes` (planes have
+/// no bounds and stay out of the tree): index `i` of the result is triangle `i` for
+/// `i < triangles.len()`, else the `(i - triangles.len())`-th bounded shape.
+pub fn build_with_shapes(triangles: &[[Vec3; 3]], shapes: &[ShapeInput], options: &BuildOptions) -> Bvh {
+    let start = Instant::now();
+    let mut bounds: Vec<Aabb> = triangles.par_iter().map(Aabb::from_triangle).collect();
+    bounds.extend(shapes.iter().filter_map(ShapeInput::bounds));
+    build_from_bounds(&bounds, options, start)
+}
+
+/// The builder proper, over primitive boxes; `start` is when the caller began (for stats).
+///
+/// # Panics
+/// If there are `u32::MAX` or more primitives.
+fn build_from_bounds(bounds: &[Aabb], options: &BuildOptions, start: Instant) -> Bvh {
+    assert!(bounds.len() < u32::MAX as usize, "too many primitives for u32 ids");
     let centroids: Vec<Vec3> = bounds.par_iter().map(Aabb::centroid).collect();
     let builder = Builder {
         prims: Prims {
-            bounds: &bounds,
+            bounds,
             centroids: &centroids,
         },
         bins: options.bins.clamp(2, MAX_BINS),
         max_leaf_size: options.max_leaf_size.clamp(1, MAX_LEAF_SIZE),
         parallel_threshold: options.parallel_threshold,
     };
-    let mut indices: Vec<u32> = (0..triangles.len() as u32).collect();
+    let mut indices: Vec<u32> = (0..bounds.len() as u32).collect();
     let nodes = builder.subtree(&mut indices, 0, 0);
     let build_ms = start.elapsed().as_secs_f64() * 1000.0;
     let mut bvh = Bvh {

@@ -10,6 +10,7 @@ use glam::Vec3;
 
 use crate::aabb::Aabb;
 use crate::build::{Bvh, MAX_LEAF_SIZE};
+use crate::shape::{GpuShape, SHAPE_BIT, ShapeInput, ShapeKind};
 
 /// Child word value for "no child"; only the root of a tree with fewer than two
 /// children uses it, paired with an [`Aabb::empty`] box.
@@ -82,8 +83,15 @@ pub struct GpuBvh {
     /// Nodes in depth-first order (child 0's subtree before child 1's); the root is at 0
     /// and always exists, even for an empty or single-leaf tree.
     pub nodes: Vec<GpuNode>,
-    /// The input triangles gathered in leaf order, so leaves address contiguous runs.
+    /// The primitives gathered in leaf order, so leaves address contiguous runs. A record
+    /// whose `id` has [`SHAPE_BIT`] stands for `shapes[id & !SHAPE_BIT]` (its `v0`, `v1`
+    /// hold the shape's box).
     pub triangles: Vec<GpuTriangle>,
+    /// Shapes: the bounded ones (referenced by leaves) first, then the planes from
+    /// `first_plane` on, which every ray tests after the tree.
+    pub shapes: Vec<GpuShape>,
+    /// Index of the first plane in `shapes`.
+    pub first_plane: u32,
 }
 
 /// Packs a leaf of `count` triangles starting at `first` into a child word.
@@ -160,15 +168,31 @@ impl GpuTriangle {
 /// # Panics
 /// If there are more than [`MAX_TRIANGLES`] triangles or a leaf holds more than 16.
 pub fn flatten(bvh: &Bvh, triangles: &[[Vec3; 3]]) -> GpuBvh {
+    flatten_with_shapes(bvh, triangles, &[])
+}
+
+/// [`flatten`] for a tree from [`crate::build_with_shapes`] over the same `triangles` and
+/// `shapes`; shape `i` of `shapes` reports hits as `SHAPE_BIT | i`.
+///
+/// # Panics
+/// As [`flatten`].
+pub fn flatten_with_shapes(bvh: &Bvh, triangles: &[[Vec3; 3]], shapes: &[ShapeInput]) -> GpuBvh {
     assert!(
         triangles.len() <= MAX_TRIANGLES,
         "GpuBvh addresses at most 2^27 triangles"
     );
+    let (bounded, planes): (Vec<(usize, &ShapeInput)>, Vec<(usize, &ShapeInput)>) =
+        shapes.iter().enumerate().partition(|(_, s)| s.kind != ShapeKind::Plane);
     let gathered = bvh
         .indices
         .iter()
-        .map(|&id| gather(&triangles[id as usize], id))
+        .map(|&id| match triangles.get(id as usize) {
+            Some(triangle) => gather(triangle, id),
+            None => shape_record(&bounded[id as usize - triangles.len()].1, id - triangles.len() as u32),
+        })
         .collect();
+    let first_plane = bounded.len() as u32;
+    let gpu_shapes = bounded.iter().chain(planes.iter()).map(|(i, s)| GpuShape::new(s, *i as u32)).collect();
     let root = &bvh.nodes[0];
     let mut nodes = Vec::with_capacity(bvh.nodes.len() / 2 + 1);
     if root.is_leaf() {
@@ -189,7 +213,15 @@ pub fn flatten(bvh: &Bvh, triangles: &[[Vec3; 3]]) -> GpuBvh {
     GpuBvh {
         nodes,
         triangles: gathered,
+        shapes: gpu_shapes,
+        first_plane,
     }
+}
+
+/// The gathered record standing for bounded shape `slot`: its box and the shape flag.
+fn shape_record(shape: &ShapeInput, slot: u32) -> GpuTriangle {
+    let bounds = shape.bounds().unwrap_or_else(Aabb::empty);
+    GpuTriangle { v0: bounds.min.into(), id: SHAPE_BIT | slot, v1: bounds.max.into(), _pad0: 0, v2: bounds.max.into(), _pad1: 0 }
 }
 
 /// One input triangle in GPU form.

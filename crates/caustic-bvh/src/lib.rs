@@ -28,6 +28,7 @@
 mod aabb;
 mod build;
 mod layout;
+mod shape;
 mod split;
 mod traverse;
 mod triangle;
@@ -35,12 +36,13 @@ mod triangle;
 pub use aabb::Aabb;
 pub use build::{
     BuildOptions, BuildStats, Bvh, MAX_DEPTH, MAX_LEAF_SIZE, Node, SAH_INTERSECTION_COST,
-    SAH_TRAVERSAL_COST, build, sah_cost,
+    SAH_TRAVERSAL_COST, build, build_with_shapes, sah_cost,
 };
 pub use layout::{
     EMPTY_CHILD, GpuBvh, GpuNode, GpuTriangle, LEAF_BIT, MAX_TRIANGLES, decode_leaf, encode_leaf,
-    flatten,
+    flatten, flatten_with_shapes,
 };
+pub use shape::{GpuShape, SHAPE_BIT, ShapeInput, ShapeKind, intersect_shape};
 pub use split::MAX_BINS;
 pub use traverse::{MIN_DIRECTION, SLAB_EXIT_SCALE, STACK_SIZE};
 pub use triangle::{Hit, Ray, closest_hit_brute_force, intersect_triangle};

@@ -13,7 +13,8 @@
 use glam::Vec3;
 
 use crate::build::MAX_DEPTH;
-use crate::layout::{EMPTY_CHILD, GpuBvh, GpuNode, LEAF_BIT, decode_leaf};
+use crate::layout::{EMPTY_CHILD, GpuBvh, GpuNode, GpuTriangle, LEAF_BIT, decode_leaf};
+use crate::shape::{SHAPE_BIT, intersect_shape};
 use crate::triangle::{Hit, Ray, intersect_triangle};
 
 /// Entries in the traversal stack. Every push happens at an interior node on the
@@ -141,7 +142,10 @@ impl GpuBvh {
             depth -= 1;
             current = stack[depth];
         }
-        best
+        if best.is_some() && any {
+            return best;
+        }
+        self.intersect_planes(&clipped, any).or(best)
     }
 
     /// Tests the triangles of a leaf word, returning the nearest hit inside `ray`'s range.
@@ -157,15 +161,35 @@ impl GpuBvh {
         let mut best = None;
         for triangle in &self.triangles[first as usize..(first + count) as usize] {
             counters.triangles += 1;
-            let [v0, v1, v2] = triangle.vertices();
-            if let Some((t, u, v)) = intersect_triangle(&clipped, v0, v1, v2) {
+            if let Some(hit) = self.intersect_primitive(&clipped, triangle) {
+                clipped.t_max = hit.t;
+                best = Some(hit);
+                if any {
+                    break;
+                }
+            }
+        }
+        best
+    }
+
+    /// One gathered record: a triangle, or the shape it stands for.
+    fn intersect_primitive(&self, ray: &Ray, record: &GpuTriangle) -> Option<Hit> {
+        if record.id & SHAPE_BIT != 0 {
+            let shape = &self.shapes[(record.id & !SHAPE_BIT) as usize];
+            return intersect_shape(ray, shape).map(|t| Hit { t, u: 0.0, v: 0.0, triangle: SHAPE_BIT | shape.id });
+        }
+        let [v0, v1, v2] = record.vertices();
+        intersect_triangle(ray, v0, v1, v2).map(|(t, u, v)| Hit { t, u, v, triangle: record.id })
+    }
+
+    /// The planes, which no tree holds, tested after it.
+    fn intersect_planes(&self, ray: &Ray, any: bool) -> Option<Hit> {
+        let mut clipped = *ray;
+        let mut best = None;
+        for shape in &self.shapes[self.first_plane as usize..] {
+            if let Some(t) = intersect_shape(&clipped, shape) {
                 clipped.t_max = t;
-                best = Some(Hit {
-                    t,
-                    u,
-                    v,
-                    triangle: triangle.id,
-                });
+                best = Some(Hit { t, u: 0.0, v: 0.0, triangle: SHAPE_BIT | shape.id });
                 if any {
                     break;
                 }

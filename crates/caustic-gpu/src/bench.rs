@@ -46,11 +46,11 @@ struct BenchParams {
     up: [f32; 3],
     seed: u32,
     forward: [f32; 3],
-    _pad0: u32,
+    first_plane: u32,
     bounds_min: [f32; 3],
-    _pad1: u32,
+    shape_count: u32,
     bounds_max: [f32; 3],
-    _pad2: u32,
+    _pad0: u32,
 }
 
 const RAY_BYTES: u64 = 32;
@@ -97,6 +97,8 @@ impl<'a> RayBench<'a> {
             forward: forward.to_array(),
             bounds_min: gpu.bounds.0.to_array(),
             bounds_max: gpu.bounds.1.to_array(),
+            first_plane: gpu.first_plane,
+            shape_count: gpu.shape_count,
             ..Default::default()
         };
         let device = &ctx.device;
@@ -141,6 +143,7 @@ impl<'a> RayBench<'a> {
                 wgpu::BindGroupEntry { binding: 2, resource: gpu.triangles.as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 3, resource: rays.as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 4, resource: results.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 9, resource: gpu.shapes.as_entire_binding() },
             ],
         });
         let bench = RayBench {
@@ -228,6 +231,6 @@ fn bind_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
     let uniform = wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Uniform, has_dynamic_offset: false, min_binding_size: None };
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some("ray bench"),
-        entries: &[entry(0, uniform), entry(1, storage(true)), entry(2, storage(true)), entry(3, storage(false)), entry(4, storage(false))],
+        entries: &[entry(0, uniform), entry(1, storage(true)), entry(2, storage(true)), entry(3, storage(false)), entry(4, storage(false)), entry(9, storage(true))],
     })
 }

@@ -40,8 +40,14 @@ pub struct Frame {
     pub total_light_power: f32,
     /// Bounces before Russian roulette starts.
     pub rr_start: u32,
+    /// Index of the first plane in the shape buffer (planes are tested after the BVH).
+    pub first_plane: u32,
+    /// Number of shapes in the shape buffer.
+    pub shape_count: u32,
+    /// Scene triangles; shape `i`'s shading entry is at `triangle_count + i`.
+    pub triangle_count: u32,
     /// Padding to 16 bytes.
-    pub _pad: [u32; 2],
+    pub _pad: [u32; 3],
 }
 
 /// Shading attributes of one triangle, by scene triangle index (`TriangleShading` in WGSL).

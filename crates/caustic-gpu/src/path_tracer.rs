@@ -112,6 +112,7 @@ impl<'a> PathTracer<'a> {
             wgpu::BindGroupEntry { binding: 6, resource: accumulation.as_entire_binding() },
             wgpu::BindGroupEntry { binding: 7, resource: nonfinite_counts.as_entire_binding() },
             wgpu::BindGroupEntry { binding: 8, resource: wgpu::BindingResource::TextureView(&gpu.environment_view) },
+            wgpu::BindGroupEntry { binding: 9, resource: gpu.shapes.as_entire_binding() },
         ];
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("path tracer"),
@@ -193,8 +194,21 @@ impl<'a> PathTracer<'a> {
         self.first_sample..self.first_sample + self.complete_passes
     }
 
+    /// The global sample indices drawn so far: [`PathTracer::sample_range`], plus the index of
+    /// a stopped pass if one is in progress (its finished tiles hold that sample).
+    pub fn drawn_range(&self) -> std::ops::Range<u32> {
+        let range = self.sample_range();
+        range.start..range.end + u32::from(self.next_pixel > 0)
+    }
+
     /// The mean of the accumulated samples of each pixel (linear radiance).
     pub fn image(&self) -> Result<Image, GpuError> {
+        Ok(self.accumulated()?.0)
+    }
+
+    /// The per-pixel mean (as [`PathTracer::image`]) and the number of samples it is over:
+    /// complete passes plus a stopped pass's finished tiles, less non-finite samples.
+    pub fn accumulated(&self) -> Result<(Image, Vec<u32>), GpuError> {
         let texels: Vec<AccumTexel> = read_buffer(self.ctx, &self.accumulation)?;
         let rgba: Vec<[f32; 4]> = texels
             .iter()
@@ -203,7 +217,8 @@ impl<'a> PathTracer<'a> {
                 [t.sum[0] / n, t.sum[1] / n, t.sum[2] / n, 1.0]
             })
             .collect();
-        Ok(Image::from_rgba(self.frame.width, self.frame.height, &rgba))
+        let counts = texels.iter().map(|t| t.sum[3] as u32).collect();
+        Ok((Image::from_rgba(self.frame.width, self.frame.height, &rgba), counts))
     }
 
     /// Samples rejected because a component was NaN or infinite, per pixel (row-major).
@@ -236,6 +251,9 @@ fn frame_constants(scene: &Scene, gpu: &GpuScene, settings: &RenderSettings) -> 
         light_count: gpu.light_count,
         total_light_power: gpu.total_light_power,
         rr_start: settings.rr_start,
+        first_plane: gpu.first_plane,
+        shape_count: gpu.shape_count,
+        triangle_count: gpu.triangle_count as u32,
         ..Default::default()
     }
 }

@@ -2,8 +2,8 @@
 
 use crate::gpu_types::{GpuLight, GpuMaterial, TriangleShading, FLAG_VERTEX_NORMALS};
 use crate::{GpuContext, GpuError};
-use caustic_bvh::{BuildOptions, BuildStats, GpuBvh};
-use caustic_scene::{Environment, Scene};
+use caustic_bvh::{BuildOptions, BuildStats, GpuBvh, ShapeInput};
+use caustic_scene::{Environment, Scene, Shape, ShapeKind};
 use glam::Vec3;
 use wgpu::util::DeviceExt;
 
@@ -15,9 +15,15 @@ pub const MAX_BVH_DEPTH: usize = 64;
 pub struct GpuScene {
     /// `BvhNode` array (binding 1).
     pub nodes: wgpu::Buffer,
-    /// `BvhTriangle` array (binding 2).
+    /// `BvhTriangle` array (binding 2): triangles and records standing for shapes.
     pub triangles: wgpu::Buffer,
-    /// `TriangleShading` array (binding 3).
+    /// `BvhShape` array (binding 9): bounded shapes, then planes.
+    pub shapes: wgpu::Buffer,
+    /// Index of the first plane in `shapes`.
+    pub first_plane: u32,
+    /// Number of shapes.
+    pub shape_count: u32,
+    /// `TriangleShading` array (binding 3): one per triangle, then one per shape.
     pub shading: wgpu::Buffer,
     /// `Material` array (binding 4).
     pub materials: wgpu::Buffer,
@@ -43,28 +49,31 @@ impl GpuScene {
     /// Builds the BVH on the CPU and uploads everything. Fails with a clear error when a buffer
     /// exceeds the device's storage binding limit or the BVH is deeper than the kernels allow.
     pub fn upload(ctx: &GpuContext, scene: &Scene) -> Result<GpuScene, GpuError> {
-        if !scene.shapes.is_empty() || !scene.lights.is_empty() {
+        if !scene.lights.is_empty() {
             return Err(GpuError::Scene(format!(
-                "the scene has {} analytic shapes and {} point/directional/quad lights; the GPU renderer draws triangle meshes and emissive triangles only so far",
-                scene.shapes.len(),
+                "the scene has {} point/directional/quad lights; the GPU renderer lights scenes with emissive triangles and the environment only so far",
                 scene.lights.len()
             )));
         }
         let triangles: Vec<[Vec3; 3]> = scene.triangles().collect();
-        let bvh = caustic_bvh::build(&triangles, &BuildOptions::default());
+        let shapes: Vec<ShapeInput> = scene.shapes.iter().map(shape_input).collect();
+        let bvh = caustic_bvh::build_with_shapes(&triangles, &shapes, &BuildOptions::default());
         if bvh.stats.max_depth >= MAX_BVH_DEPTH {
             return Err(GpuError::Scene(format!(
                 "the BVH is {} levels deep; the traversal stack holds {MAX_BVH_DEPTH}",
                 bvh.stats.max_depth
             )));
         }
-        let gpu_bvh: GpuBvh = caustic_bvh::flatten(&bvh, &triangles);
+        let gpu_bvh: GpuBvh = caustic_bvh::flatten_with_shapes(&bvh, &triangles, &shapes);
         let (light_data, total_light_power) = lights(scene);
         let uploader = Uploader { ctx };
         let (environment_view, environment_color) = upload_environment(ctx, &scene.environment)?;
         Ok(GpuScene {
             nodes: uploader.storage("BVH nodes", &gpu_bvh.nodes)?,
             triangles: uploader.storage("BVH triangles", &gpu_bvh.triangles)?,
+            shapes: uploader.storage("shapes", &gpu_bvh.shapes)?,
+            first_plane: gpu_bvh.first_plane,
+            shape_count: gpu_bvh.shapes.len() as u32,
             shading: uploader.storage("triangle shading", &shading(scene))?,
             materials: uploader.storage("materials", &materials(scene))?,
             lights: uploader.storage("lights", &light_data)?,
@@ -102,6 +111,17 @@ impl Uploader<'_> {
     }
 }
 
+fn shape_input(shape: &Shape) -> ShapeInput {
+    let kind = match shape.kind {
+        ShapeKind::Sphere => caustic_bvh::ShapeKind::Sphere,
+        ShapeKind::Disk => caustic_bvh::ShapeKind::Disk,
+        ShapeKind::Box => caustic_bvh::ShapeKind::Box,
+        ShapeKind::Plane => caustic_bvh::ShapeKind::Plane,
+    };
+    ShapeInput { kind, object_to_world: shape.object_to_world }
+}
+
+/// Shading entries: every triangle's, then every shape's (material only).
 fn shading(scene: &Scene) -> Vec<TriangleShading> {
     let mut out = Vec::with_capacity(scene.triangle_count());
     for mesh in &scene.meshes {
@@ -121,6 +141,7 @@ fn shading(scene: &Scene) -> Vec<TriangleShading> {
             });
         }
     }
+    out.extend(scene.shapes.iter().map(|shape| TriangleShading { material: shape.material, ..Default::default() }));
     out
 }
 

@@ -22,7 +22,8 @@ const COMMON: [ShaderFile; 5] = [
     shader_file!("bvh/intersect.wgsl"),
 ];
 
-const TRAVERSAL: [ShaderFile; 2] = [shader_file!("bvh/bindings.wgsl"), shader_file!("bvh/traverse.wgsl")];
+const TRAVERSAL: [ShaderFile; 3] =
+    [shader_file!("bvh/bindings.wgsl"), shader_file!("bvh/shapes.wgsl"), shader_file!("bvh/traverse.wgsl")];
 
 const PATH_TRACER: [ShaderFile; 7] = [
     shader_file!("integrator/bindings.wgsl"),

@@ -40,6 +40,7 @@ fn host_structs_match_wgsl_layout() {
         ("AccumTexel", size_of::<AccumTexel>()),
         ("BvhNode", size_of::<caustic_bvh::GpuNode>()),
         ("BvhTriangle", size_of::<caustic_bvh::GpuTriangle>()),
+        ("BvhShape", size_of::<caustic_bvh::GpuShape>()),
     ];
     for (name, host) in expected {
         let wgsl = wgsl_struct_size(&module, name);
