@@ -20,3 +20,30 @@ fn offset_ray_origin(p: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
     );
     return select(p_i, p + float_scale * n, abs(p) < vec3<f32>(origin_band));
 }
+
+// A shadow ray and the distance it may travel.
+struct ShadowRay {
+    ray: Ray,
+    t_max: f32,
+}
+
+// The shadow ray from `origin` (the shading point `p` already moved off its surface by
+// offset_ray_origin) towards the light point p + distance * wi. The light point is moved off
+// the light towards the shading point by the same few-ulp offset, and the ray stops 1e-4 of
+// its length before that. Offsetting only the origin is not enough: far from the world origin
+// (or in a tiny scene, where the offset is absolute) the origin moves by more than 1e-4 of the
+// distance, and the shadow ray overshot into the light itself, darkening everything it lit.
+// Ends closer together than their offsets touch (t_max 0); directional lights (distance at
+// least 1e30) keep the unit direction wi.
+fn shadow_ray(p: vec3<f32>, origin: vec3<f32>, wi: vec3<f32>, distance: f32) -> ShadowRay {
+    if distance >= 1.0e30 {
+        return ShadowRay(Ray(origin, wi), distance);
+    }
+    let end = offset_ray_origin(p + wi * distance, -wi);
+    let to_end = end - origin;
+    let length_to_end = length(to_end);
+    if !(length_to_end > 0.0) || dot(to_end, wi) <= 0.0 {
+        return ShadowRay(Ray(origin, wi), 0.0);
+    }
+    return ShadowRay(Ray(origin, to_end / length_to_end), length_to_end * (1.0 - 1e-4));
+}

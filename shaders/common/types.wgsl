@@ -86,24 +86,39 @@ struct TriangleShading {
     _pad1: vec2<f32>,
 }
 
+// A material: diffuse albedo, emitted radiance (front face), and the classic ray tracer's
+// ambient term, specular colour (highlight and mirror weight) and Phong exponent.
 struct Material {
     base_color: vec3<f32>,
     flags: u32,
     emission: vec3<f32>,
+    shininess: f32,
+    ambient: vec3<f32>,
     _pad0: u32,
+    specular: vec3<f32>,
+    _pad1: u32,
 }
 
-// One emissive triangle; `cdf` is the inclusive upper end of its share of total power.
+// One light; `cdf` is the inclusive upper end of its share of total power. By kind:
+// triangle / quad: corner v0 and edges e1, e2 (emitting towards cross(e1, e2)), area;
+// point: position v0, attenuation (constant, linear, quadratic) in e1;
+// directional: unit direction towards the light in v0. `radiance` is the emitted radiance
+// (area lights) or the colour (point, directional).
 struct Light {
     v0: vec3<f32>,
     cdf: f32,
     e1: vec3<f32>,
     area: f32,
     e2: vec3<f32>,
-    triangle: u32,
+    kind: u32,
     radiance: vec3<f32>,
     select_pdf: f32,
 }
+
+const LIGHT_TRIANGLE: u32 = 0u;
+const LIGHT_QUAD: u32 = 1u;
+const LIGHT_POINT: u32 = 2u;
+const LIGHT_DIRECTIONAL: u32 = 3u;
 
 // Running sum of one pixel's samples with Kahan compensation; w counts samples.
 struct AccumTexel {

@@ -1,6 +1,6 @@
 // The unidirectional path tracer: one sample of every pixel of a tile per dispatch.
-// Lambertian surfaces, emissive triangles with next-event estimation and MIS (power
-// heuristic), Russian roulette. The pixel's running sum is updated with Kahan summation.
+// Lambertian surfaces; next-event estimation over all lights, MIS (power heuristic) with BSDF
+// sampling for area lights; Russian roulette. The pixel's running sum is updated with Kahan summation.
 
 const SAFETY_MAX_BOUNCES: u32 = 1024u;
 
@@ -16,13 +16,13 @@ fn next_event(si: SurfaceInteraction, local: Frame3, rng: ptr<function, Rng>) ->
     if ls.pdf <= 0.0 || cos_surface <= 0.0 || dot(ls.wi, si.ng) <= 0.0 {
         return vec3<f32>(0.0);
     }
-    let shadow = spawn_ray(si, ls.wi);
-    if occluded(shadow, ls.distance * (1.0 - 1e-4)) {
+    let shadow = shadow_ray(si.p, spawn_ray(si, ls.wi).origin, ls.wi, ls.distance);
+    if occluded(shadow.ray, shadow.t_max) {
         return vec3<f32>(0.0);
     }
     let wi_local = vec3<f32>(dot(ls.wi, local.t), dot(ls.wi, local.b), cos_surface);
     let f = lambert_eval(si.material.base_color, wi_local);
-    let weight = power_heuristic(ls.pdf, lambert_pdf(wi_local));
+    let weight = select(power_heuristic(ls.pdf, lambert_pdf(wi_local)), 1.0, ls.is_delta);
     return f * ls.radiance * (weight / ls.pdf);
 }
 
@@ -40,8 +40,9 @@ fn trace_path(primary: Ray, rng: ptr<function, Rng>) -> vec3<f32> {
         }
         let si = surface_interaction(ray, hit);
         if si.front_face && any(si.material.emission > vec3<f32>(0.0)) {
+            // Emissive shapes are not in the light list: BSDF sampling alone finds them.
             var weight = 1.0;
-            if bounce > 0u {
+            if bounce > 0u && (hit.triangle & SHAPE_BIT) == 0u {
                 let cos_light = dot(si.ng, -ray.direction);
                 weight = power_heuristic(bsdf_pdf, light_pdf(si.material.emission, hit.t, cos_light));
             }
@@ -71,35 +72,13 @@ fn trace_path(primary: Ray, rng: ptr<function, Rng>) -> vec3<f32> {
     return radiance;
 }
 
-fn accumulate(pixel: u32, value: vec3<f32>) {
-    var texel = accumulation[pixel];
-    let y = vec4<f32>(value, 1.0) - texel.compensation;
-    let t = texel.sum + y;
-    texel.compensation = (t - texel.sum) - y;
-    texel.sum = t;
-    accumulation[pixel] = texel;
-}
-
-// Whether no component is NaN or infinite, by the exponent bits (immune to fast-math folding).
-fn is_finite3(v: vec3<f32>) -> bool {
-    let exponent = bitcast<vec3<u32>>(v) & vec3<u32>(0x7f800000u);
-    return all(exponent != vec3<u32>(0x7f800000u));
-}
-
 @compute @workgroup_size(64)
 fn render_sample(@builtin(global_invocation_id) id: vec3<u32>) {
     if id.x >= frame.tile_pixels {
         return;
     }
-    plane_range = vec2<u32>(frame.first_plane, frame.shape_count);
-    let pixel = frame.tile_start + id.x;
-    let xy = vec2<u32>(pixel % frame.width, pixel / frame.width);
+    let pixel = begin_pixel(id.x);
     var rng = rng_for_sample(pixel, frame.sample_index, frame.seed);
-    let film = vec2<f32>(xy) + next_2d(&rng);
-    let value = trace_path(camera_ray(film), &rng);
-    if is_finite3(value) {
-        accumulate(pixel, value);
-    } else {
-        atomicAdd(&nonfinite_counts[pixel], 1u);
-    }
+    let ray = pixel_ray(pixel, &rng);
+    record_sample(pixel, trace_path(ray, &rng));
 }

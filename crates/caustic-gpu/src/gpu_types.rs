@@ -85,11 +85,19 @@ pub struct GpuMaterial {
     pub flags: u32,
     /// Emitted radiance (front face).
     pub emission: [f32; 3],
+    /// Phong exponent of the classic highlight.
+    pub shininess: f32,
+    /// Classic ambient term.
+    pub ambient: [f32; 3],
     /// Padding.
     pub _pad0: u32,
+    /// Classic specular colour: highlight and mirror weight.
+    pub specular: [f32; 3],
+    /// Padding.
+    pub _pad1: u32,
 }
 
-/// One emissive triangle for next-event estimation (`Light` in WGSL).
+/// One light for next-event estimation (`Light` in WGSL); fields by kind are documented there.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
 pub struct GpuLight {
@@ -103,8 +111,8 @@ pub struct GpuLight {
     pub area: f32,
     /// Edge v2 - v0.
     pub e2: [f32; 3],
-    /// Scene triangle index.
-    pub triangle: u32,
+    /// Kind: 0 triangle, 1 quad, 2 point, 3 directional (`scene_data::LIGHT_*`).
+    pub kind: u32,
     /// Emitted radiance.
     pub radiance: [f32; 3],
     /// Probability of selecting this light.

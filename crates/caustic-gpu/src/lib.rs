@@ -13,6 +13,7 @@ pub mod gpu_types;
 mod path_tracer;
 mod readback;
 mod scene_buffers;
+mod scene_data;
 pub mod shaders;
 
 pub use bench::{BenchResult, RayBench, RayKind, TracedRay};

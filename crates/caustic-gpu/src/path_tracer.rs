@@ -5,13 +5,16 @@ use crate::readback::read_buffer;
 use crate::shaders::Program;
 use crate::{GpuContext, GpuError, GpuScene};
 use caustic_image::Image;
-use caustic_scene::Scene;
+use caustic_scene::{Integrator, Scene};
 use std::time::{Duration, Instant};
 use wgpu::util::DeviceExt;
 
-/// Integrator settings that do not come from the scene.
+/// Integrator settings.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RenderSettings {
+    /// Which light-transport algorithm runs. `Direct` and `AnalyticDirect` run the path
+    /// tracer limited to one bounce, which converges to the same direct-lighting image.
+    pub integrator: Integrator,
     /// Maximum number of bounces (scattering events); `None` = unbounded, paths end by Russian
     /// roulette. 0 shows only emitters and the environment seen directly.
     pub max_depth: Option<u32>,
@@ -29,7 +32,14 @@ pub struct RenderSettings {
 
 impl Default for RenderSettings {
     fn default() -> Self {
-        RenderSettings { max_depth: None, seed: 0, rr_start: 3, first_sample: 0, target_submit: Duration::from_millis(100) }
+        RenderSettings {
+            integrator: Integrator::PathTracer,
+            max_depth: None,
+            seed: 0,
+            rr_start: 3,
+            first_sample: 0,
+            target_submit: Duration::from_millis(100),
+        }
     }
 }
 
@@ -94,11 +104,21 @@ impl<'a> PathTracer<'a> {
         };
         let accumulation = storage("accumulation", accumulation_bytes);
         let nonfinite_counts = storage("non-finite counts", pixels * 4);
+        let layout = bind_group_layout(device);
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("integrators"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let entry_point = match settings.integrator {
+            Integrator::RayTracer => "render_classic",
+            Integrator::PathTracer | Integrator::Direct | Integrator::AnalyticDirect => "render_sample",
+        };
         let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("render_sample"),
-            layout: None,
+            label: Some(entry_point),
+            layout: Some(&pipeline_layout),
             module: &Program::PathTracer.module(device),
-            entry_point: Some("render_sample"),
+            entry_point: Some(entry_point),
             compilation_options: Default::default(),
             cache: None,
         });
@@ -116,7 +136,7 @@ impl<'a> PathTracer<'a> {
         ];
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("path tracer"),
-            layout: &pipeline.get_bind_group_layout(0),
+            layout: &layout,
             entries: &entries,
         });
         ctx.check()?;
@@ -247,7 +267,10 @@ fn frame_constants(scene: &Scene, gpu: &GpuScene, settings: &RenderSettings) -> 
         seed: settings.seed,
         environment_color: gpu.environment_color.unwrap_or_default().to_array(),
         environment_mode: u32::from(gpu.environment_color.is_none()),
-        max_depth: settings.max_depth.unwrap_or(u32::MAX),
+        max_depth: match settings.integrator {
+            Integrator::Direct | Integrator::AnalyticDirect => 1,
+            Integrator::PathTracer | Integrator::RayTracer => settings.max_depth.unwrap_or(u32::MAX),
+        },
         light_count: gpu.light_count,
         total_light_power: gpu.total_light_power,
         rr_start: settings.rr_start,
@@ -256,4 +279,33 @@ fn frame_constants(scene: &Scene, gpu: &GpuScene, settings: &RenderSettings) -> 
         triangle_count: gpu.triangle_count as u32,
         ..Default::default()
     }
+}
+
+/// Bindings of `shaders/integrator/bindings.wgsl` and `shaders/bvh/bindings.wgsl`, shared by
+/// every integrator's entry point.
+fn bind_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
+    let entry = |binding, ty| wgpu::BindGroupLayoutEntry { binding, visibility: wgpu::ShaderStages::COMPUTE, ty, count: None };
+    let buffer = |ty| wgpu::BindingType::Buffer { ty, has_dynamic_offset: false, min_binding_size: None };
+    let read = buffer(wgpu::BufferBindingType::Storage { read_only: true });
+    let write = buffer(wgpu::BufferBindingType::Storage { read_only: false });
+    let texture = wgpu::BindingType::Texture {
+        sample_type: wgpu::TextureSampleType::Float { filterable: false },
+        view_dimension: wgpu::TextureViewDimension::D2,
+        multisampled: false,
+    };
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("integrators"),
+        entries: &[
+            entry(0, buffer(wgpu::BufferBindingType::Uniform)),
+            entry(1, read),
+            entry(2, read),
+            entry(3, read),
+            entry(4, read),
+            entry(5, read),
+            entry(6, write),
+            entry(7, write),
+            entry(8, texture),
+            entry(9, read),
+        ],
+    })
 }

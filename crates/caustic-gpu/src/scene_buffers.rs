@@ -1,9 +1,9 @@
 //! Building the BVH and uploading a scene into the buffers the kernels read.
 
-use crate::gpu_types::{GpuLight, GpuMaterial, TriangleShading, FLAG_VERTEX_NORMALS};
+use crate::scene_data::SceneData;
 use crate::{GpuContext, GpuError};
-use caustic_bvh::{BuildOptions, BuildStats, GpuBvh, ShapeInput};
-use caustic_scene::{Environment, Scene, Shape, ShapeKind};
+use caustic_bvh::{BuildOptions, BuildStats, GpuBvh};
+use caustic_scene::{Environment, Scene};
 use glam::Vec3;
 use wgpu::util::DeviceExt;
 
@@ -33,7 +33,7 @@ pub struct GpuScene {
     pub environment_view: wgpu::TextureView,
     /// Constant environment radiance, or `None` when the map is used.
     pub environment_color: Option<Vec3>,
-    /// Number of emissive triangles.
+    /// Number of lights (emissive triangles, quads, points, directions).
     pub light_count: u32,
     /// Sum of area x luminance over the lights.
     pub total_light_power: f32,
@@ -49,23 +49,15 @@ impl GpuScene {
     /// Builds the BVH on the CPU and uploads everything. Fails with a clear error when a buffer
     /// exceeds the device's storage binding limit or the BVH is deeper than the kernels allow.
     pub fn upload(ctx: &GpuContext, scene: &Scene) -> Result<GpuScene, GpuError> {
-        if !scene.lights.is_empty() {
-            return Err(GpuError::Scene(format!(
-                "the scene has {} point/directional/quad lights; the GPU renderer lights scenes with emissive triangles and the environment only so far",
-                scene.lights.len()
-            )));
-        }
-        let triangles: Vec<[Vec3; 3]> = scene.triangles().collect();
-        let shapes: Vec<ShapeInput> = scene.shapes.iter().map(shape_input).collect();
-        let bvh = caustic_bvh::build_with_shapes(&triangles, &shapes, &BuildOptions::default());
+        let data = SceneData::new(scene);
+        let bvh = caustic_bvh::build_with_shapes(&data.triangles, &data.shapes, &BuildOptions::default());
         if bvh.stats.max_depth >= MAX_BVH_DEPTH {
             return Err(GpuError::Scene(format!(
                 "the BVH is {} levels deep; the traversal stack holds {MAX_BVH_DEPTH}",
                 bvh.stats.max_depth
             )));
         }
-        let gpu_bvh: GpuBvh = caustic_bvh::flatten_with_shapes(&bvh, &triangles, &shapes);
-        let (light_data, total_light_power) = lights(scene);
+        let gpu_bvh: GpuBvh = caustic_bvh::flatten_with_shapes(&bvh, &data.triangles, &data.shapes);
         let uploader = Uploader { ctx };
         let (environment_view, environment_color) = upload_environment(ctx, &scene.environment)?;
         Ok(GpuScene {
@@ -74,14 +66,14 @@ impl GpuScene {
             shapes: uploader.storage("shapes", &gpu_bvh.shapes)?,
             first_plane: gpu_bvh.first_plane,
             shape_count: gpu_bvh.shapes.len() as u32,
-            shading: uploader.storage("triangle shading", &shading(scene))?,
-            materials: uploader.storage("materials", &materials(scene))?,
-            lights: uploader.storage("lights", &light_data)?,
+            shading: uploader.storage("triangle shading", &data.shading)?,
+            materials: uploader.storage("materials", &data.materials)?,
+            lights: uploader.storage("lights", &data.lights)?,
             environment_view,
             environment_color,
-            light_count: scene.emissive_triangles().len() as u32,
-            total_light_power,
-            triangle_count: triangles.len(),
+            light_count: data.lights.len() as u32,
+            total_light_power: data.total_light_power,
+            triangle_count: data.triangles.len(),
             bvh_stats: bvh.stats,
             bounds: scene.bounds().unwrap_or((Vec3::ZERO, Vec3::ZERO)),
         })
@@ -109,77 +101,6 @@ impl Uploader<'_> {
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
         }))
     }
-}
-
-fn shape_input(shape: &Shape) -> ShapeInput {
-    let kind = match shape.kind {
-        ShapeKind::Sphere => caustic_bvh::ShapeKind::Sphere,
-        ShapeKind::Disk => caustic_bvh::ShapeKind::Disk,
-        ShapeKind::Box => caustic_bvh::ShapeKind::Box,
-        ShapeKind::Plane => caustic_bvh::ShapeKind::Plane,
-    };
-    ShapeInput { kind, object_to_world: shape.object_to_world }
-}
-
-/// Shading entries: every triangle's, then every shape's (material only).
-fn shading(scene: &Scene) -> Vec<TriangleShading> {
-    let mut out = Vec::with_capacity(scene.triangle_count());
-    for mesh in &scene.meshes {
-        let has_normals = !mesh.normals.is_empty();
-        for tri in &mesh.indices {
-            let corner = |k: usize| tri[k] as usize;
-            let normal = |k: usize| if has_normals { mesh.normals[corner(k)].to_array() } else { [0.0; 3] };
-            let uv = |k: usize| mesh.uvs.get(corner(k)).map_or([0.0; 2], |uv| uv.to_array());
-            out.push(TriangleShading {
-                n0: normal(0),
-                n1: normal(1),
-                n2: normal(2),
-                material: mesh.material,
-                flags: if has_normals { FLAG_VERTEX_NORMALS } else { 0 },
-                uv: [uv(0), uv(1), uv(2)],
-                ..Default::default()
-            });
-        }
-    }
-    out.extend(scene.shapes.iter().map(|shape| TriangleShading { material: shape.material, ..Default::default() }));
-    out
-}
-
-fn materials(scene: &Scene) -> Vec<GpuMaterial> {
-    scene
-        .materials
-        .iter()
-        .map(|m| GpuMaterial { base_color: m.base_color.to_array(), emission: m.emission.to_array(), ..Default::default() })
-        .collect()
-}
-
-/// The light list with each light's selection probability proportional to its power, and the
-/// total power.
-fn lights(scene: &Scene) -> (Vec<GpuLight>, f32) {
-    let emitters = scene.emissive_triangles();
-    let total: f64 = emitters.iter().map(|e| f64::from(e.power())).sum();
-    let mut running = 0.0f64;
-    let mut out: Vec<GpuLight> = emitters
-        .iter()
-        .map(|e| {
-            running += f64::from(e.power());
-            let [v0, v1, v2] = e.vertices;
-            GpuLight {
-                v0: v0.to_array(),
-                cdf: (running / total) as f32,
-                e1: (v1 - v0).to_array(),
-                area: e.area(),
-                e2: (v2 - v0).to_array(),
-                triangle: e.triangle,
-                radiance: e.radiance.to_array(),
-                select_pdf: (f64::from(e.power()) / total) as f32,
-            }
-        })
-        .collect();
-    if let Some(last) = out.last_mut() {
-        last.cdf = f32::INFINITY;
-    }
-    (out, total as f32)
 }
 
 fn upload_environment(ctx: &GpuContext, environment: &Environment) -> Result<(wgpu::TextureView, Option<Vec3>), GpuError> {

@@ -25,14 +25,16 @@ const COMMON: [ShaderFile; 5] = [
 const TRAVERSAL: [ShaderFile; 3] =
     [shader_file!("bvh/bindings.wgsl"), shader_file!("bvh/shapes.wgsl"), shader_file!("bvh/traverse.wgsl")];
 
-const PATH_TRACER: [ShaderFile; 7] = [
+const PATH_TRACER: [ShaderFile; 9] = [
     shader_file!("integrator/bindings.wgsl"),
     shader_file!("integrator/camera.wgsl"),
     shader_file!("integrator/environment.wgsl"),
     shader_file!("integrator/surface.wgsl"),
+    shader_file!("integrator/film.wgsl"),
     shader_file!("bsdf/lambert.wgsl"),
-    shader_file!("lights/area.wgsl"),
+    shader_file!("lights/sample.wgsl"),
     shader_file!("integrator/path.wgsl"),
+    shader_file!("integrator/whitted.wgsl"),
 ];
 
 const RAY_BENCH: [ShaderFile; 1] = [shader_file!("bench/rays.wgsl")];
@@ -49,7 +51,8 @@ pub fn program_files(program: Program) -> Vec<&'static ShaderFile> {
 /// The WGSL programs Caustic compiles.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Program {
-    /// `integrator/path.wgsl`: the accumulating path tracer.
+    /// `integrator/path.wgsl` and `integrator/whitted.wgsl`: the accumulating path tracer
+    /// (`render_sample`) and classic ray tracer (`render_classic`).
     PathTracer,
     /// `bench/rays.wgsl`: ray generation and closest-hit throughput.
     RayBench,

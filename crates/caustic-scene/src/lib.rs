@@ -31,5 +31,5 @@ pub use light::{Attenuation, Light};
 pub use material::{Material, ShadingModel};
 pub use mesh::Mesh;
 pub use options::{ImportanceSampling, Integrator, NextEvent, RenderOptions, RenderPass};
-pub use scene::{EmissiveTriangle, Scene};
+pub use scene::{EmissiveTriangle, Scene, luminance};
 pub use shape::{Shape, ShapeKind};

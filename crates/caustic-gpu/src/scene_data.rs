@@ -1,0 +1,176 @@
+//! The scene as the kernels see it, assembled on the CPU before upload: triangles (meshes,
+//! then two per quad light, so quad lights can be hit), shading entries (per triangle, then
+//! per shape), materials (the scene's, then one emitter per quad light) and the light list
+//! with its power CDF.
+
+use crate::gpu_types::{FLAG_VERTEX_NORMALS, GpuLight, GpuMaterial, TriangleShading};
+use caustic_bvh::ShapeInput;
+use caustic_scene::{Light, Scene, Shape, ShapeKind, luminance};
+use glam::Vec3;
+
+/// Light kinds, as `GpuLight::kind` and `LIGHT_*` in `shaders/common/types.wgsl`.
+pub const LIGHT_TRIANGLE: u32 = 0;
+/// An emitting parallelogram.
+pub const LIGHT_QUAD: u32 = 1;
+/// A point light.
+pub const LIGHT_POINT: u32 = 2;
+/// A directional light.
+pub const LIGHT_DIRECTIONAL: u32 = 3;
+
+/// Device-ready scene data.
+pub struct SceneData {
+    /// Every triangle the BVH holds, in shading order.
+    pub triangles: Vec<[Vec3; 3]>,
+    /// Analytic shapes for the BVH.
+    pub shapes: Vec<ShapeInput>,
+    /// One entry per triangle, then one per shape.
+    pub shading: Vec<TriangleShading>,
+    /// Materials the shading entries refer to.
+    pub materials: Vec<GpuMaterial>,
+    /// Lights with their power CDF.
+    pub lights: Vec<GpuLight>,
+    /// Sum of the lights' powers (area x luminance units).
+    pub total_light_power: f32,
+}
+
+impl SceneData {
+    /// Assembles the device form of `scene`.
+    pub fn new(scene: &Scene) -> SceneData {
+        let mut data = SceneData {
+            triangles: scene.triangles().collect(),
+            shapes: scene.shapes.iter().map(shape_input).collect(),
+            shading: mesh_shading(scene),
+            materials: scene.materials.iter().map(gpu_material).collect(),
+            lights: Vec::new(),
+            total_light_power: 0.0,
+        };
+        data.add_quad_geometry(scene);
+        data.shading.extend(scene.shapes.iter().map(|s| TriangleShading { material: s.material, ..Default::default() }));
+        let radius = scene.bounds().map_or(1.0, |(lo, hi)| (hi - lo).length() * 0.5).max(1e-3);
+        let lights: Vec<GpuLight> = scene
+            .emissive_triangles()
+            .iter()
+            .map(|e| area_light(LIGHT_TRIANGLE, e.vertices[0], e.vertices[1] - e.vertices[0], e.vertices[2] - e.vertices[0], e.radiance))
+            .chain(scene.lights.iter().map(light))
+            .collect();
+        (data.lights, data.total_light_power) = with_power_cdf(lights, radius);
+        data
+    }
+
+    /// Two emissive triangles per quad light, each with its own emitter material.
+    fn add_quad_geometry(&mut self, scene: &Scene) {
+        for light in &scene.lights {
+            if let Light::Quad { corner, edge_a, edge_b, radiance } = *light {
+                let material = self.materials.len() as u32;
+                self.materials.push(GpuMaterial { emission: radiance.to_array(), ..Default::default() });
+                let far = corner + edge_a + edge_b;
+                for triangle in [[corner, corner + edge_a, far], [corner, far, corner + edge_b]] {
+                    self.triangles.push(triangle);
+                    self.shading.push(TriangleShading { material, ..Default::default() });
+                }
+            }
+        }
+    }
+}
+
+fn shape_input(shape: &Shape) -> ShapeInput {
+    let kind = match shape.kind {
+        ShapeKind::Sphere => caustic_bvh::ShapeKind::Sphere,
+        ShapeKind::Disk => caustic_bvh::ShapeKind::Disk,
+        ShapeKind::Box => caustic_bvh::ShapeKind::Box,
+        ShapeKind::Plane => caustic_bvh::ShapeKind::Plane,
+    };
+    ShapeInput { kind, object_to_world: shape.object_to_world }
+}
+
+fn gpu_material(m: &caustic_scene::Material) -> GpuMaterial {
+    GpuMaterial {
+        base_color: m.base_color.to_array(),
+        emission: m.emission.to_array(),
+        shininess: m.shininess,
+        ambient: m.ambient.to_array(),
+        specular: m.specular_color.to_array(),
+        ..Default::default()
+    }
+}
+
+fn mesh_shading(scene: &Scene) -> Vec<TriangleShading> {
+    let mut out = Vec::with_capacity(scene.triangle_count());
+    for mesh in &scene.meshes {
+        let has_normals = !mesh.normals.is_empty();
+        for tri in &mesh.indices {
+            let corner = |k: usize| tri[k] as usize;
+            let normal = |k: usize| if has_normals { mesh.normals[corner(k)].to_array() } else { [0.0; 3] };
+            let uv = |k: usize| mesh.uvs.get(corner(k)).map_or([0.0; 2], |uv| uv.to_array());
+            out.push(TriangleShading {
+                n0: normal(0),
+                n1: normal(1),
+                n2: normal(2),
+                material: mesh.material,
+                flags: if has_normals { FLAG_VERTEX_NORMALS } else { 0 },
+                uv: [uv(0), uv(1), uv(2)],
+                ..Default::default()
+            });
+        }
+    }
+    out
+}
+
+fn area_light(kind: u32, v0: Vec3, e1: Vec3, e2: Vec3, radiance: Vec3) -> GpuLight {
+    let parallelogram = e1.cross(e2).length();
+    let area = if kind == LIGHT_TRIANGLE { 0.5 * parallelogram } else { parallelogram };
+    GpuLight { v0: v0.to_array(), e1: e1.to_array(), e2: e2.to_array(), area, kind, radiance: radiance.to_array(), ..Default::default() }
+}
+
+fn light(light: &Light) -> GpuLight {
+    match *light {
+        Light::Quad { corner, edge_a, edge_b, radiance } => area_light(LIGHT_QUAD, corner, edge_a, edge_b, radiance),
+        Light::Point { position, color, attenuation: a } => GpuLight {
+            v0: position.to_array(),
+            e1: [a.constant, a.linear, a.quadratic],
+            kind: LIGHT_POINT,
+            radiance: color.to_array(),
+            ..Default::default()
+        },
+        Light::Directional { direction, color } => GpuLight {
+            v0: direction.normalize().to_array(),
+            kind: LIGHT_DIRECTIONAL,
+            radiance: color.to_array(),
+            ..Default::default()
+        },
+    }
+}
+
+/// Power of a light up to the common factor pi: area x luminance for area lights, 4 x
+/// luminance for a point light (flux 4 pi I), radius^2 x luminance for a directional light
+/// (the flux through a disk the size of the scene).
+fn power(light: &GpuLight, scene_radius: f32) -> f32 {
+    let lum = luminance(Vec3::from(light.radiance));
+    match light.kind {
+        LIGHT_POINT => 4.0 * lum,
+        LIGHT_DIRECTIONAL => scene_radius * scene_radius * lum,
+        _ => light.area * lum,
+    }
+}
+
+/// Fills in each light's selection probability (proportional to power) and CDF; lights
+/// without power are dropped.
+fn with_power_cdf(lights: Vec<GpuLight>, scene_radius: f32) -> (Vec<GpuLight>, f32) {
+    let lights: Vec<GpuLight> = lights.into_iter().filter(|l| power(l, scene_radius) > 0.0).collect();
+    let total: f64 = lights.iter().map(|l| f64::from(power(l, scene_radius))).sum();
+    let mut running = 0.0f64;
+    let mut out: Vec<GpuLight> = lights
+        .into_iter()
+        .map(|mut l| {
+            let p = f64::from(power(&l, scene_radius));
+            running += p;
+            l.cdf = (running / total) as f32;
+            l.select_pdf = (p / total) as f32;
+            l
+        })
+        .collect();
+    if let Some(last) = out.last_mut() {
+        last.cdf = f32::INFINITY;
+    }
+    (out, total as f32)
+}

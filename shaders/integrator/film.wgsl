@@ -1,0 +1,37 @@
+// What every integrator's kernel does around its estimate: find the pixel, make the camera
+// ray, and add the sample to the pixel's Kahan-compensated sum, or count it if non-finite.
+
+// Pixel index of invocation `local` of the current tile; sets up the plane range.
+fn begin_pixel(local: u32) -> u32 {
+    plane_range = vec2<u32>(frame.first_plane, frame.shape_count);
+    return frame.tile_start + local;
+}
+
+// A camera ray through a uniformly random point of the pixel (box filter).
+fn pixel_ray(pixel: u32, rng: ptr<function, Rng>) -> Ray {
+    let xy = vec2<u32>(pixel % frame.width, pixel / frame.width);
+    return camera_ray(vec2<f32>(xy) + next_2d(rng));
+}
+
+fn record_sample(pixel: u32, value: vec3<f32>) {
+    if is_finite3(value) {
+        accumulate(pixel, value);
+    } else {
+        atomicAdd(&nonfinite_counts[pixel], 1u);
+    }
+}
+
+fn accumulate(pixel: u32, value: vec3<f32>) {
+    var texel = accumulation[pixel];
+    let y = vec4<f32>(value, 1.0) - texel.compensation;
+    let t = texel.sum + y;
+    texel.compensation = (t - texel.sum) - y;
+    texel.sum = t;
+    accumulation[pixel] = texel;
+}
+
+// Whether no component is NaN or infinite, by the exponent bits (immune to fast-math folding).
+fn is_finite3(v: vec3<f32>) -> bool {
+    let exponent = bitcast<vec3<u32>>(v) & vec3<u32>(0x7f800000u);
+    return all(exponent != vec3<u32>(0x7f800000u));
+}
