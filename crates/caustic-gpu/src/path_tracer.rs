@@ -5,16 +5,18 @@ use crate::readback::read_buffer;
 use crate::shaders::Program;
 use crate::{GpuContext, GpuError, GpuScene};
 use caustic_image::Image;
-use caustic_scene::{Integrator, Scene};
+use caustic_scene::{Integrator, RenderPass, Scene};
 use std::time::{Duration, Instant};
 use wgpu::util::DeviceExt;
 
 /// Integrator settings.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RenderSettings {
-    /// Which light-transport algorithm runs. `Direct` and `AnalyticDirect` run the path
-    /// tracer limited to one bounce, which converges to the same direct-lighting image.
+    /// Which light-transport algorithm runs. `Direct` runs the path tracer limited to one
+    /// bounce, which converges to the same direct-lighting image.
     pub integrator: Integrator,
+    /// Which image is accumulated: the integrator's, depth, normals, or the path-traced photo.
+    pub pass: RenderPass,
     /// Maximum number of bounces (scattering events); `None` = unbounded, paths end by Russian
     /// roulette. 0 shows only emitters and the environment seen directly.
     pub max_depth: Option<u32>,
@@ -34,6 +36,7 @@ impl Default for RenderSettings {
     fn default() -> Self {
         RenderSettings {
             integrator: Integrator::PathTracer,
+            pass: RenderPass::Image,
             max_depth: None,
             seed: 0,
             rr_start: 3,
@@ -110,10 +113,7 @@ impl<'a> PathTracer<'a> {
             bind_group_layouts: &[Some(&layout)],
             immediate_size: 0,
         });
-        let entry_point = match settings.integrator {
-            Integrator::RayTracer => "render_classic",
-            Integrator::PathTracer | Integrator::Direct | Integrator::AnalyticDirect => "render_sample",
-        };
+        let entry_point = entry_point(settings);
         let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some(entry_point),
             layout: Some(&pipeline_layout),
@@ -267,9 +267,9 @@ fn frame_constants(scene: &Scene, gpu: &GpuScene, settings: &RenderSettings) -> 
         seed: settings.seed,
         environment_color: gpu.environment_color.unwrap_or_default().to_array(),
         environment_mode: u32::from(gpu.environment_color.is_none()),
-        max_depth: match settings.integrator {
-            Integrator::Direct | Integrator::AnalyticDirect => 1,
-            Integrator::PathTracer | Integrator::RayTracer => settings.max_depth.unwrap_or(u32::MAX),
+        max_depth: match (settings.pass, settings.integrator) {
+            (RenderPass::Image, Integrator::Direct) => 1,
+            _ => settings.max_depth.unwrap_or(u32::MAX),
         },
         light_count: gpu.light_count,
         total_light_power: gpu.total_light_power,
@@ -278,6 +278,17 @@ fn frame_constants(scene: &Scene, gpu: &GpuScene, settings: &RenderSettings) -> 
         shape_count: gpu.shape_count,
         triangle_count: gpu.triangle_count as u32,
         ..Default::default()
+    }
+}
+
+/// The kernel that accumulates the pass and integrator `settings` ask for.
+fn entry_point(settings: &RenderSettings) -> &'static str {
+    match (settings.pass, settings.integrator) {
+        (RenderPass::Depth, _) => "render_depth",
+        (RenderPass::Normals, _) => "render_normals",
+        (RenderPass::Photo, _) | (RenderPass::Image, Integrator::PathTracer | Integrator::Direct) => "render_sample",
+        (RenderPass::Image, Integrator::RayTracer) => "render_classic",
+        (RenderPass::Image, Integrator::AnalyticDirect) => "render_analytic_direct",
     }
 }
 

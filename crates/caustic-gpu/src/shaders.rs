@@ -25,7 +25,7 @@ const COMMON: [ShaderFile; 5] = [
 const TRAVERSAL: [ShaderFile; 3] =
     [shader_file!("bvh/bindings.wgsl"), shader_file!("bvh/shapes.wgsl"), shader_file!("bvh/traverse.wgsl")];
 
-const PATH_TRACER: [ShaderFile; 9] = [
+const PATH_TRACER: [ShaderFile; 10] = [
     shader_file!("integrator/bindings.wgsl"),
     shader_file!("integrator/camera.wgsl"),
     shader_file!("integrator/environment.wgsl"),
@@ -35,6 +35,7 @@ const PATH_TRACER: [ShaderFile; 9] = [
     shader_file!("lights/sample.wgsl"),
     shader_file!("integrator/path.wgsl"),
     shader_file!("integrator/whitted.wgsl"),
+    shader_file!("integrator/passes.wgsl"),
 ];
 
 const RAY_BENCH: [ShaderFile; 1] = [shader_file!("bench/rays.wgsl")];
@@ -51,8 +52,9 @@ pub fn program_files(program: Program) -> Vec<&'static ShaderFile> {
 /// The WGSL programs Caustic compiles.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Program {
-    /// `integrator/path.wgsl` and `integrator/whitted.wgsl`: the accumulating path tracer
-    /// (`render_sample`) and classic ray tracer (`render_classic`).
+    /// The integrators' kernels: `integrator/path.wgsl` (`render_sample`),
+    /// `integrator/whitted.wgsl` (`render_classic`) and `integrator/passes.wgsl`
+    /// (`render_depth`, `render_normals`, `render_analytic_direct`).
     PathTracer,
     /// `bench/rays.wgsl`: ray generation and closest-hit throughput.
     RayBench,

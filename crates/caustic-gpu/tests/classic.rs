@@ -89,3 +89,22 @@ fn mirror_bounces_stop_at_max_depth() {
     assert_eq!(count_near(&reflected, 0.35), reflected.len());
     assert_eq!(count_near(&direct, 0.0), direct.len());
 }
+
+#[test]
+fn depth_and_normal_passes() {
+    let scene = floor(Material::diffuse("floor", Vec3::splat(0.5)), vec![]);
+    let ctx = GpuContext::new(std::env::var("CAUSTIC_ADAPTER").ok().as_deref()).expect("device");
+    let gpu = GpuScene::upload(&ctx, &scene).expect("upload");
+    let render = |pass| {
+        let settings = RenderSettings { pass, ..RenderSettings::default() };
+        let mut tracer = PathTracer::new(&ctx, &scene, &gpu, &settings).expect("tracer");
+        tracer.render_sample().expect("pass");
+        tracer.image().expect("image")
+    };
+    let depth = render(caustic_scene::RenderPass::Depth);
+    let normals = render(caustic_scene::RenderPass::Normals);
+    let worst_depth = depth.pixels.iter().map(|p| (p[0] - 4.0).abs()).fold(0.0, f32::max);
+    let worst_normal = normals.pixels.iter().map(|p| (p[0] - 0.5).abs().max((p[1] - 1.0).abs()).max((p[2] - 0.5).abs())).fold(0.0, f32::max);
+    println!("depth pass: worst error {worst_depth:.2e} against the plane's depth 4; normals: worst {worst_normal:.2e} against (0.5, 1, 0.5)");
+    assert!(worst_depth < 1e-4 && worst_normal < 1e-5);
+}

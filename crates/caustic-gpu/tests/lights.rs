@@ -117,3 +117,23 @@ fn quad_light_matches_lamberts_polygon_formula() {
     println!("quad light: worst pixel error {:.2}% (Monte Carlo), mean ratio {ratio:.5}", worst * 100.0);
     assert!((ratio - 1.0).abs() < 0.01, "mean ratio {ratio}");
 }
+
+#[test]
+fn analytic_direct_is_the_exact_polygon_irradiance() {
+    let corner = Vec3::new(-0.4, 1.2, -0.3);
+    let (edge_a, edge_b) = (Vec3::new(0.8, 0.0, 0.0), Vec3::new(0.0, 0.0, 0.6));
+    let mut scene = plane_scene(vec![Light::Quad { corner, edge_a, edge_b, radiance: Vec3::splat(4.0) }]);
+    scene.camera.eye = Vec3::new(0.0, 1.0, 0.0);
+    let ctx = GpuContext::new(std::env::var("CAUSTIC_ADAPTER").ok().as_deref()).expect("device");
+    let gpu = GpuScene::upload(&ctx, &scene).expect("upload");
+    let settings = RenderSettings { integrator: caustic_scene::Integrator::AnalyticDirect, ..RenderSettings::default() };
+    let mut tracer = PathTracer::new(&ctx, &scene, &gpu, &settings).expect("tracer");
+    tracer.render_sample().expect("pass");
+    let image = tracer.image().unwrap();
+    let corners = [corner, corner + edge_a, corner + edge_a + edge_b, corner + edge_b];
+    // The centre pixel sees the plane straight below the camera (up to its footprint).
+    let centre = image.pixels[(SIZE / 2 * SIZE + SIZE / 2) as usize][0];
+    let exact = ALBEDO / PI * polygon_irradiance(Vec3::ZERO, &corners, 4.0);
+    println!("analytic direct: centre pixel {centre:.5}, exact at the plane's centre {exact:.5}");
+    assert!((centre / exact - 1.0).abs() < 0.01);
+}
