@@ -2,15 +2,16 @@
 //!
 //! The model is plain data with no GPU types: world-space triangle meshes, materials,
 //! a pinhole camera, the image size and the environment. Loaders turn files (glTF, OBJ,
-//! PLY) or built-in names (`cornell`) into a [`Scene`]; [`Scene::validate`] rejects data the
-//! renderer cannot trust (non-finite vertices, indices out of range) with an error that names
-//! the object and the problem.
+//! PLY, the scene language of [`lang`]) or built-in names (`cornell`) into a [`Scene`];
+//! [`Scene::validate`] rejects data the renderer cannot trust (non-finite vertices, indices
+//! out of range) with an error that names the object and the problem.
 
 mod camera;
 mod cornell;
 mod environment;
 mod error;
 mod gltf_loader;
+pub mod lang;
 mod light;
 mod load;
 mod material;

@@ -22,7 +22,8 @@ impl SceneSource {
     }
 }
 
-/// Loads and validates a scene from a built-in name or a file (`.gltf`, `.glb`, `.obj`, `.ply`).
+/// Loads and validates a scene from a built-in name or a file (`.gltf`, `.glb`, `.obj`, `.ply`,
+/// or the scene language: `.test`, `.scene`, `.txt`).
 pub fn load_scene(source: &SceneSource) -> Result<Scene, SceneError> {
     let scene = match source {
         SceneSource::Builtin(name) if name == "cornell" => crate::cornell_box(),
@@ -47,7 +48,8 @@ fn load_file(path: &Path) -> Result<Scene, SceneError> {
         Some("gltf" | "glb") => crate::gltf_loader::load(path),
         Some("obj") => crate::obj_loader::load(path),
         Some("ply") => crate::ply_loader::load(path),
-        Some(other) => Err(SceneError::file(path, format!("unsupported scene format '.{other}' (supported: .gltf, .glb, .obj, .ply)"))),
-        None => Err(SceneError::file(path, "no file extension: cannot tell the format (supported: .gltf, .glb, .obj, .ply)")),
+        Some("test" | "scene" | "txt") => crate::lang::load(path),
+        Some(other) => Err(SceneError::file(path, format!("unsupported scene format '.{other}' (supported: .gltf, .glb, .obj, .ply, .test, .scene, .txt)"))),
+        None => Err(SceneError::file(path, "no file extension: cannot tell the format (supported: .gltf, .glb, .obj, .ply, .test, .scene, .txt)")),
     }
 }

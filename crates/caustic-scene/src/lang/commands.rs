@@ -1,0 +1,141 @@
+//! The commands of the scene language: names, argument synopses and one-line summaries, for
+//! error messages and for interactive help. `docs/SCENE_LANGUAGE.md` describes each fully.
+
+/// One command of the language.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct CommandInfo {
+    /// The command's name, case-sensitive (`pushTransform`, `quadLight`).
+    pub name: &'static str,
+    /// Argument synopsis; `[...]` is optional, `a|b` a choice of keywords.
+    pub usage: &'static str,
+    /// What the command does.
+    pub summary: &'static str,
+}
+
+const fn c(name: &'static str, usage: &'static str, summary: &'static str) -> CommandInfo {
+    CommandInfo { name, usage, summary }
+}
+
+/// Every command, grouped as in `docs/SCENE_LANGUAGE.md`.
+pub const COMMANDS: &[CommandInfo] = &[
+    // Scripting
+    c("source", "filename", "execute another file; its vertex indices start at 0 again"),
+    c("reset", "", "clear the whole scene and all state"),
+    c("exit", "", "stop reading input"),
+    // Global settings
+    c("size", "width height", "image size in pixels (1..=16384 each; default 640 480)"),
+    c("maxdepth", "depth", "maximum bounces (-1 = unbounded; default 5)"),
+    c("output", "filename", "output image file name"),
+    c("preview", "filename", "file name of a preview image written with an HDR save"),
+    c("camera", "eyex eyey eyez centerx centery centerz upx upy upz fovy", "look-at pinhole camera, fovy = full vertical field of view in degrees"),
+    c("dof", "lens_size", "lens size for depth of field (0 = pinhole)"),
+    c("supersample", "n", "n x n jittered samples per pixel (spp = n^2 x resample)"),
+    c("resample", "count", "samples per jittered sub-pixel (spp = supersample^2 x count)"),
+    c("spp", "count", "samples per pixel"),
+    c("integrator", "raytracer|analyticdirect|direct|pathtracer", "light transport algorithm (default raytracer)"),
+    c("lightsamples", "count", "light samples per shading point"),
+    c("lightstratify", "on|off", "stratify light samples"),
+    c("nexteventestimation", "on|off|mis", "next-event estimation in the path tracer (default off)"),
+    c("russianroulette", "on|off", "Russian roulette in the path tracer"),
+    c("importancesampling", "hemisphere|cosine|brdf", "bounce direction sampling (default hemisphere)"),
+    c("gamma", "gamma", "display gamma of LDR output (default 1)"),
+    c("environment", "r g b | grey | file", "radiance of escaping rays: a colour or an equirectangular .hdr/.exr map"),
+    c("maxverts", "count", "announce the number of vertices (a hint)"),
+    c("maxvertnorms", "count", "announce the number of vertices with normals (a hint)"),
+    // Actions
+    c("render", "[hdr] image|depth|normals|photo", "render the scene as it stands"),
+    c("save", "ldr|hdr", "save the last rendered image"),
+    c("postprocess", "monochrome|blur [radius]", "apply an effect to the last rendered image"),
+    // Geometry
+    c("vertex", "x y z", "add a vertex"),
+    c("vertexnormal", "x y z nx ny nz", "add a vertex with a normal (for trinormal)"),
+    c("tri", "i j k", "flat triangle of vertices i, j, k"),
+    c("trinormal", "i j k", "triangle of vertexnormal vertices i, j, k with interpolated normals"),
+    c("sphere", "x y z radius", "sphere"),
+    c("box", "x y z dx dy dz", "axis-aligned box of size (dx, dy, dz) centred at (x, y, z)"),
+    c("plane", "x y z nx ny nz", "infinite plane through a point, perpendicular to a normal"),
+    c("disk", "x y z nx ny nz radius", "disk centred at a point, perpendicular to a normal"),
+    // Transforms
+    c("translate", "x y z", "right-multiply the current transform by a translation"),
+    c("rotate", "x y z degrees", "right-multiply the current transform by a rotation about an axis"),
+    c("scale", "x y z", "right-multiply the current transform by a scale"),
+    c("pushTransform", "", "save the current transform"),
+    c("popTransform", "", "restore the transform saved by the matching pushTransform"),
+    // Materials
+    c("material", "flat|lambert|phong|blinnphong|ggx|translucent|checkers|mirror|glass", "start a fresh material of a reflection model"),
+    c("brdf", "phong|ggx", "reflection model of the current material"),
+    c("ambient", "r g b", "ambient colour (default 0.2 0.2 0.2)"),
+    c("diffuse", "r g b", "diffuse colour"),
+    c("specular", "r g b", "specular colour (highlight and mirror weight)"),
+    c("shininess", "exponent", "Phong exponent"),
+    c("emission", "r g b", "emitted radiance"),
+    c("roughness", "alpha", "GGX roughness alpha in [0, 1]"),
+    c("reflectance", "amount", "mirror reflection weight in [0, 1]"),
+    c("transparency", "amount", "refraction weight in [0, 1]"),
+    c("ior", "index", "index of refraction"),
+    c("gloss", "amount", "blur of reflections"),
+    c("glosssamples", "count", "rays per glossy reflection"),
+    c("frost", "amount", "blur of refractions"),
+    c("frostsamples", "count", "rays per frosted refraction"),
+    // Lights
+    c("directional", "x y z r g b", "directional light; (x, y, z) points towards the light"),
+    c("point", "x y z r g b", "point light"),
+    c("attenuation", "constant linear quadratic", "attenuation of the point lights that follow (default 1 0 0)"),
+    c("quadLight", "ax ay az abx aby abz acx acy acz r g b", "one-sided parallelogram light a + s ab + t ac"),
+    c("lightspread", "amount", "size of point lights / spread of directional lights for soft shadows"),
+];
+
+/// The command called `name`.
+pub fn command(name: &str) -> Option<&'static CommandInfo> {
+    COMMANDS.iter().find(|c| c.name == name)
+}
+
+/// The known command closest to `name` (same name in another case, or at most two edits away).
+pub(crate) fn suggestion(name: &str) -> Option<&'static str> {
+    if let Some(c) = COMMANDS.iter().find(|c| c.name.eq_ignore_ascii_case(name)) {
+        return Some(c.name);
+    }
+    if name.len() > 40 {
+        return None;
+    }
+    let lower = name.to_ascii_lowercase();
+    COMMANDS
+        .iter()
+        .map(|c| (edit_distance(&lower, &c.name.to_ascii_lowercase()), c.name))
+        .filter(|&(d, _)| d <= 2)
+        .min()
+        .map(|(_, n)| n)
+}
+
+/// Levenshtein distance over characters.
+fn edit_distance(a: &str, b: &str) -> usize {
+    let b: Vec<char> = b.chars().collect();
+    let mut row: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.chars().enumerate() {
+        let mut diagonal = row[0];
+        row[0] = i + 1;
+        for (j, cb) in b.iter().enumerate() {
+            let substitute = diagonal + usize::from(ca != *cb);
+            diagonal = row[j + 1];
+            row[j + 1] = substitute.min(row[j] + 1).min(diagonal + 1);
+        }
+    }
+    row[b.len()]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_are_unique_and_suggestions_work() {
+        for (i, a) in COMMANDS.iter().enumerate() {
+            assert!(COMMANDS[i + 1..].iter().all(|b| b.name != a.name), "{} twice", a.name);
+        }
+        assert_eq!(suggestion("pushtransform"), Some("pushTransform"));
+        assert_eq!(suggestion("sphear"), Some("sphere"));
+        assert_eq!(suggestion("quadlight"), Some("quadLight"));
+        assert_eq!(suggestion("zzzzzzzzzz"), None);
+        assert_eq!(edit_distance("kitten", "sitting"), 3);
+    }
+}
