@@ -23,6 +23,18 @@ pub enum SceneError {
         /// What is wrong there.
         message: String,
     },
+    /// A problem at a line and column of a text file.
+    #[error("{path}:{line}:{column}: {message}")]
+    Position {
+        /// The file concerned.
+        path: PathBuf,
+        /// One-based line number.
+        line: usize,
+        /// One-based column.
+        column: usize,
+        /// What is wrong there.
+        message: String,
+    },
     /// Scene data that is not usable, whatever file it came from.
     #[error("{object}: {message}")]
     Invalid {

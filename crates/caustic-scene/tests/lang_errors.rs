@@ -107,28 +107,28 @@ fn file_errors_through_load_scene() {
     let bad = write("bad.test", "size 10 10\nvertex 0 0 0\n\ntri 0 1 2\n");
     let text = common::load(&bad).expect_err("fails").to_string();
     println!("{text}");
-    assert_eq!(text, format!("{}:4: column 7: tri: vertex index 1 out of range (1 vertices)", bad.display()));
-    assert!(matches!(common::load(&bad), Err(caustic_scene::SceneError::Line { line: 4, .. })));
+    assert_eq!(text, format!("{}:4:7: tri: vertex index 1 out of range (1 vertices)", bad.display()));
+    assert!(matches!(common::load(&bad), Err(caustic_scene::SceneError::Position { line: 4, column: 7, .. })));
     // .scene and .txt are the language too.
     let scene = write("ok.scene", "sphere 0 0 0 1\n");
     assert_eq!(common::load(&scene).expect("loads").shapes.len(), 1);
     let txt = write("notes.txt", "These are not scene commands.\n");
     let text = common::load(&txt).expect_err("fails").to_string();
     println!("{text}");
-    assert!(text.ends_with("notes.txt:1: column 1: unknown command 'These'"), "{text}");
+    assert!(text.ends_with("notes.txt:1:1: unknown command 'These'"), "{text}");
 
     // A missing source file: located at the source line.
     let missing = write("missing.test", "sphere 0 0 0 1\nsource parts/none.test\n");
     let text = common::load(&missing).expect_err("fails").to_string();
     println!("{text}");
-    assert!(text.contains("missing.test:2: column 8: source: ") && text.contains("none.test: cannot read the file"), "{text}");
+    assert!(text.contains("missing.test:2:8: source: ") && text.contains("none.test: cannot read the file"), "{text}");
 
     // A cycle: a sources b sources a.
     write("a.test", "vertex 0 0 0\nsource b.test\n");
     write("b.test", "# b\nsource a.test\n");
     let text = common::load(&dir.join("a.test")).expect_err("a cycle").to_string();
     println!("{text}");
-    assert!(text.contains("b.test:2: column 8: source: ") && text.contains("source cycle: ") && text.contains("(sourced from "), "{text}");
+    assert!(text.contains("b.test:2:8: source: ") && text.contains("source cycle: ") && text.contains("(sourced from "), "{text}");
     assert!(text.contains("a.test -> ") && text.contains("b.test -> "), "{text}");
     let itself = write("self.test", "source self.test\n");
     let text = common::load(&itself).expect_err("a cycle").to_string();
@@ -140,7 +140,7 @@ fn file_errors_through_load_scene() {
     let outer = write("outer.test", "# outer\nsource inner.test\n");
     let text = common::load(&outer).expect_err("fails").to_string();
     println!("{text}");
-    assert!(text.contains("inner.test:3: column 9: tri: vertex index 2 out of range (2 vertices) (sourced from "), "{text}");
+    assert!(text.contains("inner.test:3:9: tri: vertex index 2 out of range (2 vertices) (sourced from "), "{text}");
     assert!(text.ends_with("outer.test:2)"), "{text}");
 
     // A directory is not a scene.

@@ -70,14 +70,14 @@ impl fmt::Display for LangError {
 impl std::error::Error for LangError {}
 
 impl From<LangError> for SceneError {
-    /// A [`SceneError::Line`] whose message starts with the column (`file:line: column N:
-    /// message`) or, for a whole-file problem, a [`SceneError::File`].
+    /// A [`SceneError::Position`] (`file:line:column: message`) or, for a whole-file
+    /// problem, a [`SceneError::File`].
     fn from(error: LangError) -> SceneError {
         let trace = error.trace();
         if error.line == 0 {
             SceneError::File { path: error.file, message: format!("{}{trace}", error.message) }
         } else {
-            SceneError::Line { path: error.file, line: error.line, message: format!("column {}: {}{trace}", error.column, error.message) }
+            SceneError::Position { path: error.file, line: error.line, column: error.column, message: format!("{}{trace}", error.message) }
         }
     }
 }
