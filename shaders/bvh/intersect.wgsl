@@ -55,15 +55,40 @@ fn prepare_ray(ray: Ray) -> TraversalRay {
 // slip between boxes; the CPU twin uses the same constant (caustic_bvh::SLAB_EXIT_SCALE).
 const SLAB_EXIT_SCALE: f32 = 1.0000003576;
 
+// Slab exit used instead of exactly 0; the CPU twin's caustic_bvh::ON_PLANE_EXIT.
+const ON_PLANE_EXIT: f32 = 3.0e38;
+
 // Entry distance of the ray into a box, or a negative value on a miss.
 fn intersect_box(r: TraversalRay, lo: vec3<f32>, hi: vec3<f32>, t_max: f32) -> f32 {
     let t0 = (lo - r.origin) * r.inv_direction;
     let t1 = (hi - r.origin) * r.inv_direction;
     let near = min(t0, t1);
-    let far = max(t0, t1);
+    // A far distance of exactly 0 (origin on a face plane of an axis the ray runs parallel
+    // to) counts as ON_PLANE_EXIT: such a ray may cross a triangle edge in that plane.
+    let far = select(max(t0, t1), vec3<f32>(ON_PLANE_EXIT), max(t0, t1) == vec3<f32>(0.0));
     let t_enter = max(max(near.x, near.y), max(near.z, 0.0));
     let t_exit = min(min(far.x, far.y), min(far.z, t_max)) * SLAB_EXIT_SCALE;
     return select(-1.0, t_enter, t_enter <= t_exit);
+}
+
+// p q - r s for an edge function that rounded to exactly 0: factors split by masking into
+// 12-bit high parts and exact rests, so every partial product is exact, summed large to
+// small. Twin of caustic_bvh::refine_edge (same bits): without it two rounded-to-zero edge
+// functions of a sliver made rays hit its corner from far away.
+fn refine_edge(p: f32, q: f32, r: f32, s: f32) -> f32 {
+    let mask = 0xfffff000u;
+    let ph = bitcast<f32>(bitcast<u32>(p) & mask);
+    let qh = bitcast<f32>(bitcast<u32>(q) & mask);
+    let rh = bitcast<f32>(bitcast<u32>(r) & mask);
+    let sh = bitcast<f32>(bitcast<u32>(s) & mask);
+    let pl = p - ph;
+    let ql = q - qh;
+    let rl = r - rh;
+    let sl = s - sh;
+    let high = ph * qh - rh * sh;
+    let middle = (ph * ql + pl * qh) - (rh * sl + rl * sh);
+    let low = pl * ql - rl * sl;
+    return high + (middle + low);
 }
 
 struct TriangleHit {
@@ -85,9 +110,18 @@ fn intersect_triangle(r: TraversalRay, v0: vec3<f32>, v1: vec3<f32>, v2: vec3<f3
     let by = dot(r.shear_y, b);
     let cx = dot(r.shear_x, c);
     let cy = dot(r.shear_y, c);
-    let u = cx * by - cy * bx;
-    let v = ax * cy - ay * cx;
-    let w = bx * ay - by * ax;
+    var u = cx * by - cy * bx;
+    var v = ax * cy - ay * cx;
+    var w = bx * ay - by * ax;
+    if u == 0.0 {
+        u = refine_edge(cx, by, cy, bx);
+    }
+    if v == 0.0 {
+        v = refine_edge(ax, cy, ay, cx);
+    }
+    if w == 0.0 {
+        w = refine_edge(bx, ay, by, ax);
+    }
     if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
         return miss;
     }

@@ -31,9 +31,10 @@ struct Frame {
     shape_count: u32,
     // Scene triangles; shape i's shading attributes sit at triangle_count + i.
     triangle_count: u32,
+    // Which debug view `render_debug` shows (integrator/debug.wgsl); 0 = none.
+    debug_view: u32,
     _pad0: u32,
     _pad1: u32,
-    _pad2: u32,
 }
 
 // Binary BVH node holding both children's bounds (64 bytes).

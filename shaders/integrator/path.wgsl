@@ -32,12 +32,14 @@ fn trace_path(primary: Ray, rng: ptr<function, Rng>) -> vec3<f32> {
     var throughput = vec3<f32>(1.0);
     var bsdf_pdf = 0.0;
     let max_bounces = min(frame.max_depth, SAFETY_MAX_BOUNCES);
+    path_vertices = 0u;
     for (var bounce = 0u; ; bounce++) {
         let hit = closest_hit(ray, 3.0e38);
         if hit.triangle == NO_HIT {
             radiance += throughput * environment_radiance(ray.direction);
             break;
         }
+        path_vertices = bounce + 1u;
         let si = surface_interaction(ray, hit);
         if si.front_face && any(si.material.emission > vec3<f32>(0.0)) {
             // Emissive shapes are not in the light list: BSDF sampling alone finds them.

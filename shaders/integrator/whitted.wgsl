@@ -11,7 +11,8 @@ fn classic_light(si: SurfaceInteraction, view: vec3<f32>, light: Light, u: vec2<
     if ls.pdf <= 0.0 || n_dot_l <= 0.0 || dot(ls.wi, si.ng) <= 0.0 {
         return vec3<f32>(0.0);
     }
-    if occluded(spawn_ray(si, ls.wi), ls.distance * (1.0 - 1e-4)) {
+    let shadow = shadow_ray(si.p, spawn_ray(si, ls.wi).origin, ls.wi, ls.distance);
+    if occluded(shadow.ray, shadow.t_max) {
         return vec3<f32>(0.0);
     }
     let half_vector = normalize(ls.wi + view);

@@ -44,5 +44,5 @@ pub use layout::{
 };
 pub use shape::{GpuShape, SHAPE_BIT, ShapeInput, ShapeKind, intersect_shape};
 pub use split::MAX_BINS;
-pub use traverse::{MIN_DIRECTION, SLAB_EXIT_SCALE, STACK_SIZE};
-pub use triangle::{Hit, Ray, closest_hit_brute_force, intersect_triangle};
+pub use traverse::{MIN_DIRECTION, ON_PLANE_EXIT, SLAB_EXIT_SCALE, STACK_SIZE};
+pub use triangle::{Hit, Ray, closest_hit_brute_force, intersect_triangle, refine_edge};

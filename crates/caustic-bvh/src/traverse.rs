@@ -24,10 +24,17 @@ pub const STACK_SIZE: usize = MAX_DEPTH;
 
 /// Direction components smaller than this in magnitude are replaced by it (keeping the
 /// sign) before inverting, so inverse directions stay finite and slab products never
-/// compute `0 * inf`. The price: a ray parallel to an axis whose origin lies exactly on
-/// a box face plane of that axis only touches that box at `t = 0`; it could only have
-/// grazed the boundary of the triangles inside, never crossed them.
+/// compute `0 * inf`. A ray parallel to an axis whose origin lies exactly on a box face
+/// plane of that axis then gets a slab exit of 0 there; see [`ON_PLANE_EXIT`].
 pub const MIN_DIRECTION: f32 = 1e-20;
+
+/// The slab exit distance used instead of an exit of exactly 0. A ray running inside a box
+/// face plane (parallel to an axis, origin exactly on the plane) may cross a triangle edge
+/// lying in that plane, e.g. at a cube's edge; with exit 0 the box was culled and the hit
+/// lost (found by `tests/extreme_triangles.rs`). Any other exit of 0 belongs to a ray
+/// leaving the box at its origin, which is then kept: conservative, never wrong. 3e38 is
+/// also the shader's `t_max`, so the CPU and WGSL tests stay alike.
+pub const ON_PLANE_EXIT: f32 = 3.0e38;
 
 /// Slab exit distances are scaled by `1 + 2 * gamma(3)` with `gamma(n) = n*eps/(1 - n*eps)`,
 /// `eps = 2^-24` (Pharr, Jakob & Humphreys, PBRT 3, section 3.9.2), so rounding in the
@@ -62,13 +69,14 @@ impl SlabRay {
     ///
     /// Sign-aware slabs: the near plane on each axis is `min` for a positive inverse
     /// direction and `max` for a negative one. `enter = max(near_x, near_y, near_z, 0)`,
-    /// `exit = min(far_x, far_y, far_z, t_limit) * SLAB_EXIT_SCALE`, hit iff
-    /// `enter <= exit`. An inverted (empty) box gives `near > far` and always misses.
+    /// `exit = min(far_x, far_y, far_z, t_limit) * SLAB_EXIT_SCALE` (a `far` of exactly 0
+    /// counting as [`ON_PLANE_EXIT`]), hit iff `enter <= exit`. An inverted (empty) box gives `near > far` and always misses.
     fn entry(&self, min: Vec3, max: Vec3, t_limit: f32) -> f32 {
         let near_plane = Vec3::select(self.negative, max, min);
         let far_plane = Vec3::select(self.negative, min, max);
         let near = (near_plane - self.origin) * self.inv_dir;
         let far = (far_plane - self.origin) * self.inv_dir;
+        let far = Vec3::select(far.cmpeq(Vec3::ZERO), Vec3::splat(ON_PLANE_EXIT), far);
         let enter = near.x.max(near.y).max(near.z).max(0.0);
         let exit = far.x.min(far.y).min(far.z).min(t_limit) * SLAB_EXIT_SCALE;
         if enter <= exit { enter } else { f32::INFINITY }

@@ -58,8 +58,9 @@ fn largest_axis(v: Vec3) -> usize {
 /// 3. `A = v0 - o`, `B = v1 - o`, `C = v2 - o`; `Ax = A[kx] - sx*A[kz]`,
 ///    `Ay = A[ky] - sy*A[kz]`, likewise for `B`, `C`.
 /// 4. Scaled barycentrics `U = Cx*By - Cy*Bx`, `V = Ax*Cy - Ay*Cx`, `W = Bx*Ay - By*Ax`.
-///    (The paper's `f64` recompute when one is exactly zero is omitted: a zero counts
-///    as on the edge and is accepted by both neighbours.)
+///    One that rounds to exactly 0 is recomputed by [`refine_edge`] (the paper recomputes
+///    in `f64`, which shaders lack); a zero that remains counts as on the edge and is
+///    accepted by both neighbours.
 /// 5. Miss if the signs are mixed: `(U<0 || V<0 || W<0) && (U>0 || V>0 || W>0)`.
 /// 6. `det = U + V + W`; miss if `det == 0` (ray in the triangle's plane or degenerate).
 /// 7. `Az = sz*A[kz]`, `Bz = sz*B[kz]`, `Cz = sz*C[kz]`; `T = U*Az + V*Bz + W*Cz`.
@@ -86,9 +87,18 @@ pub fn intersect_triangle(ray: &Ray, v0: Vec3, v1: Vec3, v2: Vec3) -> Option<(f3
     let cx = c[kx] - sx * c[kz];
     let cy = c[ky] - sy * c[kz];
 
-    let u = cx * by - cy * bx;
-    let v = ax * cy - ay * cx;
-    let w = bx * ay - by * ax;
+    let mut u = cx * by - cy * bx;
+    let mut v = ax * cy - ay * cx;
+    let mut w = bx * ay - by * ax;
+    if u == 0.0 {
+        u = refine_edge(cx, by, cy, bx);
+    }
+    if v == 0.0 {
+        v = refine_edge(ax, cy, ay, cx);
+    }
+    if w == 0.0 {
+        w = refine_edge(bx, ay, by, ax);
+    }
     if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
         return None;
     }
@@ -107,6 +117,29 @@ pub fn intersect_triangle(ray: &Ray, v0: Vec3, v1: Vec3, v2: Vec3) -> Option<(f3
         return None;
     }
     Some((t, v * inv_det, w * inv_det))
+}
+
+/// `p*q - r*s` for an edge function whose `f32` evaluation rounded to exactly 0.
+///
+/// Each factor is split by masking into a 12-bit high part and the exact rest, so every
+/// partial product is exact; the partial differences are summed large to small. The sign
+/// is right unless the true value is below about 2^-36 of the products, where plain `f32`
+/// goes wrong below 2^-24: two rounded-to-zero edge functions of a sliver (aspect 1e7)
+/// made rays report hits at its corner from far away (found by
+/// `tests/extreme_triangles.rs`). Exact negations stay exact negations (an edge shared by
+/// two triangles is refined in both or neither), so watertightness is kept. Only integer
+/// masking and exact products: no compiler folding or contraction can change it, so the
+/// WGSL twin (`refine_edge` in `shaders/bvh/intersect.wgsl`) gives the same bits.
+pub fn refine_edge(p: f32, q: f32, r: f32, s: f32) -> f32 {
+    let split = |x: f32| {
+        let high = f32::from_bits(x.to_bits() & 0xFFFF_F000);
+        (high, x - high)
+    };
+    let ((ph, pl), (qh, ql), (rh, rl), (sh, sl)) = (split(p), split(q), split(r), split(s));
+    let high = ph * qh - rh * sh;
+    let middle = (ph * ql + pl * qh) - (rh * sl + rl * sh);
+    let low = pl * ql - rl * sl;
+    high + (middle + low)
 }
 
 /// The nearest hit found by testing every triangle: the ground truth for the BVH.

@@ -1,9 +1,11 @@
 //! The command-line contract. Later features add options; existing ones keep their meaning.
 
 use anyhow::{Context, bail};
-use caustic_scene::{Environment, EnvironmentMap};
+use caustic_scene::{Camera, Environment, EnvironmentMap, Integrator};
+use caustic_viewer::command::integrator_name;
 use clap::{Args, Parser, Subcommand};
 use glam::Vec3;
+use std::ops::Range;
 use std::path::{Path, PathBuf};
 
 /// Caustic: a path tracer running in WGSL compute shaders.
@@ -22,6 +24,10 @@ pub enum Command {
     Render(RenderArgs),
     /// Measure BVH build time and ray throughput on meshes.
     Bench(BenchArgs),
+    /// Combine partial renders (EXR parts of disjoint sample ranges) into one image.
+    Merge(MergeArgs),
+    /// Open a window that renders the scene progressively, with camera controls and settings.
+    View(ViewArgs),
 }
 
 /// Options every command that opens a device shares.
@@ -41,12 +47,39 @@ pub struct RenderArgs {
     /// Scene file (.gltf, .glb, .obj, .ply) or built-in name (cornell).
     #[arg(default_value = "cornell")]
     pub scene: String,
-    /// Output image: .exr, .hdr (linear) or .png, .bmp, .jpg (tone mapped, sRGB). Default: SCENE.png.
+    /// Output image: .exr (linear, a partial image that `caustic merge` accepts), .hdr (linear) or
+    /// .png, .bmp, .jpg (tone mapped, sRGB). Default: SCENE.png. `{index}` or `{index:0N}` is
+    /// replaced by the task index with --samples-from-env or --frame-from-env.
     #[arg(short, long, value_name = "FILE")]
     pub output: Option<PathBuf>,
-    /// Samples per pixel (default 64 unless --time is given).
+    /// Samples per pixel (default 64 unless --time is given): the sample range 0..N.
     #[arg(long, value_name = "N")]
     pub spp: Option<u32>,
+    /// Render exactly the global sample indices START..END (END excluded) of every pixel; the
+    /// parts of a split render merge exactly with `caustic merge`.
+    #[arg(long, value_name = "START..END", value_parser = parse_samples, conflicts_with = "spp")]
+    pub samples: Option<Range<u32>>,
+    /// Take the sample range from the scheduler: task i (JOB_COMPLETION_INDEX in a Kubernetes
+    /// Indexed Job, else SLURM_ARRAY_TASK_ID in a Slurm job array) renders samples
+    /// i*N..(i+1)*N, N = --spp-per-task. -o must contain {index}.
+    #[arg(long, requires = "spp_per_task", conflicts_with_all = ["spp", "samples", "frame_from_env"])]
+    pub samples_from_env: bool,
+    /// Samples per pixel of each task, with --samples-from-env.
+    #[arg(long, value_name = "N", requires = "samples_from_env")]
+    pub spp_per_task: Option<u32>,
+    /// Render one animation frame per array task: {index} or {index:0N} in SCENE and -o is
+    /// replaced by the task index (read as for --samples-from-env).
+    #[arg(long)]
+    pub frame_from_env: bool,
+    /// The number of tasks in the array, with --samples-from-env or --frame-from-env: a task
+    /// index at or beyond it is an error.
+    #[arg(long, value_name = "COUNT")]
+    pub tasks: Option<u32>,
+    /// If -o already holds a part of this render (same scene and settings, starting at the
+    /// first sample asked for), render only the samples it lacks and write the merged part:
+    /// re-running an interrupted command loses at most the pass it was in.
+    #[arg(long)]
+    pub resume: bool,
     /// Stop after this many seconds of rendering (at a whole sample pass).
     #[arg(long, value_name = "SECONDS")]
     pub time: Option<f64>,
@@ -68,9 +101,124 @@ pub struct RenderArgs {
     /// Tone mapper for LDR outputs: aces, reinhard or clamp.
     #[arg(long, default_value = "aces")]
     pub tone_map: caustic_image::ToneMap,
+    /// Integrator: pathtracer (default), raytracer, direct or analyticdirect.
+    #[arg(long, value_name = "NAME", value_parser = parse_integrator)]
+    pub integrator: Option<Integrator>,
+    /// Camera overrides.
+    #[command(flatten)]
+    pub camera: CameraArgs,
     /// Device selection and output format.
     #[command(flatten)]
     pub device: DeviceArgs,
+}
+
+/// Camera overrides, each replacing one field of the scene's camera (`caustic view` saves the
+/// camera it shows this way).
+#[derive(Debug, Args)]
+pub struct CameraArgs {
+    /// Camera position.
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_vector, allow_hyphen_values = true)]
+    pub eye: Option<Vec3>,
+    /// The point the camera looks at.
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_vector, allow_hyphen_values = true)]
+    pub target: Option<Vec3>,
+    /// The camera's up direction.
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_vector, allow_hyphen_values = true)]
+    pub up: Option<Vec3>,
+    /// Vertical field of view in degrees.
+    #[arg(long, value_name = "DEGREES")]
+    pub fov: Option<f64>,
+}
+
+impl CameraArgs {
+    /// Applies the overrides to `camera` and checks the result.
+    pub fn apply(&self, camera: &mut Camera) -> anyhow::Result<()> {
+        camera.eye = self.eye.unwrap_or(camera.eye);
+        camera.target = self.target.unwrap_or(camera.target);
+        camera.up = self.up.unwrap_or(camera.up);
+        if let Some(degrees) = self.fov {
+            // Converted in f64, so the degrees `caustic view` prints give back its exact f32.
+            camera.fov_y = degrees.to_radians() as f32;
+        }
+        if !camera.is_valid() {
+            bail!("--eye/--target/--up/--fov give a degenerate camera: {camera:?}");
+        }
+        Ok(())
+    }
+}
+
+/// `caustic view`.
+#[derive(Debug, Args)]
+pub struct ViewArgs {
+    /// Scene file (.gltf, .glb, .obj, .ply, .test) or built-in name (cornell).
+    #[arg(default_value = "cornell")]
+    pub scene: String,
+    /// Image size, overriding the scene's.
+    #[arg(long, value_name = "WxH", value_parser = parse_size)]
+    pub size: Option<(u32, u32)>,
+    /// Samples per pixel after which rendering pauses (default: the scene's, else 1024).
+    #[arg(long, value_name = "N")]
+    pub spp: Option<u32>,
+    /// Maximum bounces; -1 = unbounded (default: the scene's).
+    #[arg(long, allow_negative_numbers = true, value_name = "N")]
+    pub max_depth: Option<i64>,
+    /// Random seed.
+    #[arg(long, default_value_t = 0, value_name = "N")]
+    pub seed: u32,
+    /// Environment: a colour (`1` or `r,g,b`) or an .hdr/.exr lat-long map.
+    #[arg(long, value_name = "COLOR|FILE")]
+    pub environment: Option<String>,
+    /// Exposure in stops.
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    pub exposure: f32,
+    /// Tone mapper: aces, reinhard or clamp.
+    #[arg(long, default_value = "aces")]
+    pub tone_map: caustic_image::ToneMap,
+    /// Integrator: pathtracer, raytracer, direct or analyticdirect (default: the scene's).
+    #[arg(long, value_name = "NAME", value_parser = parse_integrator)]
+    pub integrator: Option<Integrator>,
+    /// Camera overrides.
+    #[command(flatten)]
+    pub camera: CameraArgs,
+    /// Use the Vulkan adapter whose name contains this text (case-insensitive).
+    #[arg(long, env = "CAUSTIC_ADAPTER", value_name = "NAME")]
+    pub adapter: Option<String>,
+    /// Scripted run: show N frames (and with --spp, wait until it is reached), then save
+    /// (--save), take a screenshot (--screenshot), print what was measured as JSON and exit.
+    #[arg(long, value_name = "N")]
+    pub frames: Option<u32>,
+    /// With --frames: write a PNG screenshot of the whole window.
+    #[arg(long, value_name = "FILE.png", requires = "frames")]
+    pub screenshot: Option<PathBuf>,
+    /// With --frames: save the image, and beside it (.txt) the `caustic render` command line
+    /// that reproduces it.
+    #[arg(long, value_name = "FILE", requires = "frames")]
+    pub save: Option<PathBuf>,
+}
+
+/// `caustic merge`.
+#[derive(Debug, Args)]
+pub struct MergeArgs {
+    /// Partial images written by `caustic render -o PART.exr`.
+    #[arg(required = true, value_name = "PART.exr")]
+    pub parts: Vec<PathBuf>,
+    /// Output: .exr (a partial image again, which merges further), .hdr (linear) or .png, .bmp,
+    /// .jpg (tone mapped, sRGB).
+    #[arg(short, long, value_name = "FILE")]
+    pub output: PathBuf,
+    /// The sample range the parts must cover together, e.g. 0..256: catches a missing first or
+    /// last part (gaps and overlaps between parts are always refused).
+    #[arg(long, value_name = "START..END", value_parser = parse_samples)]
+    pub samples: Option<Range<u32>>,
+    /// Exposure in stops for LDR outputs.
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    pub exposure: f32,
+    /// Tone mapper for LDR outputs: aces, reinhard or clamp.
+    #[arg(long, default_value = "aces")]
+    pub tone_map: caustic_image::ToneMap,
+    /// Print one JSON object with the results on stdout.
+    #[arg(long)]
+    pub json: bool,
 }
 
 /// `caustic bench`.
@@ -89,6 +237,14 @@ pub struct BenchArgs {
     pub device: DeviceArgs,
 }
 
+fn parse_samples(text: &str) -> Result<Range<u32>, String> {
+    let range = caustic_image::parse_range(text)?;
+    if range.is_empty() {
+        return Err(format!("'{text}' holds no samples"));
+    }
+    Ok(range)
+}
+
 fn parse_size(text: &str) -> Result<(u32, u32), String> {
     let (w, h) = text.split_once(['x', 'X']).ok_or_else(|| format!("'{text}' is not WIDTHxHEIGHT"))?;
     let parse = |s: &str| s.trim().parse::<u32>().map_err(|_| format!("'{s}' in '{text}' is not a whole number"));
@@ -97,6 +253,22 @@ fn parse_size(text: &str) -> Result<(u32, u32), String> {
         return Err(format!("size {text} is outside 1x1..16384x16384"));
     }
     Ok(size)
+}
+
+fn parse_vector(text: &str) -> Result<Vec3, String> {
+    let numbers: Result<Vec<f32>, _> = text.split(',').map(|s| s.trim().parse::<f32>()).collect();
+    match numbers.as_deref() {
+        Ok([x, y, z]) if [x, y, z].iter().all(|c| c.is_finite()) => Ok(Vec3::new(*x, *y, *z)),
+        _ => Err(format!("'{text}' is not three finite numbers x,y,z")),
+    }
+}
+
+fn parse_integrator(text: &str) -> Result<Integrator, String> {
+    let all = [Integrator::PathTracer, Integrator::RayTracer, Integrator::Direct, Integrator::AnalyticDirect];
+    all.into_iter().find(|i| integrator_name(*i) == text.trim().to_lowercase()).ok_or_else(|| {
+        let names: Vec<&str> = all.into_iter().map(integrator_name).collect();
+        format!("unknown integrator '{text}'; expected one of: {}", names.join(", "))
+    })
 }
 
 /// Reads `--environment`: one number (grey), three comma-separated numbers, or a map file.

@@ -1,8 +1,13 @@
-//! `caustic`: render scenes headlessly on a Vulkan device and benchmark its ray tracing.
+//! `caustic`: render scenes headlessly on a Vulkan device, view them in a window and benchmark
+//! its ray tracing.
 
 mod args;
 mod bench;
+mod fingerprint;
+mod merge;
 mod render;
+mod tasks;
+mod view;
 
 use clap::Parser;
 use std::process::ExitCode;
@@ -12,6 +17,8 @@ fn main() -> ExitCode {
     let result = match cli.command {
         args::Command::Render(render_args) => render::run(&render_args),
         args::Command::Bench(bench_args) => bench::run(&bench_args),
+        args::Command::Merge(merge_args) => merge::run(&merge_args),
+        args::Command::View(view_args) => view::run(&view_args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,13 +1,15 @@
 //! `caustic render`: load, upload, accumulate, write.
 
 use crate::args::{RenderArgs, parse_environment};
+use crate::fingerprint::{Fingerprint, fingerprint};
+use crate::tasks::{TaskIndex, has_placeholder, substitute};
 use anyhow::{Context, bail};
 use caustic_gpu::{GpuContext, GpuScene, PassOutcome, PathTracer, RenderSettings};
-use caustic_image::SaveOptions;
+use caustic_image::{PartInfo, PartialImage, SaveOptions};
 use caustic_scene::{SceneSource, load_scene};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
@@ -34,17 +36,27 @@ struct RenderReport {
     nonfinite_pixels: Vec<(u32, u32, u32)>,
     /// Whether Ctrl-C ended the render early (the image holds what was accumulated).
     interrupted: bool,
+    /// The global sample range the output holds, [start, end) (with --resume, the earlier
+    /// part's samples included); pixels of a stopped last pass lack its last index.
+    samples: [u32; 2],
+    /// The task index read from the scheduler's variables, if any.
+    task_index: Option<u32>,
+    /// The render's fingerprint (see `caustic merge`).
+    fingerprint: String,
     output: PathBuf,
 }
 
 /// When to stop accumulating.
 struct Budget {
+    /// Global index of the first sample to draw.
+    first_sample: u32,
+    /// Samples per pixel to draw; `None`: until the time is spent.
     spp: Option<u32>,
     seconds: Option<f64>,
 }
 
 impl Budget {
-    fn from_args(args: &RenderArgs) -> anyhow::Result<Budget> {
+    fn from_args(args: &RenderArgs, task: Option<&TaskIndex>) -> anyhow::Result<Budget> {
         if args.spp == Some(0) {
             bail!("--spp 0: at least one sample per pixel is needed");
         }
@@ -53,8 +65,20 @@ impl Budget {
                 bail!("--time {t}: must be a positive number of seconds");
             }
         }
-        let spp = args.spp.or(if args.time.is_some() { None } else { Some(DEFAULT_SPP) });
-        Ok(Budget { spp, seconds: args.time })
+        let range = match (args.samples_from_env, task, &args.samples) {
+            (true, Some(task), _) => Some(task.sample_range(args.spp_per_task.unwrap_or(0))?),
+            (_, _, Some(range)) => Some(range.clone()),
+            _ => args.spp.or(if args.time.is_some() { None } else { Some(DEFAULT_SPP) }).map(|n| 0..n),
+        };
+        Ok(match range {
+            Some(range) => Budget { first_sample: range.start, spp: Some(range.end - range.start), seconds: args.time },
+            None => Budget { first_sample: 0, spp: None, seconds: args.time },
+        })
+    }
+
+    /// The end of the sample range, if the budget has one.
+    fn end(&self) -> Option<u32> {
+        self.spp.map(|n| self.first_sample + n)
     }
 
     fn spp_reached(&self, spp: u32) -> bool {
@@ -68,27 +92,49 @@ impl Budget {
 
 /// Runs `caustic render`.
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
-    let budget = Budget::from_args(args)?;
+    let task = task_index(args)?;
+    let mut budget = Budget::from_args(args, task.as_ref())?;
     let max_depth = match args.max_depth {
         -1 => None,
         d if d >= 0 => Some(u32::try_from(d).context("--max-depth is too large")?),
         d => bail!("--max-depth {d}: use -1 for unbounded or a number of bounces >= 0"),
     };
-    let mut scene = load_scene(&SceneSource::parse(&args.scene))?;
-    let output = args.output.clone().unwrap_or_else(|| PathBuf::from(format!("{}.png", scene.name)));
+    let scene_arg = scene_argument(args, task.as_ref())?;
+    let output_arg = output_argument(args, task.as_ref())?;
+    let mut scene = load_scene(&SceneSource::parse(&scene_arg))?;
+    let output = output_arg.unwrap_or_else(|| PathBuf::from(format!("{}.png", scene.name)));
     caustic_image::check_output_path(&output)?;
+    let partial = is_exr(&output);
+    if !partial && (args.samples_from_env || args.resume) {
+        let option = if args.resume { "--resume" } else { "--samples-from-env" };
+        bail!("{option} writes a partial image for `caustic merge`: -o {} must end in .exr", output.display());
+    }
     if let Some(size) = args.size {
         scene.resolution = size;
     }
     if let Some(text) = &args.environment {
         scene.environment = parse_environment(text)?;
     }
+    args.camera.apply(&mut scene.camera)?;
+    let integrator = args.integrator.unwrap_or_default();
+    let mut settings = RenderSettings { integrator, max_depth, seed: args.seed, ..RenderSettings::default() };
+    // The fingerprint must see the final scene and settings (all but the first sample): parts
+    // with equal fingerprints are merged as one render.
+    let print = fingerprint(&scene, &settings);
+    let previous = if args.resume { previous_part(&output, &print, &mut budget)? } else { None };
+    if let (Some(previous), Some(end)) = (&previous, budget.end()) {
+        if previous.info.range.end == end {
+            return report_already_complete(&output, previous, args.device.json);
+        }
+    }
+    settings.first_sample = budget.first_sample;
+    // Installed before the device and scene set-up, so that a scheduler's SIGTERM during a long
+    // start-up still ends the run cleanly (with what it has) instead of killing it.
+    let interrupted = interrupt_flag()?;
     let ctx = GpuContext::new(args.device.adapter.as_deref())?;
     eprintln!("adapter: {}", ctx.adapter);
     let gpu_scene = GpuScene::upload(&ctx, &scene)?;
-    let settings = RenderSettings { max_depth, seed: args.seed, ..RenderSettings::default() };
     let mut tracer = PathTracer::new(&ctx, &scene, &gpu_scene, &settings)?;
-    let interrupted = interrupt_flag()?;
     let progress = progress_bar(&budget);
     let start = Instant::now();
     let stop = || interrupted.load(Ordering::SeqCst) || budget.time_spent(start.elapsed().as_secs_f64());
@@ -100,13 +146,45 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     }
     let seconds = start.elapsed().as_secs_f64();
     progress.finish_and_clear();
-    let image = tracer.image()?;
+    let (image, counts) = tracer.accumulated()?;
     let nonfinite = tracer.nonfinite_counts()?;
     let interrupted = interrupted.load(Ordering::SeqCst);
+    let mut written = tracer.drawn_range();
     if interrupted {
         eprintln!("interrupted: writing the image accumulated so far ({} complete samples per pixel)", tracer.samples_per_pixel());
     }
-    image.save(&output, &SaveOptions { exposure: args.exposure, tone_map: args.tone_map })?;
+    if partial {
+        let info = PartInfo {
+            width: image.width,
+            height: image.height,
+            range: written.clone(),
+            fingerprint: print.hash.clone(),
+            settings: print.description.clone(),
+            scene: scene.name.clone(),
+            version: env!("CARGO_PKG_VERSION").to_string(),
+            nonfinite: nonfinite.iter().map(|&c| u64::from(c)).sum(),
+        };
+        let part = PartialImage { info, image, samples: counts };
+        let part = match previous {
+            Some(previous) => {
+                let parts = [(output.clone(), previous), (PathBuf::from("(the resumed samples)"), part)];
+                PartialImage::merge_loaded(&parts, None)?
+            }
+            None => part,
+        };
+        written = part.info.range.clone();
+        part.save(&output)?;
+        if interrupted || written.end < budget.end().unwrap_or(written.end) {
+            eprintln!(
+                "{} holds samples {}..{}: re-run the same command with --resume to add the rest",
+                output.display(),
+                written.start,
+                written.end
+            );
+        }
+    } else {
+        image.save(&output, &SaveOptions { exposure: args.exposure, tone_map: args.tone_map })?;
+    }
     let (width, height) = scene.resolution;
     let spp = tracer.samples_per_pixel();
     let report = RenderReport {
@@ -125,11 +203,124 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         nonfinite_samples: nonfinite.iter().map(|&c| u64::from(c)).sum(),
         nonfinite_pixels: worst_pixels(&nonfinite, width),
         interrupted,
+        samples: [written.start, written.end],
+        task_index: task.map(|t| t.index),
+        fingerprint: print.hash,
         output,
     };
     print_report(&report, args.device.json)?;
     if interrupted {
-        bail!("interrupted by Ctrl-C after {spp} samples per pixel; the partial image was written");
+        bail!("interrupted (Ctrl-C or SIGTERM) after {spp} samples per pixel; the partial image was written");
+    }
+    Ok(())
+}
+
+/// The scheduler's task index, when --samples-from-env or --frame-from-env asks for it.
+fn task_index(args: &RenderArgs) -> anyhow::Result<Option<TaskIndex>> {
+    if !(args.samples_from_env || args.frame_from_env) {
+        if args.tasks.is_some() {
+            bail!("--tasks applies to --samples-from-env or --frame-from-env");
+        }
+        return Ok(None);
+    }
+    let lookup = |name: &str| std::env::var_os(name).map(|v| v.to_string_lossy().into_owned());
+    TaskIndex::from_env(lookup, args.tasks).map(Some)
+}
+
+/// SCENE, with `{index}` replaced by the frame's task index under --frame-from-env.
+fn scene_argument(args: &RenderArgs, task: Option<&TaskIndex>) -> anyhow::Result<String> {
+    match (args.frame_from_env, task) {
+        (true, Some(task)) => {
+            if !has_placeholder(&args.scene) {
+                bail!("--frame-from-env: SCENE '{}' has no {{index}} placeholder, so every task would render the same frame", args.scene);
+            }
+            substitute(&args.scene, task.index)
+        }
+        _ if has_placeholder(&args.scene) => {
+            bail!("SCENE '{}' contains {{index}}: add --frame-from-env to take the index from the scheduler", args.scene)
+        }
+        _ => Ok(args.scene.clone()),
+    }
+}
+
+/// -o, with `{index}` replaced by the task index; every task must write its own file.
+fn output_argument(args: &RenderArgs, task: Option<&TaskIndex>) -> anyhow::Result<Option<PathBuf>> {
+    let Some(path) = &args.output else {
+        if task.is_some() {
+            bail!("an array task needs -o with an {{index}} placeholder (e.g. -o part-{{index}}.exr) so that each task writes its own file");
+        }
+        return Ok(None);
+    };
+    let text = path.to_string_lossy();
+    match task {
+        Some(task) if has_placeholder(&text) => Ok(Some(PathBuf::from(substitute(&text, task.index)?))),
+        Some(_) => bail!("-o {text}: add an {{index}} placeholder (e.g. part-{{index}}.exr) so that each array task writes its own file"),
+        None if has_placeholder(&text) => {
+            bail!("-o {text} contains {{index}}: add --samples-from-env or --frame-from-env to take the index from the scheduler")
+        }
+        None => Ok(Some(path.clone())),
+    }
+}
+
+fn is_exr(path: &Path) -> bool {
+    path.extension().is_some_and(|e| e.eq_ignore_ascii_case("exr"))
+}
+
+/// With --resume: the part already at `output`, if any, after checking that it belongs to this
+/// render and starts where the budget does; the budget then starts where the part ends.
+fn previous_part(output: &Path, print: &Fingerprint, budget: &mut Budget) -> anyhow::Result<Option<PartialImage>> {
+    if !output.exists() {
+        eprintln!("--resume: {} does not exist yet; rendering from sample {}", output.display(), budget.first_sample);
+        return Ok(None);
+    }
+    let part = PartialImage::load(output).with_context(|| format!("--resume: cannot continue {}", output.display()))?;
+    let range = part.info.range.clone();
+    if part.info.fingerprint != print.hash {
+        bail!(
+            "--resume: {} holds a part of a different scene or settings (fingerprint {} vs {}): [{}] vs [{}]; remove it or drop --resume",
+            output.display(),
+            part.info.fingerprint,
+            print.hash,
+            part.info.settings,
+            print.description
+        );
+    }
+    if range.start != budget.first_sample {
+        bail!(
+            "--resume: {} holds samples {}..{}, which do not start at sample {} asked for",
+            output.display(),
+            range.start,
+            range.end,
+            budget.first_sample
+        );
+    }
+    if let Some(end) = budget.end() {
+        if range.end > end {
+            bail!("--resume: {} holds samples {}..{}, beyond the {}..{end} asked for", output.display(), range.start, range.end, range.start);
+        }
+        budget.spp = Some(end - range.end);
+    }
+    eprintln!("--resume: {} holds samples {}..{}; rendering from sample {}", output.display(), range.start, range.end, range.end);
+    budget.first_sample = range.end;
+    Ok(Some(part))
+}
+
+/// --resume found every sample asked for already in the output: nothing to render.
+fn report_already_complete(output: &Path, part: &PartialImage, json: bool) -> anyhow::Result<()> {
+    let range = &part.info.range;
+    eprintln!("--resume: {} already holds samples {}..{}; nothing to render", output.display(), range.start, range.end);
+    if json {
+        let report = serde_json::json!({
+            "scene": part.info.scene,
+            "width": part.info.width,
+            "height": part.info.height,
+            "spp": 0,
+            "samples": [range.start, range.end],
+            "fingerprint": part.info.fingerprint,
+            "already_complete": true,
+            "output": output,
+        });
+        println!("{report}");
     }
     Ok(())
 }

@@ -45,26 +45,56 @@ impl GpuContext {
             ..wgpu::InstanceDescriptor::new_without_display_handle()
         });
         let adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::VULKAN));
-        let adapter = choose_adapter(adapters, wanted)?;
+        let adapter = GpuContext::choose_adapter(adapters, wanted)?;
         let info = adapter.get_info();
-        let summary = AdapterSummary {
+        let (device, queue) = pollster::block_on(adapter.request_device(&GpuContext::device_descriptor(&adapter)))
+            .map_err(|e| GpuError::Device { adapter: info.name.clone(), message: e.to_string() })?;
+        Ok(GpuContext::from_parts(device, queue, &info))
+    }
+
+    /// Wraps a device opened elsewhere, e.g. by a window toolkit that draws with it too, so
+    /// the renderer runs on that device. Open it with [`GpuContext::device_descriptor`] so it
+    /// has the adapter's real limits. Installs this context's error and device-loss handlers
+    /// on the device (replacing any installed before).
+    pub fn from_parts(device: wgpu::Device, queue: wgpu::Queue, info: &wgpu::AdapterInfo) -> GpuContext {
+        let adapter = AdapterSummary {
             name: info.name.clone(),
             device_type: format!("{:?}", info.device_type),
             driver: format!("{} {}", info.driver, info.driver_info).trim().to_string(),
             backend: format!("{:?}", info.backend),
         };
-        let limits = adapter.limits();
-        let descriptor = wgpu::DeviceDescriptor {
-            label: Some("caustic"),
-            required_features: wgpu::Features::empty(),
-            required_limits: limits.clone(),
-            ..Default::default()
-        };
-        let (device, queue) = pollster::block_on(adapter.request_device(&descriptor))
-            .map_err(|e| GpuError::Device { adapter: info.name.clone(), message: e.to_string() })?;
+        let limits = device.limits();
         let first_error = Arc::new(Mutex::new(None));
         install_error_handlers(&device, &first_error);
-        Ok(GpuContext { device, queue, adapter: summary, limits, first_error })
+        GpuContext { device, queue, adapter, limits, first_error }
+    }
+
+    /// The device Caustic asks an adapter for: no optional features, and the adapter's own
+    /// limits (not wgpu's conservative defaults), so large scenes fit in storage bindings.
+    pub fn device_descriptor(adapter: &wgpu::Adapter) -> wgpu::DeviceDescriptor<'static> {
+        wgpu::DeviceDescriptor {
+            label: Some("caustic"),
+            required_features: wgpu::Features::empty(),
+            required_limits: adapter.limits(),
+            ..Default::default()
+        }
+    }
+
+    /// The adapter whose name contains `wanted` (case-insensitive), or the best one present
+    /// (discrete, integrated, virtual, then CPU) when `wanted` is `None` or empty.
+    pub fn choose_adapter(adapters: Vec<wgpu::Adapter>, wanted: Option<&str>) -> Result<wgpu::Adapter, GpuError> {
+        if adapters.is_empty() {
+            return Err(GpuError::NoAdapter);
+        }
+        let Some(wanted) = wanted.filter(|w| !w.is_empty()) else {
+            return Ok(adapters.into_iter().min_by_key(|a| rank(a.get_info().device_type)).expect("not empty"));
+        };
+        let needle = wanted.to_lowercase();
+        let available = adapters.iter().map(|a| a.get_info().name).collect::<Vec<_>>().join(", ");
+        adapters
+            .into_iter()
+            .find(|a| a.get_info().name.to_lowercase().contains(&needle))
+            .ok_or_else(|| GpuError::AdapterNotFound { wanted: wanted.to_string(), available })
     }
 
     /// The first error the device reported since it was opened, as a [`GpuError`].
@@ -98,21 +128,6 @@ fn rank(device_type: wgpu::DeviceType) -> u32 {
         wgpu::DeviceType::Cpu => 3,
         wgpu::DeviceType::Other => 4,
     }
-}
-
-fn choose_adapter(adapters: Vec<wgpu::Adapter>, wanted: Option<&str>) -> Result<wgpu::Adapter, GpuError> {
-    if adapters.is_empty() {
-        return Err(GpuError::NoAdapter);
-    }
-    let Some(wanted) = wanted.filter(|w| !w.is_empty()) else {
-        return Ok(adapters.into_iter().min_by_key(|a| rank(a.get_info().device_type)).expect("not empty"));
-    };
-    let needle = wanted.to_lowercase();
-    let available = adapters.iter().map(|a| a.get_info().name).collect::<Vec<_>>().join(", ");
-    adapters
-        .into_iter()
-        .find(|a| a.get_info().name.to_lowercase().contains(&needle))
-        .ok_or_else(|| GpuError::AdapterNotFound { wanted: wanted.to_string(), available })
 }
 
 fn install_error_handlers(device: &wgpu::Device, first_error: &Arc<Mutex<Option<String>>>) {

@@ -46,8 +46,10 @@ pub struct Frame {
     pub shape_count: u32,
     /// Scene triangles; shape `i`'s shading entry is at `triangle_count + i`.
     pub triangle_count: u32,
+    /// Debug view shown by `render_debug` ([`crate::DebugView`] as a number; 0 = none).
+    pub debug_view: u32,
     /// Padding to 16 bytes.
-    pub _pad: [u32; 3],
+    pub _pad: [u32; 2],
 }
 
 /// Shading attributes of one triangle, by scene triangle index (`TriangleShading` in WGSL).

@@ -19,5 +19,6 @@ pub mod shaders;
 pub use bench::{BenchResult, RayBench, RayKind, TracedRay};
 pub use context::{AdapterSummary, GpuContext};
 pub use error::GpuError;
-pub use path_tracer::{PassOutcome, PathTracer, RenderSettings};
+pub use path_tracer::{DebugView, PassOutcome, PathTracer, RenderSettings};
 pub use scene_buffers::GpuScene;
+pub use scene_data::SceneData;

@@ -17,6 +17,8 @@ pub struct RenderSettings {
     pub integrator: Integrator,
     /// Which image is accumulated: the integrator's, depth, normals, or the path-traced photo.
     pub pass: RenderPass,
+    /// A debug view to accumulate instead of the pass, if any.
+    pub debug: Option<DebugView>,
     /// Maximum number of bounces (scattering events); `None` = unbounded, paths end by Russian
     /// roulette. 0 shows only emitters and the environment seen directly.
     pub max_depth: Option<u32>,
@@ -37,12 +39,48 @@ impl Default for RenderSettings {
         RenderSettings {
             integrator: Integrator::PathTracer,
             pass: RenderPass::Image,
+            debug: None,
             max_depth: None,
             seed: 0,
             rr_start: 3,
             first_sample: 0,
             target_submit: Duration::from_millis(100),
         }
+    }
+}
+
+/// Debug views: what the kernels do per pixel (`shaders/integrator/debug.wgsl`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[repr(u32)]
+pub enum DebugView {
+    /// BVH nodes visited by the camera ray (a heat map).
+    NodeVisits = 1,
+    /// Primitives (triangles, shapes) tested by the camera ray (a heat map).
+    PrimitiveTests = 2,
+    /// Texture coordinates (fractional part) as red and green.
+    Uv = 3,
+    /// Diffuse albedo of the first hit.
+    Albedo = 4,
+    /// Material index of the first hit.
+    MaterialId = 5,
+    /// Surface hits of one path-traced path.
+    Bounces = 6,
+}
+
+impl DebugView {
+    /// Every view, with its command-line name.
+    pub const ALL: [(&'static str, DebugView); 6] = [
+        ("node-visits", DebugView::NodeVisits),
+        ("primitive-tests", DebugView::PrimitiveTests),
+        ("uv", DebugView::Uv),
+        ("albedo", DebugView::Albedo),
+        ("material-id", DebugView::MaterialId),
+        ("bounces", DebugView::Bounces),
+    ];
+
+    /// Whether the view is a count, shown as a heat map.
+    pub fn is_count(self) -> bool {
+        matches!(self, DebugView::NodeVisits | DebugView::PrimitiveTests | DebugView::Bounces | DebugView::MaterialId)
     }
 }
 
@@ -64,6 +102,9 @@ const MAX_TILE_PIXELS: u32 = WORKGROUP_SIZE * 65535;
 pub struct PathTracer<'a> {
     ctx: &'a GpuContext,
     pipeline: wgpu::ComputePipeline,
+    layout: wgpu::BindGroupLayout,
+    /// The kernel `pipeline` runs.
+    entry_point: &'static str,
     bind_group: wgpu::BindGroup,
     frame_buffer: wgpu::Buffer,
     accumulation: wgpu::Buffer,
@@ -80,16 +121,7 @@ pub struct PathTracer<'a> {
 impl<'a> PathTracer<'a> {
     /// Compiles the kernel and allocates the accumulation buffers for `scene`'s camera and size.
     pub fn new(ctx: &'a GpuContext, scene: &Scene, gpu: &GpuScene, settings: &RenderSettings) -> Result<Self, GpuError> {
-        let (width, height) = scene.resolution;
-        let pixels = u64::from(width) * u64::from(height);
-        let accumulation_bytes = pixels * std::mem::size_of::<AccumTexel>() as u64;
-        if accumulation_bytes > ctx.max_storage_binding() {
-            return Err(GpuError::Limit {
-                what: format!("the {width}x{height} accumulation buffer"),
-                need: accumulation_bytes,
-                limit: ctx.max_storage_binding(),
-            });
-        }
+        let (accumulation, nonfinite_counts) = accumulation_buffers(ctx, scene.resolution)?;
         let frame = frame_constants(scene, gpu, settings);
         let device = &ctx.device;
         let frame_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -97,16 +129,6 @@ impl<'a> PathTracer<'a> {
             contents: bytemuck::bytes_of(&frame),
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
         });
-        let storage = |label, size| {
-            device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size,
-                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-                mapped_at_creation: false,
-            })
-        };
-        let accumulation = storage("accumulation", accumulation_bytes);
-        let nonfinite_counts = storage("non-finite counts", pixels * 4);
         let layout = bind_group_layout(device);
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("integrators"),
@@ -122,27 +144,13 @@ impl<'a> PathTracer<'a> {
             compilation_options: Default::default(),
             cache: None,
         });
-        let entries = [
-            wgpu::BindGroupEntry { binding: 0, resource: frame_buffer.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 1, resource: gpu.nodes.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 2, resource: gpu.triangles.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 3, resource: gpu.shading.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 4, resource: gpu.materials.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 5, resource: gpu.lights.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 6, resource: accumulation.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 7, resource: nonfinite_counts.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 8, resource: wgpu::BindingResource::TextureView(&gpu.environment_view) },
-            wgpu::BindGroupEntry { binding: 9, resource: gpu.shapes.as_entire_binding() },
-        ];
-        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("path tracer"),
-            layout: &layout,
-            entries: &entries,
-        });
+        let bind_group = bind_group(device, &layout, &frame_buffer, gpu, &accumulation, &nonfinite_counts);
         ctx.check()?;
         Ok(PathTracer {
             ctx,
             pipeline,
+            layout,
+            entry_point,
             bind_group,
             frame_buffer,
             accumulation,
@@ -154,6 +162,34 @@ impl<'a> PathTracer<'a> {
             complete_passes: 0,
             next_pixel: 0,
         })
+    }
+
+    /// Starts the accumulation over without recompiling the kernel, for an interactive view:
+    /// takes `scene`'s camera, resolution and `gpu`'s buffers anew (re-uploaded ones, e.g. by
+    /// [`GpuScene::update_materials`], included) and `settings`' max depth, seed, sample range
+    /// and submit target. The integrator, pass and debug view choose the kernel: when they
+    /// differ from the ones the tracer was created with, this fails and [`PathTracer::new`]
+    /// is needed. Afterwards the tracer renders exactly what a new one would.
+    pub fn restart(&mut self, scene: &Scene, gpu: &GpuScene, settings: &RenderSettings) -> Result<(), GpuError> {
+        let wanted = entry_point(settings);
+        if wanted != self.entry_point {
+            return Err(GpuError::Scene(format!("restart cannot switch the kernel from {} to {wanted}; create a new PathTracer", self.entry_point)));
+        }
+        if scene.resolution == (self.frame.width, self.frame.height) {
+            let mut encoder = self.ctx.device.create_command_encoder(&Default::default());
+            encoder.clear_buffer(&self.accumulation, 0, None);
+            encoder.clear_buffer(&self.nonfinite_counts, 0, None);
+            self.ctx.queue.submit([encoder.finish()]);
+        } else {
+            (self.accumulation, self.nonfinite_counts) = accumulation_buffers(self.ctx, scene.resolution)?;
+        }
+        self.frame = frame_constants(scene, gpu, settings);
+        self.bind_group = bind_group(&self.ctx.device, &self.layout, &self.frame_buffer, gpu, &self.accumulation, &self.nonfinite_counts);
+        self.target_submit = settings.target_submit;
+        self.first_sample = settings.first_sample;
+        self.complete_passes = 0;
+        self.next_pixel = 0;
+        self.ctx.check()
     }
 
     /// Adds one sample to every pixel and waits for the device.
@@ -204,6 +240,13 @@ impl<'a> PathTracer<'a> {
         self.tile_pixels = next.clamp(MIN_TILE_PIXELS, MAX_TILE_PIXELS);
     }
 
+    /// The film as the kernels accumulate it: one [`AccumTexel`] per pixel, row-major, its
+    /// `sum[3]` counting the pixel's samples. For passes that read it on the device, such as
+    /// an interactive view's display transform; valid until the next [`PathTracer::restart`].
+    pub fn accumulation_buffer(&self) -> &wgpu::Buffer {
+        &self.accumulation
+    }
+
     /// Complete sample passes so far (every pixel has at least this many samples).
     pub fn samples_per_pixel(&self) -> u32 {
         self.complete_passes
@@ -252,6 +295,53 @@ impl<'a> PathTracer<'a> {
     }
 }
 
+/// Zeroed accumulation and non-finite count buffers for an image of `resolution`, checked
+/// against the device's storage binding limit.
+fn accumulation_buffers(ctx: &GpuContext, (width, height): (u32, u32)) -> Result<(wgpu::Buffer, wgpu::Buffer), GpuError> {
+    let pixels = u64::from(width) * u64::from(height);
+    let accumulation_bytes = pixels * std::mem::size_of::<AccumTexel>() as u64;
+    if accumulation_bytes > ctx.max_storage_binding() {
+        return Err(GpuError::Limit {
+            what: format!("the {width}x{height} accumulation buffer"),
+            need: accumulation_bytes,
+            limit: ctx.max_storage_binding(),
+        });
+    }
+    let storage = |label, size| {
+        ctx.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        })
+    };
+    Ok((storage("accumulation", accumulation_bytes), storage("non-finite counts", pixels * 4)))
+}
+
+/// The integrators' bindings: the frame constants, `gpu`'s scene buffers and the film.
+fn bind_group(
+    device: &wgpu::Device,
+    layout: &wgpu::BindGroupLayout,
+    frame: &wgpu::Buffer,
+    gpu: &GpuScene,
+    accumulation: &wgpu::Buffer,
+    nonfinite_counts: &wgpu::Buffer,
+) -> wgpu::BindGroup {
+    let entries = [
+        wgpu::BindGroupEntry { binding: 0, resource: frame.as_entire_binding() },
+        wgpu::BindGroupEntry { binding: 1, resource: gpu.nodes.as_entire_binding() },
+        wgpu::BindGroupEntry { binding: 2, resource: gpu.triangles.as_entire_binding() },
+        wgpu::BindGroupEntry { binding: 3, resource: gpu.shading.as_entire_binding() },
+        wgpu::BindGroupEntry { binding: 4, resource: gpu.materials.as_entire_binding() },
+        wgpu::BindGroupEntry { binding: 5, resource: gpu.lights.as_entire_binding() },
+        wgpu::BindGroupEntry { binding: 6, resource: accumulation.as_entire_binding() },
+        wgpu::BindGroupEntry { binding: 7, resource: nonfinite_counts.as_entire_binding() },
+        wgpu::BindGroupEntry { binding: 8, resource: wgpu::BindingResource::TextureView(&gpu.environment_view) },
+        wgpu::BindGroupEntry { binding: 9, resource: gpu.shapes.as_entire_binding() },
+    ];
+    device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("path tracer"), layout, entries: &entries })
+}
+
 fn frame_constants(scene: &Scene, gpu: &GpuScene, settings: &RenderSettings) -> Frame {
     let (width, height) = scene.resolution;
     let (right, up, forward) = scene.camera.frame();
@@ -277,12 +367,16 @@ fn frame_constants(scene: &Scene, gpu: &GpuScene, settings: &RenderSettings) -> 
         first_plane: gpu.first_plane,
         shape_count: gpu.shape_count,
         triangle_count: gpu.triangle_count as u32,
+        debug_view: settings.debug.map_or(0, |view| view as u32),
         ..Default::default()
     }
 }
 
 /// The kernel that accumulates the pass and integrator `settings` ask for.
 fn entry_point(settings: &RenderSettings) -> &'static str {
+    if settings.debug.is_some() {
+        return "render_debug";
+    }
     match (settings.pass, settings.integrator) {
         (RenderPass::Depth, _) => "render_depth",
         (RenderPass::Normals, _) => "render_normals",

@@ -1,6 +1,6 @@
 //! Building the BVH and uploading a scene into the buffers the kernels read.
 
-use crate::scene_data::SceneData;
+use crate::scene_data::{SceneData, device_lights, device_materials};
 use crate::{GpuContext, GpuError};
 use caustic_bvh::{BuildOptions, BuildStats, GpuBvh};
 use caustic_scene::{Environment, Scene};
@@ -77,6 +77,26 @@ impl GpuScene {
             bvh_stats: bvh.stats,
             bounds: scene.bounds().unwrap_or((Vec3::ZERO, Vec3::ZERO)),
         })
+    }
+
+    /// Re-uploads the materials and the light list (emission sets the lights' power) after
+    /// `scene`'s materials or lights were edited in place; the geometry must be the uploaded
+    /// one. Restart the tracer ([`crate::PathTracer::restart`]) so it binds the new buffers.
+    pub fn update_materials(&mut self, ctx: &GpuContext, scene: &Scene) -> Result<(), GpuError> {
+        let (lights, total_light_power) = device_lights(scene);
+        let uploader = Uploader { ctx };
+        self.materials = uploader.storage("materials", &device_materials(scene))?;
+        self.lights = uploader.storage("lights", &lights)?;
+        self.light_count = lights.len() as u32;
+        self.total_light_power = total_light_power;
+        Ok(())
+    }
+
+    /// Re-uploads the environment after `scene.environment` changed. Restart the tracer
+    /// ([`crate::PathTracer::restart`]) so it binds the new texture.
+    pub fn update_environment(&mut self, ctx: &GpuContext, scene: &Scene) -> Result<(), GpuError> {
+        (self.environment_view, self.environment_color) = upload_environment(ctx, &scene.environment)?;
+        Ok(())
     }
 }
 

@@ -40,37 +40,53 @@ impl SceneData {
             triangles: scene.triangles().collect(),
             shapes: scene.shapes.iter().map(shape_input).collect(),
             shading: mesh_shading(scene),
-            materials: scene.materials.iter().map(gpu_material).collect(),
+            materials: device_materials(scene),
             lights: Vec::new(),
             total_light_power: 0.0,
         };
         data.add_quad_geometry(scene);
         data.shading.extend(scene.shapes.iter().map(|s| TriangleShading { material: s.material, ..Default::default() }));
-        let radius = scene.bounds().map_or(1.0, |(lo, hi)| (hi - lo).length() * 0.5).max(1e-3);
-        let lights: Vec<GpuLight> = scene
-            .emissive_triangles()
-            .iter()
-            .map(|e| area_light(LIGHT_TRIANGLE, e.vertices[0], e.vertices[1] - e.vertices[0], e.vertices[2] - e.vertices[0], e.radiance))
-            .chain(scene.lights.iter().map(light))
-            .collect();
-        (data.lights, data.total_light_power) = with_power_cdf(lights, radius);
+        (data.lights, data.total_light_power) = device_lights(scene);
         data
     }
 
-    /// Two emissive triangles per quad light, each with its own emitter material.
+    /// Two emissive triangles per quad light, each with its quad's emitter material.
     fn add_quad_geometry(&mut self, scene: &Scene) {
-        for light in &scene.lights {
-            if let Light::Quad { corner, edge_a, edge_b, radiance } = *light {
-                let material = self.materials.len() as u32;
-                self.materials.push(GpuMaterial { emission: radiance.to_array(), ..Default::default() });
-                let far = corner + edge_a + edge_b;
-                for triangle in [[corner, corner + edge_a, far], [corner, far, corner + edge_b]] {
-                    self.triangles.push(triangle);
-                    self.shading.push(TriangleShading { material, ..Default::default() });
-                }
+        let quads = scene.lights.iter().filter_map(|light| match *light {
+            Light::Quad { corner, edge_a, edge_b, .. } => Some((corner, edge_a, edge_b)),
+            _ => None,
+        });
+        for (quad, (corner, edge_a, edge_b)) in quads.enumerate() {
+            let material = (scene.materials.len() + quad) as u32;
+            let far = corner + edge_a + edge_b;
+            for triangle in [[corner, corner + edge_a, far], [corner, far, corner + edge_b]] {
+                self.triangles.push(triangle);
+                self.shading.push(TriangleShading { material, ..Default::default() });
             }
         }
     }
+}
+
+/// The materials the kernels read: the scene's, then one emitter per quad light.
+pub(crate) fn device_materials(scene: &Scene) -> Vec<GpuMaterial> {
+    let quad_emitters = scene.lights.iter().filter_map(|light| match *light {
+        Light::Quad { radiance, .. } => Some(GpuMaterial { emission: radiance.to_array(), ..Default::default() }),
+        _ => None,
+    });
+    scene.materials.iter().map(gpu_material).chain(quad_emitters).collect()
+}
+
+/// The light list with its power CDF (emissive triangles, then the scene's lights) and the
+/// lights' total power.
+pub(crate) fn device_lights(scene: &Scene) -> (Vec<GpuLight>, f32) {
+    let radius = scene.bounds().map_or(1.0, |(lo, hi)| (hi - lo).length() * 0.5).max(1e-3);
+    let lights: Vec<GpuLight> = scene
+        .emissive_triangles()
+        .iter()
+        .map(|e| area_light(LIGHT_TRIANGLE, e.vertices[0], e.vertices[1] - e.vertices[0], e.vertices[2] - e.vertices[0], e.radiance))
+        .chain(scene.lights.iter().map(light))
+        .collect();
+    with_power_cdf(lights, radius)
 }
 
 fn shape_input(shape: &Shape) -> ShapeInput {

@@ -25,7 +25,7 @@ const COMMON: [ShaderFile; 5] = [
 const TRAVERSAL: [ShaderFile; 3] =
     [shader_file!("bvh/bindings.wgsl"), shader_file!("bvh/shapes.wgsl"), shader_file!("bvh/traverse.wgsl")];
 
-const PATH_TRACER: [ShaderFile; 10] = [
+const PATH_TRACER: [ShaderFile; 11] = [
     shader_file!("integrator/bindings.wgsl"),
     shader_file!("integrator/camera.wgsl"),
     shader_file!("integrator/environment.wgsl"),
@@ -36,6 +36,7 @@ const PATH_TRACER: [ShaderFile; 10] = [
     shader_file!("integrator/path.wgsl"),
     shader_file!("integrator/whitted.wgsl"),
     shader_file!("integrator/passes.wgsl"),
+    shader_file!("integrator/debug.wgsl"),
 ];
 
 const RAY_BENCH: [ShaderFile; 1] = [shader_file!("bench/rays.wgsl")];
@@ -54,7 +55,8 @@ pub fn program_files(program: Program) -> Vec<&'static ShaderFile> {
 pub enum Program {
     /// The integrators' kernels: `integrator/path.wgsl` (`render_sample`),
     /// `integrator/whitted.wgsl` (`render_classic`) and `integrator/passes.wgsl`
-    /// (`render_depth`, `render_normals`, `render_analytic_direct`).
+    /// (`render_depth`, `render_normals`, `render_analytic_direct`), `integrator/debug.wgsl`
+    /// (`render_debug`).
     PathTracer,
     /// `bench/rays.wgsl`: ray generation and closest-hit throughput.
     RayBench,

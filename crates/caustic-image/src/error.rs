@@ -84,6 +84,27 @@ pub enum ImageError {
         /// The actual number of pixels.
         len: usize,
     },
+    /// The `exr` crate could not read or write a partial image: for reading,
+    /// usually a truncated or corrupt file.
+    #[error("cannot {action} {}: {error} (a truncated or corrupt EXR file?)", path.display())]
+    Exr {
+        /// The file being read or written.
+        path: PathBuf,
+        /// "read" or "encode".
+        action: &'static str,
+        /// The `exr` crate's error (in the message, so not also a `source`).
+        error: exr::error::Error,
+    },
+    /// A partial image that lacks caustic's metadata, or that cannot be
+    /// merged with the others (different scene or settings, overlapping or
+    /// missing sample ranges). The message names the part.
+    #[error("{}: {reason}", path.display())]
+    Part {
+        /// The offending part.
+        path: PathBuf,
+        /// What is wrong with it.
+        reason: String,
+    },
     /// A downsampling factor that is zero or does not divide both sides.
     #[error(
         "cannot downsample {width}x{height} by {factor}: the factor must be at least 1 and divide both sides"

@@ -76,13 +76,17 @@ impl Image {
     /// are taken as linear; 8- and 16-bit files (PNG, JPEG, BMP) are decoded
     /// from sRGB to linear, so `load(save(x))` approximates `x` for LDR files
     /// saved with [`crate::ToneMap::Clamp`].
+    ///
+    /// Images wider or taller than 16384 pixels (the largest Caustic renders)
+    /// are refused before anything is allocated for them, so a corrupt header
+    /// cannot claim gigabytes.
     pub fn load(path: &Path) -> Result<Image, ImageError> {
         Format::from_path(path)?;
         let mut reader = ImageReader::open(path)
             .map_err(|source| io_error(path, "open", source))?
             .with_guessed_format()
             .map_err(|source| io_error(path, "read", source))?;
-        reader.no_limits();
+        reader.limits(load_limits());
         let decoded = reader.decode().map_err(|source| ImageError::Decode {
             path: path.to_path_buf(),
             source,
@@ -183,6 +187,22 @@ fn rgbe_safe_pixel(rgb: [f32; 3]) -> [f32; 3] {
     rgb.map(|c| c.max(0.0))
 }
 
+/// Largest width or height [`Image::load`] accepts: that of the largest image
+/// Caustic renders (`caustic_scene::Scene::validate`).
+const MAX_LOAD_SIDE: u32 = 16384;
+
+/// The decoder limits of [`Image::load`]: [`MAX_LOAD_SIDE`] a side, and at most
+/// the bytes of such an image as RGBA 32-bit floats in one allocation. Without
+/// them a 72-byte PNG claiming 1.5 billion columns made the decoder allocate
+/// 38 GB (found by fuzzing).
+fn load_limits() -> image::Limits {
+    let mut limits = image::Limits::default();
+    limits.max_image_width = Some(MAX_LOAD_SIDE);
+    limits.max_image_height = Some(MAX_LOAD_SIDE);
+    limits.max_alloc = Some(u64::from(MAX_LOAD_SIDE) * u64::from(MAX_LOAD_SIDE) * 16);
+    limits
+}
+
 /// Converts a decoded file to linear RGB: float data is already linear,
 /// integer data is sRGB-encoded.
 fn from_decoded(decoded: DynamicImage) -> Image {
@@ -219,7 +239,7 @@ fn io_error(path: &Path, action: &'static str, source: std::io::Error) -> ImageE
 
 /// Runs `encode` into a fresh temporary file next to `target`, syncs it and
 /// renames it over `target`. The temporary never outlives this call.
-fn write_atomically(
+pub(crate) fn write_atomically(
     target: &Path,
     encode: impl FnOnce(&mut BufWriter<File>) -> image::ImageResult<()>,
 ) -> Result<(), ImageError> {

@@ -12,10 +12,12 @@ mod error;
 mod film;
 mod io;
 pub mod metrics;
+mod partial;
 mod tonemap;
 
 pub use display::{SaveOptions, linear_to_srgb, srgb_to_linear, to_srgb8};
 pub use error::{ImageError, SUPPORTED_EXTENSIONS};
 pub use film::Image;
 pub use io::check_output_path;
+pub use partial::{PartInfo, PartialImage, SAMPLE_COUNT_CHANNEL, parse_range};
 pub use tonemap::{ParseToneMapError, ToneMap};

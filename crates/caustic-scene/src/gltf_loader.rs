@@ -66,6 +66,7 @@ fn read_document(path: &Path) -> Result<(gltf::Document, Vec<gltf::buffer::Data>
         .map_err(|e| SceneError::file(path, format!("not a valid glTF file: {e}")))?;
     check_extensions(path, document.as_json())?;
     validate(path, document.as_json())?;
+    crate::gltf_buffers::check_buffer_uris(path, &document)?;
     let buffers = gltf::import_buffers(&document, path.parent(), blob)
         .map_err(|e| SceneError::file(path, format!("cannot load buffers: {e}")))?;
     Ok((document, buffers))
@@ -90,6 +91,7 @@ fn check_extensions(path: &Path, root: &gltf::json::Root) -> Result<(), SceneErr
 /// The glTF crate's structural validation (indices in range, enums known), which its readers
 /// rely on. Required extensions were checked by [`check_extensions`] against our own list.
 fn validate(path: &Path, root: &gltf::json::Root) -> Result<(), SceneError> {
+    check_position_accessors(path, root)?;
     let mut errors = Vec::new();
     root.validate(root, gltf::json::Path::new, &mut |at, error| {
         let at = at();
@@ -101,6 +103,24 @@ fn validate(path: &Path, root: &gltf::json::Root) -> Result<(), SceneError> {
         true => Ok(()),
         false => Err(SceneError::file(path, format!("invalid glTF: {}", errors.join("; ")))),
     }
+}
+
+/// Checks that every primitive's `POSITION` accessor exists. gltf-json 1.4's validation
+/// indexes the accessor list with it unchecked (a panic, found by fuzzing), so this runs first.
+fn check_position_accessors(path: &Path, root: &gltf::json::Root) -> Result<(), SceneError> {
+    let positions = gltf::json::validation::Checked::Valid(gltf::json::mesh::Semantic::Positions);
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, primitive) in mesh.primitives.iter().enumerate() {
+            match primitive.attributes.get(&positions) {
+                Some(index) if index.value() >= root.accessors.len() => {
+                    let message = format!("invalid glTF: meshes[{m}].primitives[{p}].attributes.POSITION: accessor {} does not exist", index.value());
+                    return Err(SceneError::file(path, message));
+                }
+                _ => {}
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Checks that the scene's node hierarchy is a forest, as glTF requires: no node has two

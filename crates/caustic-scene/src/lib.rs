@@ -10,6 +10,7 @@ mod camera;
 mod cornell;
 mod environment;
 mod error;
+mod gltf_buffers;
 mod gltf_loader;
 pub mod lang;
 mod light;

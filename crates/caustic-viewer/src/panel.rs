@@ -1,0 +1,243 @@
+//! The settings panel: render settings, camera, environment, the material inspector,
+//! statistics and saving. Every edit is recorded in [`crate::app::Pending`] and applied as one
+//! restart before the frame renders.
+
+use crate::app::ViewerApp;
+use crate::picking;
+use caustic_image::ToneMap;
+use caustic_scene::Integrator;
+use egui::{CollapsingHeader, Color32, ComboBox, DragValue, RichText, Slider, Ui};
+use std::path::PathBuf;
+
+/// The integrators the panel offers, with their labels.
+const INTEGRATORS: [(Integrator, &str); 4] = [
+    (Integrator::PathTracer, "Path tracer"),
+    (Integrator::RayTracer, "Classic ray tracer"),
+    (Integrator::Direct, "Direct lighting (Monte Carlo)"),
+    (Integrator::AnalyticDirect, "Analytic direct (no shadows)"),
+];
+
+/// Render resolution divisors offered.
+const DIVISORS: [u32; 3] = [1, 2, 4];
+
+impl ViewerApp {
+    /// Draws the panel and records the edits.
+    pub(crate) fn panel(&mut self, ui: &mut Ui) {
+        ui.heading("Caustic");
+        if let Some(error) = &self.error {
+            ui.colored_label(Color32::from_rgb(255, 90, 90), error);
+        }
+        CollapsingHeader::new("Render").default_open(true).show(ui, |ui| self.render_section(ui));
+        CollapsingHeader::new("Camera").default_open(true).show(ui, |ui| self.camera_section(ui));
+        CollapsingHeader::new("Environment").default_open(true).show(ui, |ui| self.environment_section(ui));
+        CollapsingHeader::new("Material inspector").default_open(true).show(ui, |ui| self.inspector_section(ui));
+        CollapsingHeader::new("Statistics").default_open(true).show(ui, |ui| self.stats_section(ui));
+        CollapsingHeader::new("Save").default_open(true).show(ui, |ui| self.save_section(ui));
+    }
+
+    fn render_section(&mut self, ui: &mut Ui) {
+        let before = self.controls.clone();
+        let c = &mut self.controls;
+        let label = |i: Integrator| INTEGRATORS.iter().find(|(k, _)| *k == i).map_or("?", |(_, l)| *l);
+        ComboBox::from_label("integrator").selected_text(label(c.integrator)).show_ui(ui, |ui| {
+            for (integrator, name) in INTEGRATORS {
+                ui.selectable_value(&mut c.integrator, integrator, name);
+            }
+        });
+        // Options of the chosen integrator; the classic ray tracer's feature toggles go here.
+        ui.horizontal(|ui| {
+            let mut unbounded = c.max_depth.is_none();
+            ui.checkbox(&mut unbounded, "unbounded depth");
+            match (unbounded, c.max_depth) {
+                (true, _) => c.max_depth = None,
+                (false, None) => c.max_depth = Some(5),
+                (false, Some(_)) => {}
+            }
+            if let Some(depth) = &mut c.max_depth {
+                ui.add(DragValue::new(depth).range(0..=256).prefix("max depth "));
+            }
+        });
+        ui.horizontal(|ui| {
+            ui.add(DragValue::new(&mut c.spp_target).range(1..=1_000_000).prefix("samples target "));
+            ui.add(DragValue::new(&mut c.seed).prefix("seed "));
+        });
+        let (width, height) = self.scene_resolution;
+        let size = |d: u32| format!("{}x{}", (width / d).max(1), (height / d).max(1));
+        ComboBox::from_label("resolution").selected_text(size(c.divisor)).show_ui(ui, |ui| {
+            for d in DIVISORS {
+                ui.selectable_value(&mut c.divisor, d, size(d));
+            }
+        });
+        ui.add(Slider::new(&mut c.frame_ms, 8.0..=250.0).logarithmic(true).text("frame target (ms)"));
+        ui.add(Slider::new(&mut c.exposure, -8.0..=8.0).step_by(0.1).text("exposure (stops)"));
+        ComboBox::from_label("tone map").selected_text(c.tone_map.name()).show_ui(ui, |ui| {
+            for tone_map in ToneMap::ALL {
+                ui.selectable_value(&mut c.tone_map, tone_map, tone_map.name());
+            }
+        });
+        let restart = (c.integrator, c.max_depth, c.seed, c.divisor) != (before.integrator, before.max_depth, before.seed, before.divisor);
+        self.pending.restart |= restart;
+        self.budget.target = std::time::Duration::from_secs_f32(c.frame_ms / 1e3);
+        self.pending.redisplay |= (c.exposure, c.tone_map) != (before.exposure, before.tone_map);
+    }
+
+    fn camera_section(&mut self, ui: &mut Ui) {
+        let mut camera = self.view.scene().camera.clone();
+        let names: Vec<String> = self.cameras.iter().map(|(name, _)| name.clone()).collect();
+        let mut selected = self.controls.camera;
+        ComboBox::from_label("scene camera").selected_text(names[selected].clone()).show_ui(ui, |ui| {
+            for (index, name) in names.iter().enumerate() {
+                ui.selectable_value(&mut selected, index, name);
+            }
+        });
+        if selected != self.controls.camera {
+            self.controls.camera = selected;
+            camera = self.cameras[selected].1.clone();
+        }
+        ui.horizontal(|ui| {
+            if ui.button("Frame all (F)").clicked() {
+                self.frame_all(&mut camera);
+            }
+            if ui.button("Reset (R)").clicked() {
+                camera = self.cameras[self.controls.camera].1.clone();
+            }
+        });
+        let mut fov = camera.fov_y.to_degrees();
+        if ui.add(Slider::new(&mut fov, 5.0..=150.0).text("field of view (°)")).changed() {
+            camera.fov_y = fov.to_radians();
+        }
+        let v = |v: glam::Vec3| format!("{:.4}, {:.4}, {:.4}", v.x, v.y, v.z);
+        ui.label(format!("eye {}\ntarget {}", v(camera.eye), v(camera.target)));
+        ui.label(
+            RichText::new(concat!(
+                "drag: orbit · shift/middle drag: pan · right drag: look · wheel: zoom · ",
+                "WASD, Q/E: fly (shift: faster) · click: pick"
+            ))
+                .small()
+                .weak(),
+        );
+        self.set_camera(camera);
+    }
+
+    fn environment_section(&mut self, ui: &mut Ui) {
+        let before = self.controls.environment;
+        let mut constant = self.controls.environment.is_some();
+        ui.horizontal(|ui| {
+            ui.radio_value(&mut constant, false, "the scene's");
+            ui.radio_value(&mut constant, true, "constant colour");
+        });
+        match (constant, &mut self.controls.environment) {
+            (false, environment) => *environment = None,
+            (true, None) => self.controls.environment = Some([0.5, 0.6, 0.8]),
+            (true, Some(color)) => {
+                ui.horizontal(|ui| {
+                    // The picker round-trips the colour through HSV: take it only when edited.
+                    let mut edited = *color;
+                    if ui.color_edit_button_rgb(&mut edited).changed() {
+                        *color = edited;
+                    }
+                    ui.label("linear RGB");
+                });
+            }
+        }
+        if self.controls.environment != before {
+            self.pending.uploads.environment = true;
+        }
+    }
+
+    fn inspector_section(&mut self, ui: &mut Ui) {
+        if self.picker().is_none() {
+            ui.label("building the picking BVH…");
+            return;
+        }
+        let Some(pick) = self.pick.clone() else {
+            ui.label("Click the image to pick an object.");
+            return;
+        };
+        ui.label(picking::describe(self.view.scene(), &pick));
+        let Some(index) = pick.material else {
+            ui.label("a quad light: its emission is the light's radiance");
+            return;
+        };
+        let classic = self.controls.integrator == Integrator::RayTracer;
+        let material = &mut self.view.scene_mut().materials[index];
+        let before = material.clone();
+        ui.label(format!("material #{index} '{}' ({:?})", material.name, material.model));
+        let mut base = material.base_color.to_array();
+        ui.horizontal(|ui| {
+            if ui.color_edit_button_rgb(&mut base).changed() {
+                material.base_color = glam::Vec3::from(base).clamp(glam::Vec3::ZERO, glam::Vec3::ONE);
+            }
+            ui.label("base colour (linear)");
+        });
+        vector_row(ui, "emission", &mut material.emission, 1e4);
+        if classic {
+            vector_row(ui, "ambient", &mut material.ambient, 1e4);
+            vector_row(ui, "specular", &mut material.specular_color, 1e4);
+            ui.add(DragValue::new(&mut material.shininess).range(0.0..=1e5).speed(0.5).prefix("shininess "));
+        }
+        if *material != before {
+            self.pending.uploads.materials = true;
+            self.edited_materials.insert(index);
+        }
+    }
+
+    fn stats_section(&mut self, ui: &mut Ui) {
+        let stats = self.view.stats();
+        let gpu = self.view.gpu();
+        let (width, height) = self.view.scene().resolution;
+        let converged = if self.view.converged(self.controls.spp_target) { " (done)" } else { "" };
+        egui::Grid::new("stats").num_columns(2).striped(true).show(ui, |ui| {
+            let mut row = |name: &str, value: String| {
+                ui.label(name);
+                ui.label(value);
+                ui.end_row();
+            };
+            row("samples per pixel", format!("{} / {}{converged}", stats.spp, self.controls.spp_target));
+            row("samples/s", format!("{:.3} M camera paths/s", stats.samples_per_second / 1e6));
+            let render_ms = self.budget.render_budget().as_secs_f64() * 1e3;
+            row("frame", format!("{:.1} ms (target {:.0}, render {render_ms:.1})", self.frame_ms, self.controls.frame_ms));
+            row("image", format!("{width}x{height}"));
+            row("adapter", self.view.ctx().adapter.to_string());
+            row("triangles", gpu.triangle_count.to_string());
+            row("BVH", format!("{} nodes, built in {:.1} ms", gpu.bvh_stats.nodes, gpu.bvh_stats.build_ms));
+            row("kernel", format!("compiled in {:.0} ms", stats.kernel_ms));
+            row("restarts", stats.restarts.to_string());
+        });
+        ui.label(RichText::new("samples/s counts camera paths; the rays each path casts are not counted.").small().weak());
+    }
+
+    fn save_section(&mut self, ui: &mut Ui) {
+        ui.text_edit_singleline(&mut self.controls.save_path);
+        let mut format = None;
+        ui.horizontal(|ui| {
+            if ui.button("Save PNG").clicked() {
+                format = Some("png");
+            }
+            if ui.button("Save EXR").clicked() {
+                format = Some("exr");
+            }
+        });
+        if let Some(extension) = format {
+            let path = PathBuf::from(&self.controls.save_path).with_extension(extension);
+            self.controls.save_path = path.display().to_string();
+            if let Err(e) = self.save(&path) {
+                self.save_status = Some(format!("error: {e:#}"));
+            }
+            self.pending.redisplay = true;
+        }
+        if let Some(status) = &self.save_status {
+            ui.label(RichText::new(status).monospace().small());
+        }
+    }
+}
+
+/// Three drag values editing a non-negative linear RGB vector.
+fn vector_row(ui: &mut Ui, name: &str, value: &mut glam::Vec3, max: f32) {
+    ui.horizontal(|ui| {
+        for component in [&mut value.x, &mut value.y, &mut value.z] {
+            ui.add(DragValue::new(component).range(0.0..=max).speed(0.01).max_decimals(4));
+        }
+        ui.label(name);
+    });
+}

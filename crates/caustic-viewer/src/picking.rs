@@ -1,0 +1,165 @@
+//! Picking: which object and material a pixel shows, found by tracing the pixel's camera ray
+//! on the CPU through the same triangles, shapes and BVH layout the kernels use
+//! ([`caustic_gpu::SceneData`], [`caustic_bvh::GpuBvh::closest_hit`]).
+
+use caustic_bvh::{BuildOptions, GpuBvh, Ray, SHAPE_BIT};
+use caustic_gpu::SceneData;
+use caustic_scene::{Camera, Light, Scene};
+use glam::Vec3;
+
+/// What a picked pixel shows.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Picked {
+    /// A triangle of mesh `mesh` (its index within the mesh is `triangle`).
+    Mesh { mesh: usize, triangle: usize },
+    /// Analytic shape `shape` of the scene.
+    Shape { shape: usize },
+    /// The quad light `light` (an index into the scene's lights).
+    QuadLight { light: usize },
+}
+
+/// A pick: the object, its material (an index into the scene's materials, `None` for a quad
+/// light, whose emitter is the light itself) and the hit distance along the ray.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Pick {
+    /// The object hit.
+    pub picked: Picked,
+    /// Its material in [`Scene::materials`], if it has one.
+    pub material: Option<usize>,
+    /// Distance from the eye.
+    pub distance: f32,
+}
+
+/// The scene's geometry prepared for picking.
+pub struct Picker {
+    bvh: GpuBvh,
+    /// Material of every device triangle (meshes, then two per quad light).
+    triangle_materials: Vec<u32>,
+    /// First device triangle of each mesh.
+    mesh_starts: Vec<usize>,
+    /// Scene light index of each quad light, in device order.
+    quad_lights: Vec<usize>,
+    /// Number of scene materials; device materials past it are quad-light emitters.
+    scene_materials: usize,
+}
+
+impl Picker {
+    /// Builds a BVH over `scene` exactly as the device scene holds it.
+    pub fn new(scene: &Scene) -> Picker {
+        let data = SceneData::new(scene);
+        let bvh = caustic_bvh::build_with_shapes(&data.triangles, &data.shapes, &BuildOptions::default());
+        let bvh = caustic_bvh::flatten_with_shapes(&bvh, &data.triangles, &data.shapes);
+        let triangle_materials = data.shading[..data.triangles.len()].iter().map(|s| s.material).collect();
+        let mut mesh_starts = Vec::with_capacity(scene.meshes.len());
+        let mut start = 0;
+        for mesh in &scene.meshes {
+            mesh_starts.push(start);
+            start += mesh.triangle_count();
+        }
+        let quad_lights = scene.lights.iter().enumerate().filter(|(_, l)| matches!(l, Light::Quad { .. })).map(|(i, _)| i).collect();
+        Picker { bvh, triangle_materials, mesh_starts, quad_lights, scene_materials: scene.materials.len() }
+    }
+
+    /// The object seen at `pixel` (in image pixels, origin top-left) of an image of
+    /// `resolution` taken by `camera`, through the pixel's centre ray; `None` for the sky.
+    pub fn pick(&self, scene: &Scene, camera: &Camera, resolution: (u32, u32), pixel: (f32, f32)) -> Option<Pick> {
+        let ray = Ray { origin: camera.eye, direction: camera_ray(camera, resolution, pixel), t_max: f32::INFINITY };
+        let hit = self.bvh.closest_hit(&ray)?;
+        if hit.triangle & SHAPE_BIT != 0 {
+            let shape = (hit.triangle & !SHAPE_BIT) as usize;
+            return Some(Pick { picked: Picked::Shape { shape }, material: Some(scene.shapes[shape].material as usize), distance: hit.t });
+        }
+        let triangle = hit.triangle as usize;
+        let material = self.triangle_materials[triangle] as usize;
+        let mesh = self.mesh_starts.partition_point(|&start| start <= triangle);
+        let picked = if material >= self.scene_materials {
+            let quad = (triangle - scene.triangle_count()) / 2;
+            Picked::QuadLight { light: self.quad_lights[quad] }
+        } else {
+            Picked::Mesh { mesh: mesh - 1, triangle: triangle - self.mesh_starts[mesh - 1] }
+        };
+        let material = (material < self.scene_materials).then_some(material);
+        Some(Pick { picked, material, distance: hit.t })
+    }
+}
+
+/// The direction of the camera ray through `pixel`, as `shaders/integrator/camera.wgsl`
+/// computes it.
+pub fn camera_ray(camera: &Camera, (width, height): (u32, u32), (x, y): (f32, f32)) -> Vec3 {
+    let (right, up, forward) = camera.frame();
+    let half_height = (camera.fov_y * 0.5).tan();
+    let half_width = half_height * width as f32 / height as f32;
+    let ndc_x = 2.0 * x / width as f32 - 1.0;
+    let ndc_y = 1.0 - 2.0 * y / height as f32;
+    (forward + ndc_x * half_width * right + ndc_y * half_height * up).normalize()
+}
+
+/// A short description of a pick for the inspector.
+pub fn describe(scene: &Scene, pick: &Pick) -> String {
+    let object = match &pick.picked {
+        Picked::Mesh { mesh, triangle } => format!("mesh '{}' (#{mesh}), triangle {triangle}", scene.meshes[*mesh].name),
+        Picked::Shape { shape } => format!("{:?} shape #{shape}", scene.shapes[*shape].kind),
+        Picked::QuadLight { light } => format!("quad light #{light}"),
+    };
+    format!("{object} at distance {:.4}", pick.distance)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use caustic_scene::{Shape, cornell_box};
+    use glam::Mat4;
+
+    fn material_name(scene: &Scene, pick: Option<Pick>) -> String {
+        let pick = pick.expect("a hit");
+        scene.materials[pick.material.expect("a material")].name.clone()
+    }
+
+    #[test]
+    fn the_cornell_walls_are_picked_with_their_materials() {
+        let scene = cornell_box();
+        let picker = Picker::new(&scene);
+        let (w, h) = scene.resolution;
+        let (w, h) = (w as f32, h as f32);
+        let pick = |x: f32, y: f32| picker.pick(&scene, &scene.camera, scene.resolution, (x, y));
+        assert_eq!(material_name(&scene, pick(0.03 * w, 0.5 * h)), "red");
+        assert_eq!(material_name(&scene, pick(0.97 * w, 0.5 * h)), "green");
+        assert_eq!(material_name(&scene, pick(0.3 * w, 0.08 * h)), "white", "the ceiling");
+        let light = pick(0.5 * w, 0.14 * h);
+        println!("{}", describe(&scene, light.as_ref().unwrap()));
+        assert_eq!(material_name(&scene, light), "light");
+        assert_eq!(pick(0.5 * w, 0.005 * h), None, "above the box's opening");
+        let wall = pick(0.03 * w, 0.5 * h).unwrap();
+        match wall.picked {
+            Picked::Mesh { mesh, .. } => assert_eq!(scene.meshes[mesh].name, "left_wall_red"),
+            other => panic!("expected the red wall mesh, got {other:?}"),
+        }
+    }
+
+    #[test]
+    fn shapes_quad_lights_and_the_sky_are_told_apart() {
+        let mut scene = Scene::default();
+        scene.materials.push(caustic_scene::Material::diffuse("ball", Vec3::ONE));
+        scene.shapes.push(Shape::sphere(Mat4::IDENTITY, Vec3::new(-1.0, 0.0, 0.0), 0.5, 0));
+        let quad = Light::Quad { corner: Vec3::new(0.5, -0.5, 0.0), edge_a: Vec3::X, edge_b: Vec3::Y, radiance: Vec3::ONE };
+        scene.lights.push(Light::Point { position: Vec3::Y, color: Vec3::ONE, attenuation: Default::default() });
+        scene.lights.push(quad);
+        let picker = Picker::new(&scene);
+        let (w, h) = (scene.resolution.0 as f32, scene.resolution.1 as f32);
+        let at = |world: Vec3| {
+            let (right, up, forward) = scene.camera.frame();
+            let d = world - scene.camera.eye;
+            let tan = (scene.camera.fov_y * 0.5).tan();
+            let (x, y) = (d.dot(right) / d.dot(forward) / tan, d.dot(up) / d.dot(forward) / tan);
+            picker.pick(&scene, &scene.camera, scene.resolution, ((x + 1.0) * 0.5 * w, (1.0 - y) * 0.5 * h))
+        };
+        let ball = at(Vec3::new(-1.0, 0.0, 0.0)).expect("the sphere");
+        assert_eq!(ball.picked, Picked::Shape { shape: 0 });
+        assert_eq!(ball.material, Some(0));
+        assert!((ball.distance - 4.5).abs() < 0.1, "{}", ball.distance);
+        let light = at(Vec3::new(1.0, 0.0, 0.0)).expect("the quad light");
+        assert_eq!(light.picked, Picked::QuadLight { light: 1 });
+        assert_eq!(light.material, None);
+        assert_eq!(at(Vec3::new(0.0, 1.5, 0.0)), None, "the sky");
+    }
+}

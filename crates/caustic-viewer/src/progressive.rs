@@ -1,0 +1,247 @@
+//! The progressive render behind the window: the scene as currently edited, its device
+//! buffers, the path tracer accumulating into them, and the display pass. Every frame adds
+//! samples for a bounded time ([`FrameBudget`]); any edit restarts the accumulation at once
+//! without recompiling the kernel unless the integrator changed.
+
+use crate::display::Display;
+use caustic_gpu::{GpuContext, GpuError, GpuScene, PassOutcome, PathTracer, RenderSettings};
+use caustic_image::{Image, ToneMap};
+use caustic_scene::Scene;
+use std::time::{Duration, Instant};
+
+/// Which device buffers an edit made stale.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Uploads {
+    /// Materials (and with them the lights' power) changed.
+    pub materials: bool,
+    /// The environment changed.
+    pub environment: bool,
+}
+
+/// Figures about the accumulation since the last restart.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct RenderStats {
+    /// Complete samples per pixel.
+    pub spp: u32,
+    /// Camera paths per second over the complete passes (each path is one sample of one pixel;
+    /// the rays a path casts are not counted).
+    pub samples_per_second: f64,
+    /// Device time spent rendering since the restart, in seconds.
+    pub render_seconds: f64,
+    /// How long compiling the integrator's kernel took last time, in milliseconds.
+    pub kernel_ms: f64,
+    /// Restarts so far.
+    pub restarts: u32,
+}
+
+/// The render state of the viewer.
+pub struct Progressive {
+    ctx: &'static GpuContext,
+    scene: Scene,
+    gpu: GpuScene,
+    tracer: PathTracer<'static>,
+    settings: RenderSettings,
+    display: Display,
+    stats: RenderStats,
+    /// Render time since the restart.
+    rendered: Duration,
+    /// Whether samples were added since the display pass last ran.
+    undisplayed: bool,
+}
+
+impl Progressive {
+    /// Uploads `scene` (building its BVH), compiles the kernel `settings` choose and prepares
+    /// the display texture.
+    pub fn new(ctx: &'static GpuContext, scene: Scene, settings: RenderSettings) -> Result<Progressive, GpuError> {
+        let gpu = GpuScene::upload(ctx, &scene)?;
+        let began = Instant::now();
+        let tracer = PathTracer::new(ctx, &scene, &gpu, &settings)?;
+        let stats = RenderStats { kernel_ms: began.elapsed().as_secs_f64() * 1e3, ..RenderStats::default() };
+        let display = Display::new(ctx, scene.resolution);
+        Ok(Progressive { ctx, scene, gpu, tracer, settings, display, stats, rendered: Duration::ZERO, undisplayed: false })
+    }
+
+    /// The device context.
+    pub fn ctx(&self) -> &'static GpuContext {
+        self.ctx
+    }
+
+    /// The scene as rendered: camera, resolution, materials and environment as edited.
+    pub fn scene(&self) -> &Scene {
+        &self.scene
+    }
+
+    /// The scene to edit; call [`Progressive::restart`] afterwards.
+    pub fn scene_mut(&mut self) -> &mut Scene {
+        &mut self.scene
+    }
+
+    /// The scene on the device (triangle count, BVH statistics).
+    pub fn gpu(&self) -> &GpuScene {
+        &self.gpu
+    }
+
+    /// The integrator settings in use.
+    pub fn settings(&self) -> &RenderSettings {
+        &self.settings
+    }
+
+    /// Figures since the last restart.
+    pub fn stats(&self) -> RenderStats {
+        self.stats
+    }
+
+    /// The display pass and its texture.
+    pub fn display(&self) -> &Display {
+        &self.display
+    }
+
+    /// Starts the accumulation over with the edited scene and `settings`, re-uploading what
+    /// `uploads` names. Recompiles the kernel only when the integrator, pass or debug view
+    /// changed.
+    pub fn restart(&mut self, settings: RenderSettings, uploads: Uploads) -> Result<(), GpuError> {
+        if uploads.materials {
+            self.gpu.update_materials(self.ctx, &self.scene)?;
+        }
+        if uploads.environment {
+            self.gpu.update_environment(self.ctx, &self.scene)?;
+        }
+        let kernel = |s: &RenderSettings| (s.integrator, s.pass, s.debug);
+        let same_kernel = kernel(&settings) == kernel(&self.settings);
+        if same_kernel {
+            self.tracer.restart(&self.scene, &self.gpu, &settings)?;
+        } else {
+            let began = Instant::now();
+            self.tracer = PathTracer::new(self.ctx, &self.scene, &self.gpu, &settings)?;
+            self.stats.kernel_ms = began.elapsed().as_secs_f64() * 1e3;
+        }
+        self.settings = settings;
+        self.stats = RenderStats { restarts: self.stats.restarts + 1, kernel_ms: self.stats.kernel_ms, ..RenderStats::default() };
+        self.rendered = Duration::ZERO;
+        self.undisplayed = true;
+        Ok(())
+    }
+
+    /// Adds samples for about `budget` (at tile granularity: the tracer's submit target bounds
+    /// the overshoot), stopping at `spp_target` complete passes. Returns whether it rendered.
+    pub fn advance(&mut self, budget: Duration, spp_target: u32) -> Result<bool, GpuError> {
+        if self.tracer.samples_per_pixel() >= spp_target {
+            return Ok(false);
+        }
+        let began = Instant::now();
+        let stop = || began.elapsed() >= budget;
+        let (width, height) = self.scene.resolution;
+        let pixels = f64::from(width) * f64::from(height);
+        loop {
+            let outcome = self.tracer.render_sample_until(&stop)?;
+            if outcome == PassOutcome::Complete {
+                let spp = self.tracer.samples_per_pixel();
+                let seconds = (self.rendered + began.elapsed()).as_secs_f64();
+                self.stats.spp = spp;
+                self.stats.samples_per_second = f64::from(spp) * pixels / seconds.max(1e-9);
+            }
+            if outcome == PassOutcome::Stopped || self.tracer.samples_per_pixel() >= spp_target {
+                break;
+            }
+        }
+        self.rendered += began.elapsed();
+        self.stats.render_seconds = self.rendered.as_secs_f64();
+        self.undisplayed = true;
+        Ok(true)
+    }
+
+    /// Whether the samples target is reached (rendering is idle).
+    pub fn converged(&self, spp_target: u32) -> bool {
+        self.tracer.samples_per_pixel() >= spp_target
+    }
+
+    /// Runs the display pass if samples were added since it last ran or `force` is set
+    /// (exposure or tone map changed). Returns whether the texture was re-created.
+    pub fn show(&mut self, exposure: f32, tone_map: ToneMap, force: bool) -> Result<bool, GpuError> {
+        if !(self.undisplayed || force) {
+            return Ok(false);
+        }
+        self.undisplayed = false;
+        let film = self.tracer.accumulation_buffer();
+        self.display.run(self.ctx, film, self.scene.resolution, exposure, tone_map)
+    }
+
+    /// Finishes the sample pass in progress, if any, so every pixel holds exactly
+    /// [`RenderStats::spp`] samples, and reads the image back: what `caustic render --spp`
+    /// with the same settings writes.
+    pub fn finished_image(&mut self) -> Result<Image, GpuError> {
+        if self.tracer.drawn_range() != self.tracer.sample_range() {
+            self.tracer.render_sample_until(&|| false)?;
+            self.stats.spp = self.tracer.samples_per_pixel();
+            self.undisplayed = true;
+        }
+        self.tracer.image()
+    }
+}
+
+/// Keeps the frame time near a target by giving rendering what the rest of the frame (UI,
+/// drawing, presenting) leaves of it. When the rest alone takes longer than the target (a
+/// large window drawn by a CPU device), the target cannot be met: rendering then still gets
+/// [`MIN_RENDER_SHARE`] of the frame, so the image keeps converging at a useful rate while
+/// the frame time stays within 1 / (1 - share) of the least possible.
+#[derive(Clone, Copy, Debug)]
+pub struct FrameBudget {
+    /// The frame time aimed at.
+    pub target: Duration,
+    /// Smoothed time of a frame outside rendering, in seconds.
+    overhead: f64,
+}
+
+/// The least time a frame renders.
+const MIN_RENDER: Duration = Duration::from_millis(2);
+
+/// The least share of a frame that rendering gets.
+pub const MIN_RENDER_SHARE: f64 = 1.0 / 3.0;
+
+impl FrameBudget {
+    /// A controller aiming at `target` per frame.
+    pub fn new(target: Duration) -> FrameBudget {
+        FrameBudget { target, overhead: 0.0 }
+    }
+
+    /// Records a frame that took `frame` in all, `render` of it rendering.
+    pub fn record(&mut self, frame: Duration, render: Duration) {
+        let overhead = frame.saturating_sub(render).as_secs_f64();
+        self.overhead = if self.overhead == 0.0 { overhead } else { 0.8 * self.overhead + 0.2 * overhead };
+    }
+
+    /// The render time for the next frame.
+    pub fn render_budget(&self) -> Duration {
+        let remaining = self.target.as_secs_f64() - self.overhead;
+        let share = self.overhead * MIN_RENDER_SHARE / (1.0 - MIN_RENDER_SHARE);
+        Duration::from_secs_f64(remaining.max(share)).max(MIN_RENDER)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_budget_gives_rendering_what_the_rest_of_the_frame_leaves() {
+        let mut budget = FrameBudget::new(Duration::from_millis(40));
+        assert_eq!(budget.render_budget(), Duration::from_millis(40));
+        for _ in 0..50 {
+            let render = budget.render_budget();
+            budget.record(render + Duration::from_millis(10), render);
+        }
+        let render = budget.render_budget().as_secs_f64() * 1e3;
+        assert!((render - 30.0).abs() < 0.5, "10 ms of UI leaves 30 ms of rendering, got {render:.2}");
+    }
+
+    #[test]
+    fn a_slow_ui_still_leaves_rendering_its_share() {
+        let mut budget = FrameBudget::new(Duration::from_millis(33));
+        for _ in 0..100 {
+            let render = budget.render_budget();
+            budget.record(render + Duration::from_millis(120), render);
+        }
+        let render = budget.render_budget().as_secs_f64() * 1e3;
+        assert!((render - 60.0).abs() < 0.5, "120 ms of UI: a third of a 180 ms frame renders, got {render:.2}");
+    }
+}

@@ -1,0 +1,174 @@
+//! Numerical stability at the extremes, end to end on the device: the Cornell box scaled and
+//! moved far from the origin renders the same image; touching, intersecting, sliver and
+//! zero-area geometry leaks no light; closed meshes seen from inside give their analytic
+//! radiance; no sample is ever non-finite.
+
+mod scenes;
+mod support;
+
+use caustic_gpu::RenderSettings;
+use caustic_image::{Image, metrics};
+use caustic_scene::{Material, Mesh, cornell_box};
+use glam::{Mat4, Quat, Vec3};
+use scenes::{box_mesh, camera, channels, quad, render, scene};
+
+/// Settings for zero-variance white furnaces: no Russian roulette, so with albedo 1 and a sky
+/// of 1 every path that escapes carries exactly 1 and a path that is lost carries 0.
+fn no_roulette(seed: u32) -> RenderSettings {
+    RenderSettings { seed, rr_start: u32::MAX, ..RenderSettings::default() }
+}
+
+/// Largest |pixel - expected| over all channels, and how many of the `spp` samples per pixel,
+/// summed over the image, are missing (a lost path adds 0 instead of `expected`).
+fn furnace_error(image: &Image, expected: f64, spp: u32) -> (f64, f64) {
+    let worst = channels(image).map(|c| (c - expected).abs()).fold(0.0, f64::max);
+    let lost = image.pixels.iter().map(|p| (expected - f64::from(p[1])).max(0.0) / expected * f64::from(spp)).sum();
+    (worst, lost)
+}
+
+/// The Cornell box at 128x128 and 16 spp, seed 7: the original and the same scene scaled by
+/// 1e-4 and 1e4 and translated by 1e5 on every axis (camera included) use the same random
+/// numbers, so they must agree far more closely than two independent renders (seed 8) do.
+/// Metrics: relMSE against the original (the independent render's relMSE is the Monte Carlo
+/// noise level; a transformed render must stay below a tenth of it) and the per-channel mean
+/// ratio (within 0.2%).
+#[test]
+fn cornell_box_is_invariant_under_scale_and_translation() {
+    let ctx = scenes::device();
+    let mut base = cornell_box();
+    base.resolution = (128, 128);
+    let spp = 16;
+    let original = render(&ctx, &base, &RenderSettings { seed: 7, ..RenderSettings::default() }, spp);
+    let noise = render(&ctx, &base, &RenderSettings { seed: 8, ..RenderSettings::default() }, spp);
+    let noise_relmse = metrics::relative_mse(&noise.image, &original.image, metrics::RELMSE_EPSILON).unwrap();
+    println!("original: {:.2} s; independent seed: relMSE {noise_relmse:.3e} (the noise level)", original.seconds);
+    let cases = [
+        ("scale 1e-4", Mat4::from_scale(Vec3::splat(1e-4))),
+        ("scale 1e4", Mat4::from_scale(Vec3::splat(1e4))),
+        ("translate 1e5", Mat4::from_translation(Vec3::splat(1e5))),
+    ];
+    let mut failures = Vec::new();
+    for (name, matrix) in cases {
+        let moved = render(&ctx, &scenes::transformed(&base, matrix), &RenderSettings { seed: 7, ..RenderSettings::default() }, spp);
+        let relmse = metrics::relative_mse(&moved.image, &original.image, metrics::RELMSE_EPSILON).unwrap();
+        let ratio = metrics::mean_ratio(&moved.image, &original.image).unwrap();
+        let identical = moved.image.pixels.iter().zip(&original.image.pixels).filter(|(a, b)| a == b).count();
+        println!(
+            "{name:>14}: relMSE {relmse:.3e} ({:.4} of the noise level), mean ratio {ratio:.5?}, {identical} of {} pixels bit-identical, {} non-finite",
+            relmse / noise_relmse,
+            original.image.pixels.len(),
+            moved.nonfinite
+        );
+        let ratio_ok = ratio.iter().all(|r| (r - 1.0).abs() < 2e-3);
+        if relmse > 0.1 * noise_relmse || !ratio_ok || moved.nonfinite != 0 {
+            failures.push(name);
+        }
+    }
+    assert!(failures.is_empty(), "not invariant: {failures:?}");
+}
+
+/// White furnace (albedo 1, sky 1, no Russian roulette) over a floor carrying two boxes that
+/// share a face, a box half sunk into the floor at an angle, and a box cut through by a wall:
+/// every sample that escapes is exactly 1, so any pixel below 1 is a path lost through a seam
+/// (light leak / black speckle). Tolerance: no lost sample at all, and pixels within 1e-4.
+#[test]
+fn touching_and_intersecting_boxes_leak_no_light() {
+    let ctx = scenes::device();
+    let tilted = Mat4::from_translation(Vec3::new(-2.2, 0.1, 0.3)) * Mat4::from_quat(Quat::from_euler(glam::EulerRot::XYZ, 0.6, 0.4, 0.3));
+    let cut = Mat4::from_translation(Vec3::new(2.0, 0.0, 0.0)) * Mat4::from_rotation_y(0.5);
+    let meshes = vec![
+        quad("floor", [Vec3::new(-8.0, 0.0, 8.0), Vec3::new(8.0, 0.0, 8.0), Vec3::new(8.0, 0.0, -8.0), Vec3::new(-8.0, 0.0, -8.0)], 0),
+        box_mesh("left of pair", Vec3::new(-1.0, 0.0, -0.5), Vec3::new(0.0, 1.0, 0.5), 0, false, Mat4::IDENTITY),
+        box_mesh("right of pair", Vec3::new(0.0, 0.0, -0.5), Vec3::new(1.0, 1.0, 0.5), 0, false, Mat4::IDENTITY),
+        box_mesh("sunk and tilted", Vec3::splat(-0.5), Vec3::splat(0.5), 0, false, tilted),
+        box_mesh("cut by the wall", Vec3::new(-0.5, 0.0, -0.5), Vec3::new(0.5, 1.0, 0.5), 0, false, cut),
+        quad("wall", [Vec3::new(2.0, 0.0, -2.0), Vec3::new(2.0, 0.0, 2.0), Vec3::new(2.0, 2.0, 2.0), Vec3::new(2.0, 2.0, -2.0)], 0),
+    ];
+    let materials = vec![Material::diffuse("white", Vec3::ONE)];
+    let view = camera(Vec3::new(0.5, 2.5, 5.0), Vec3::new(0.0, 0.4, 0.0), 50.0);
+    let spp = 16;
+    let result = render(&ctx, &scene(meshes, materials, view, (96, 64), 1.0), &no_roulette(3), spp);
+    let (worst, lost) = furnace_error(&result.image, 1.0, spp);
+    println!("furnace of touching/intersecting boxes: worst |L - 1| {worst:.3e}, {lost:.1} lost samples of {}, {} non-finite, {:.2} s", 96 * 64 * spp, result.nonfinite, result.seconds);
+    assert_eq!(result.nonfinite, 0, "non-finite samples");
+    assert!(lost < 0.5, "{lost:.1} samples were lost through seams");
+    assert!(worst < 1e-4, "a pixel is {worst:e} away from the analytic radiance 1");
+}
+
+/// Camera at the centre of a closed cube whose inner faces emit radiance 1 and reflect
+/// nothing, black environment: every sample sees an emitter, so every pixel is exactly 1.
+/// A ray slipping through an edge or corner of the cube would see black.
+#[test]
+fn inside_a_closed_emitting_cube_every_pixel_is_exactly_one() {
+    let ctx = scenes::device();
+    let inside = box_mesh("cube", Vec3::splat(-1.0), Vec3::splat(1.0), 0, true, Mat4::IDENTITY);
+    // 120 degrees: the image corners look into the cube's edges and corners.
+    let view = camera(Vec3::ZERO, Vec3::new(0.3, -0.2, -1.0), 120.0);
+    let spp = 16;
+    let result = render(&ctx, &scene(vec![inside], vec![Material::emitter("glow", Vec3::ONE)], view, (64, 64), 0.0), &RenderSettings::default(), spp);
+    let (worst, lost) = furnace_error(&result.image, 1.0, spp);
+    println!("inside the emitting cube: worst |L - 1| {worst:.3e}, {lost:.1} samples missing, {} non-finite", result.nonfinite);
+    assert_eq!(result.nonfinite, 0, "non-finite samples");
+    assert!(worst < 1e-6, "a pixel is {worst:e} away from 1");
+}
+
+/// An integrating cube: camera inside a closed cube whose inner faces emit 0.5 and have albedo
+/// 0.5. Radiance is the same everywhere, L = Le + a L, so L = Le / (1 - a) = 1. Next-event
+/// estimation, MIS and Russian roulette all take part. Tolerance: the image mean within 1%.
+#[test]
+fn inside_an_integrating_cube_radiance_is_le_over_one_minus_albedo() {
+    let ctx = scenes::device();
+    let inside = box_mesh("cube", Vec3::splat(-1.0), Vec3::splat(1.0), 0, true, Mat4::from_rotation_y(0.3));
+    let material = Material { base_color: Vec3::splat(0.5), ..Material::emitter("glowing grey", Vec3::splat(0.5)) };
+    let view = camera(Vec3::new(0.2, 0.1, 0.3), Vec3::new(0.5, -0.2, -1.0), 90.0);
+    let spp = 32;
+    let result = render(&ctx, &scene(vec![inside], vec![material], view, (64, 64), 0.0), &RenderSettings { seed: 1, ..RenderSettings::default() }, spp);
+    let mean = result.image.mean();
+    println!("integrating cube: mean {mean:.5?} (exact 1), {} non-finite, {:.2} s", result.nonfinite, result.seconds);
+    assert_eq!(result.nonfinite, 0, "non-finite samples");
+    assert!(mean.iter().all(|m| (m - 1.0).abs() < 0.01), "mean {mean:?} is not within 1% of 1");
+}
+
+/// One face of a closed box, origin `o`, edges `u`, `v` (front = cross(u, v)), as a sliver
+/// (aspect ratio 1 / `thin`) with three triangles filling the rest around an inner vertex
+/// `thin` above the middle of edge u, plus zero-area triangles: a collinear one along edge u and
+/// one with a repeated vertex. All vertices are shared, so the surface is closed.
+fn sliver_face(mesh: &mut Mesh, o: Vec3, u: Vec3, v: Vec3, thin: f32) {
+    let base = mesh.positions.len() as u32;
+    let inner = o + 0.5 * u + thin * v;
+    mesh.positions.extend([o, o + u, o + u + v, o + v, inner, o + 0.5 * u]);
+    let [a, b, c, d, e, m] = [0, 1, 2, 3, 4, 5].map(|i| base + i);
+    mesh.indices.extend([[a, b, e], [b, c, e], [c, d, e], [d, a, e], [a, m, b], [c, c, d]]);
+}
+
+/// A closed unit cube of sliver faces (see [`sliver_face`]) centred at `centre`.
+fn sliver_cube(centre: Vec3, thin: f32) -> Mesh {
+    let mut mesh = Mesh { name: format!("slivers {thin:e}"), ..Mesh::default() };
+    let o = centre - Vec3::splat(0.5);
+    let (x, y, z) = (Vec3::X, Vec3::Y, Vec3::Z);
+    for (origin, u, v) in [(o, y, x), (o + z, x, y), (o, z, y), (o + x, y, z), (o, x, z), (o + y, z, x)] {
+        sliver_face(&mut mesh, origin, u, v, thin);
+    }
+    mesh
+}
+
+/// Closed cubes made of slivers with aspect ratios 1e3 to 1e7 and zero-area triangles, albedo
+/// 1 under a sky of 1 without Russian roulette: every pixel must be exactly 1 (a path that slips
+/// inside a cube is lost) and no sample may be non-finite.
+#[test]
+fn sliver_and_zero_area_triangles_leak_nothing_and_stay_finite() {
+    let ctx = scenes::device();
+    let meshes: Vec<Mesh> = [1e-3f32, 1e-5, 1e-6, 1e-7].iter().enumerate().map(|(i, &thin)| sliver_cube(Vec3::new(1.5 * i as f32 - 2.25, 0.0, 0.0), thin)).collect();
+    let triangles = meshes.iter().flat_map(|m| (0..m.triangle_count()).map(move |t| m.triangle(t)));
+    let degenerate = triangles.filter(|[a, b, c]| (*b - *a).cross(*c - *a) == Vec3::ZERO).count();
+    let view = camera(Vec3::new(0.7, 1.8, 4.0), Vec3::new(0.0, 0.0, 0.0), 55.0);
+    let spp = 16;
+    let materials = vec![Material::diffuse("white", Vec3::ONE)];
+    let result = render(&ctx, &scene(meshes, materials, view, (128, 48), 1.0), &no_roulette(5), spp);
+    let (worst, lost) = furnace_error(&result.image, 1.0, spp);
+    println!("sliver cubes ({degenerate} zero-area triangles): worst |L - 1| {worst:.3e}, {lost:.1} lost samples of {}, {} non-finite", 128 * 48 * spp, result.nonfinite);
+    assert_eq!(result.nonfinite, 0, "non-finite samples");
+    assert_eq!(result.image.count_nonfinite(), 0, "non-finite pixels");
+    assert!(lost < 0.5, "{lost:.1} samples were lost into the cubes");
+    assert!(worst < 1e-4, "a pixel is {worst:e} away from 1");
+}
