@@ -86,9 +86,10 @@ pub struct RenderArgs {
     /// Image size, overriding the scene's.
     #[arg(long, value_name = "WxH", value_parser = parse_size)]
     pub size: Option<(u32, u32)>,
-    /// Maximum bounces (scattering events); -1 = unbounded with Russian roulette.
-    #[arg(long, default_value_t = -1, allow_negative_numbers = true, value_name = "N")]
-    pub max_depth: i64,
+    /// Maximum bounces (scattering events); -1 = unbounded with Russian roulette. Default: the
+    /// scene's (unbounded for glTF and mesh files, `maxdepth` or 5 in the scene language).
+    #[arg(long, allow_negative_numbers = true, value_name = "N")]
+    pub max_depth: Option<i64>,
     /// Random seed: the same seed, scene and spp give the same image.
     #[arg(long, default_value_t = 0, value_name = "N")]
     pub seed: u32,

@@ -94,11 +94,6 @@ impl Budget {
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let task = task_index(args)?;
     let mut budget = Budget::from_args(args, task.as_ref())?;
-    let max_depth = match args.max_depth {
-        -1 => None,
-        d if d >= 0 => Some(u32::try_from(d).context("--max-depth is too large")?),
-        d => bail!("--max-depth {d}: use -1 for unbounded or a number of bounces >= 0"),
-    };
     let scene_arg = scene_argument(args, task.as_ref())?;
     let output_arg = output_argument(args, task.as_ref())?;
     let mut scene = load_scene(&SceneSource::parse(&scene_arg))?;
@@ -116,8 +111,15 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         scene.environment = parse_environment(text)?;
     }
     args.camera.apply(&mut scene.camera)?;
-    let integrator = args.integrator.unwrap_or_default();
-    let mut settings = RenderSettings { integrator, max_depth, seed: args.seed, ..RenderSettings::default() };
+    let max_depth = match args.max_depth {
+        None => scene.options.max_depth,
+        Some(-1) => None,
+        Some(d) if d >= 0 => Some(u32::try_from(d).context("--max-depth is too large")?),
+        Some(d) => bail!("--max-depth {d}: use -1 for unbounded or a number of bounces >= 0"),
+    };
+    let integrator = args.integrator.unwrap_or(scene.options.integrator);
+    let mut settings =
+        RenderSettings { integrator, pass: scene.options.pass, max_depth, seed: args.seed, ..RenderSettings::default() };
     // The fingerprint must see the final scene and settings (all but the first sample): parts
     // with equal fingerprints are merged as one render.
     let print = fingerprint(&scene, &settings);
