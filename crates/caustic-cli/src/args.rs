@@ -1,7 +1,7 @@
 //! The command-line contract. Later features add options; existing ones keep their meaning.
 
 use anyhow::{Context, bail};
-use caustic_scene::{Camera, Environment, EnvironmentMap, Integrator};
+use caustic_scene::{Camera, Environment, EnvironmentMap, Integrator, Scene};
 use caustic_viewer::command::integrator_name;
 use clap::{Args, Parser, Subcommand};
 use glam::Vec3;
@@ -83,6 +83,20 @@ pub struct RenderArgs {
     /// Stop after this many seconds of rendering (at a whole sample pass).
     #[arg(long, value_name = "SECONDS")]
     pub time: Option<f64>,
+    /// What the command line changes in the scene.
+    #[command(flatten)]
+    pub overrides: SceneOverrides,
+    /// How LDR outputs are exposed and tone mapped.
+    #[command(flatten)]
+    pub display: DisplayArgs,
+    /// Device selection and output format.
+    #[command(flatten)]
+    pub device: DeviceArgs,
+}
+
+/// Settings `render` and `view` share: each replaces what the scene says.
+#[derive(Debug, Args)]
+pub struct SceneOverrides {
     /// Image size, overriding the scene's.
     #[arg(long, value_name = "WxH", value_parser = parse_size)]
     pub size: Option<(u32, u32)>,
@@ -96,21 +110,52 @@ pub struct RenderArgs {
     /// Environment for escaping rays: a colour (`1` or `r,g,b`) or an .hdr/.exr lat-long map.
     #[arg(long, value_name = "COLOR|FILE")]
     pub environment: Option<String>,
+    /// Integrator: pathtracer, raytracer, direct or analyticdirect (default: the scene's,
+    /// pathtracer for glTF and mesh files).
+    #[arg(long, value_name = "NAME", value_parser = parse_integrator)]
+    pub integrator: Option<Integrator>,
+    /// Camera overrides.
+    #[command(flatten)]
+    pub camera: CameraArgs,
+}
+
+impl SceneOverrides {
+    /// Applies size, environment and camera to `scene`, and returns the integrator and max
+    /// depth to render with (the command line's, else the scene's).
+    pub fn apply(&self, scene: &mut Scene) -> anyhow::Result<(Integrator, Option<u32>)> {
+        if let Some(size) = self.size {
+            scene.resolution = size;
+        }
+        if let Some(text) = &self.environment {
+            scene.environment = parse_environment(text)?;
+        }
+        self.camera.apply(&mut scene.camera)?;
+        let max_depth = match self.max_depth {
+            None => scene.options.max_depth,
+            Some(-1) => None,
+            Some(d) if d >= 0 => Some(u32::try_from(d).context("--max-depth is too large")?),
+            Some(d) => bail!("--max-depth {d}: use -1 for unbounded or a number of bounces >= 0"),
+        };
+        Ok((self.integrator.unwrap_or(scene.options.integrator), max_depth))
+    }
+}
+
+/// Exposure and tone mapping of LDR outputs, shared by `render`, `merge` and `view`.
+#[derive(Debug, Args)]
+pub struct DisplayArgs {
     /// Exposure in stops for LDR outputs.
     #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
     pub exposure: f32,
     /// Tone mapper for LDR outputs: aces, reinhard or clamp.
     #[arg(long, default_value = "aces")]
     pub tone_map: caustic_image::ToneMap,
-    /// Integrator: pathtracer (default), raytracer, direct or analyticdirect.
-    #[arg(long, value_name = "NAME", value_parser = parse_integrator)]
-    pub integrator: Option<Integrator>,
-    /// Camera overrides.
-    #[command(flatten)]
-    pub camera: CameraArgs,
-    /// Device selection and output format.
-    #[command(flatten)]
-    pub device: DeviceArgs,
+}
+
+impl DisplayArgs {
+    /// The options an LDR file is saved with.
+    pub fn save_options(&self) -> caustic_image::SaveOptions {
+        caustic_image::SaveOptions { exposure: self.exposure, tone_map: self.tone_map }
+    }
 }
 
 /// Camera overrides, each replacing one field of the scene's camera (`caustic view` saves the
@@ -154,33 +199,15 @@ pub struct ViewArgs {
     /// Scene file (.gltf, .glb, .obj, .ply, .test) or built-in name (cornell).
     #[arg(default_value = "cornell")]
     pub scene: String,
-    /// Image size, overriding the scene's.
-    #[arg(long, value_name = "WxH", value_parser = parse_size)]
-    pub size: Option<(u32, u32)>,
     /// Samples per pixel after which rendering pauses (default: the scene's, else 1024).
     #[arg(long, value_name = "N")]
     pub spp: Option<u32>,
-    /// Maximum bounces; -1 = unbounded (default: the scene's).
-    #[arg(long, allow_negative_numbers = true, value_name = "N")]
-    pub max_depth: Option<i64>,
-    /// Random seed.
-    #[arg(long, default_value_t = 0, value_name = "N")]
-    pub seed: u32,
-    /// Environment: a colour (`1` or `r,g,b`) or an .hdr/.exr lat-long map.
-    #[arg(long, value_name = "COLOR|FILE")]
-    pub environment: Option<String>,
-    /// Exposure in stops.
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
-    pub exposure: f32,
-    /// Tone mapper: aces, reinhard or clamp.
-    #[arg(long, default_value = "aces")]
-    pub tone_map: caustic_image::ToneMap,
-    /// Integrator: pathtracer, raytracer, direct or analyticdirect (default: the scene's).
-    #[arg(long, value_name = "NAME", value_parser = parse_integrator)]
-    pub integrator: Option<Integrator>,
-    /// Camera overrides.
+    /// What the command line changes in the scene.
     #[command(flatten)]
-    pub camera: CameraArgs,
+    pub overrides: SceneOverrides,
+    /// How the image is exposed and tone mapped.
+    #[command(flatten)]
+    pub display: DisplayArgs,
     /// Use the Vulkan adapter whose name contains this text (case-insensitive).
     #[arg(long, env = "CAUSTIC_ADAPTER", value_name = "NAME")]
     pub adapter: Option<String>,
@@ -211,12 +238,9 @@ pub struct MergeArgs {
     /// last part (gaps and overlaps between parts are always refused).
     #[arg(long, value_name = "START..END", value_parser = parse_samples)]
     pub samples: Option<Range<u32>>,
-    /// Exposure in stops for LDR outputs.
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
-    pub exposure: f32,
-    /// Tone mapper for LDR outputs: aces, reinhard or clamp.
-    #[arg(long, default_value = "aces")]
-    pub tone_map: caustic_image::ToneMap,
+    /// How LDR outputs are exposed and tone mapped.
+    #[command(flatten)]
+    pub display: DisplayArgs,
     /// Print one JSON object with the results on stdout.
     #[arg(long)]
     pub json: bool,
@@ -273,7 +297,7 @@ fn parse_integrator(text: &str) -> Result<Integrator, String> {
 }
 
 /// Reads `--environment`: one number (grey), three comma-separated numbers, or a map file.
-pub fn parse_environment(text: &str) -> anyhow::Result<Environment> {
+fn parse_environment(text: &str) -> anyhow::Result<Environment> {
     let numbers: Result<Vec<f32>, _> = text.split(',').map(|s| s.trim().parse::<f32>()).collect();
     let color = match numbers.as_deref() {
         Ok([grey]) => Some(Vec3::splat(*grey)),

@@ -1,7 +1,7 @@
 //! `caustic merge`: combine partial renders of disjoint sample ranges into one image.
 
 use crate::args::MergeArgs;
-use caustic_image::{PartialImage, SaveOptions};
+use caustic_image::PartialImage;
 use serde::Serialize;
 use std::path::PathBuf;
 
@@ -36,7 +36,7 @@ pub fn run(args: &MergeArgs) -> anyhow::Result<()> {
     if is_exr {
         merged.save(&args.output)?;
     } else {
-        merged.image.save(&args.output, &SaveOptions { exposure: args.exposure, tone_map: args.tone_map })?;
+        merged.image.save(&args.output, &args.display.save_options())?;
     }
     let info = &merged.info;
     let (min, max) = merged.sample_count_bounds();

@@ -1,11 +1,11 @@
 //! `caustic render`: load, upload, accumulate, write.
 
-use crate::args::{RenderArgs, parse_environment};
+use crate::args::RenderArgs;
 use crate::fingerprint::{Fingerprint, fingerprint};
 use crate::tasks::{TaskIndex, has_placeholder, substitute};
 use anyhow::{Context, bail};
 use caustic_gpu::{GpuContext, GpuScene, PassOutcome, PathTracer, RenderSettings};
-use caustic_image::{PartInfo, PartialImage, SaveOptions};
+use caustic_image::{PartInfo, PartialImage};
 use caustic_scene::{SceneSource, load_scene};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
@@ -104,22 +104,9 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         let option = if args.resume { "--resume" } else { "--samples-from-env" };
         bail!("{option} writes a partial image for `caustic merge`: -o {} must end in .exr", output.display());
     }
-    if let Some(size) = args.size {
-        scene.resolution = size;
-    }
-    if let Some(text) = &args.environment {
-        scene.environment = parse_environment(text)?;
-    }
-    args.camera.apply(&mut scene.camera)?;
-    let max_depth = match args.max_depth {
-        None => scene.options.max_depth,
-        Some(-1) => None,
-        Some(d) if d >= 0 => Some(u32::try_from(d).context("--max-depth is too large")?),
-        Some(d) => bail!("--max-depth {d}: use -1 for unbounded or a number of bounces >= 0"),
-    };
-    let integrator = args.integrator.unwrap_or(scene.options.integrator);
+    let (integrator, max_depth) = args.overrides.apply(&mut scene)?;
     let mut settings =
-        RenderSettings { integrator, pass: scene.options.pass, max_depth, seed: args.seed, ..RenderSettings::default() };
+        RenderSettings { integrator, pass: scene.options.pass, max_depth, seed: args.overrides.seed, ..RenderSettings::default() };
     // The fingerprint must see the final scene and settings (all but the first sample): parts
     // with equal fingerprints are merged as one render.
     let print = fingerprint(&scene, &settings);
@@ -185,7 +172,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
             );
         }
     } else {
-        image.save(&output, &SaveOptions { exposure: args.exposure, tone_map: args.tone_map })?;
+        image.save(&output, &args.display.save_options())?;
     }
     let (width, height) = scene.resolution;
     let spp = tracer.samples_per_pixel();
