@@ -2,8 +2,8 @@
 //! white furnace (albedo 0.5, environment 1) shows exactly its albedo wherever it is seen,
 //! which fails if an intersection, a normal or the self-intersection offset is wrong.
 
-use caustic_bvh::{BuildOptions, Ray, ShapeInput};
-use caustic_gpu::{GpuContext, GpuScene, PathTracer, RayBench, RayKind, RenderSettings};
+use caustic_bvh::{BuildOptions, Ray};
+use caustic_gpu::{GpuContext, GpuScene, PathTracer, RayBench, RayKind, RenderSettings, SceneData};
 use caustic_scene::{Camera, Environment, Material, Scene, Shape};
 use glam::{Mat4, Vec3};
 
@@ -97,19 +97,7 @@ fn device_traversal_of_shapes_matches_the_cpu_twin() {
     let ctx = device();
     let scene = furnace(all_shapes().into_iter().map(|(_, s)| s).collect());
     let gpu = GpuScene::upload(&ctx, &scene).expect("upload");
-    let inputs: Vec<ShapeInput> = scene
-        .shapes
-        .iter()
-        .map(|s| ShapeInput {
-            kind: match s.kind {
-                caustic_scene::ShapeKind::Sphere => caustic_bvh::ShapeKind::Sphere,
-                caustic_scene::ShapeKind::Disk => caustic_bvh::ShapeKind::Disk,
-                caustic_scene::ShapeKind::Box => caustic_bvh::ShapeKind::Box,
-                caustic_scene::ShapeKind::Plane => caustic_bvh::ShapeKind::Plane,
-            },
-            object_to_world: s.object_to_world,
-        })
-        .collect();
+    let inputs = SceneData::new(&scene).shapes;
     let cpu = caustic_bvh::flatten_with_shapes(&caustic_bvh::build_with_shapes(&[], &inputs, &BuildOptions::default()), &[], &inputs);
     let bench = RayBench::new(&ctx, &gpu, &scene.camera, 128).expect("bench");
     for kind in [RayKind::Primary, RayKind::Incoherent] {

@@ -121,22 +121,11 @@ pub fn default_options() -> RenderOptions {
 /// other colours 0, shininess 1), Phong model, ior 1, GGX roughness 1.
 pub fn default_material() -> Material {
     Material {
-        name: String::new(),
         base_color: Vec3::ZERO,
-        emission: Vec3::ZERO,
-        metallic: 0.0,
-        roughness: 1.0,
-        specular: 0.0,
         ior: 1.0,
-        transmission: 0.0,
         model: ShadingModel::Phong,
         ambient: Vec3::splat(0.2),
-        specular_color: Vec3::ZERO,
-        shininess: 1.0,
-        reflectance: 0.0,
-        transparency: 0.0,
-        gloss: 0.0,
-        frost: 0.0,
+        ..Material::default()
     }
 }
 
