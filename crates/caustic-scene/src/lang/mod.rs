@@ -11,17 +11,25 @@
 //! [`LangError`] naming the file, line and column and what was expected; no input makes the
 //! interpreter panic. [`load`] is the loader behind `.test`, `.scene` and `.txt` files.
 
+mod actions;
 mod args;
 mod commands;
 mod error;
+mod geometry;
 mod interpreter;
+mod lights;
+mod materials;
+mod options;
+mod state;
+mod transforms;
 
+pub use actions::{Action, PostProcess};
 pub use commands::{command, CommandInfo, COMMANDS};
 pub use error::{LangError, LangWarning, Location};
-pub use interpreter::{
-    default_material, default_options, Action, Interpreter, LanguageSettings, PostProcess, MAX_IMAGE_SIDE,
-    MAX_SOURCED_FILES, MAX_SOURCE_DEPTH, MAX_TRIANGLES,
-};
+pub use interpreter::{Interpreter, MAX_IMAGE_SIDE, MAX_SOURCED_FILES, MAX_SOURCE_DEPTH, MAX_TRIANGLES};
+pub use materials::default_material;
+pub use options::default_options;
+pub use state::LanguageSettings;
 
 use crate::{Scene, SceneError};
 use std::path::Path;

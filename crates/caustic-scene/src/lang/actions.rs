@@ -1,0 +1,107 @@
+//! The imperative commands: `reset`, `exit`, `render`, `save` and `postprocess`, and the
+//! [`Action`]s they hand to the host.
+
+use super::args::{Args, Res};
+use super::error::Location;
+use super::Interpreter;
+use crate::{RenderPass, Scene};
+
+/// An effect applied to the last rendered image (`postprocess`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum PostProcess {
+    /// Replace each pixel by its luminance.
+    Monochrome,
+    /// Gaussian blur with the given standard deviation in pixels.
+    Blur {
+        /// Standard deviation in pixels (> 0; default 1).
+        radius: f32,
+    },
+}
+
+/// What an imperative command asks the host (the CLI or the interactive shell) to do.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Action {
+    /// `render [hdr] PASS`: render `scene`, a snapshot of the state at that line (already
+    /// validated; its `options.pass` and `options.hdr` are `pass` and `hdr`).
+    Render {
+        /// The scene as it stood at the `render` line.
+        scene: Box<Scene>,
+        /// Which image to produce.
+        pass: RenderPass,
+        /// Whether the image is saved as linear HDR.
+        hdr: bool,
+    },
+    /// `save ldr|hdr`: save the last rendered image (to `options.output`).
+    Save {
+        /// HDR (linear, EXR) rather than LDR (tone mapped).
+        hdr: bool,
+    },
+    /// `postprocess ...`: apply an effect to the last rendered image.
+    PostProcess(PostProcess),
+    /// `exit`: stop. The interpreter has stopped reading the input that contained it.
+    Exit,
+}
+
+impl Interpreter {
+    /// Executes the scripting and action commands (`reset`, `exit`, `render`, `save`, `postprocess`).
+    /// Returns whether `a` is one of them.
+    pub(super) fn action_command(&mut self, a: &Args, _at: Location<'_>, actions: &mut Vec<Action>) -> Res<bool> {
+        let w = &mut self.world;
+        match a.name {
+            "reset" => {
+                a.expect(&[0])?;
+                self.reset();
+            }
+            "exit" => {
+                a.expect(&[0])?;
+                self.exit_requested = true;
+                actions.push(Action::Exit);
+            }
+            "render" => {
+                a.expect(&[1, 2])?;
+                let first = if a.len() == 2 {
+                    a.keyword(0, &["hdr"])?;
+                    1
+                } else {
+                    0
+                };
+                const PASSES: [RenderPass; 4] = [RenderPass::Image, RenderPass::Depth, RenderPass::Normals, RenderPass::Photo];
+                let pass = PASSES[a.keyword(first, &["image", "depth", "normals", "photo"])?.min(3)];
+                let hdr = first == 1;
+                if self.snapshots_left == 0 {
+                    w.scene.options.pass = pass;
+                    w.scene.options.hdr = hdr;
+                    return Ok(true);
+                }
+                let mut scene = self.scene();
+                scene.options.pass = pass;
+                scene.options.hdr = hdr;
+                if let Err(e) = scene.validate() {
+                    return a.fail(format!("the scene cannot be rendered: {e}"));
+                }
+                self.world.scene.options.pass = pass;
+                self.world.scene.options.hdr = hdr;
+                self.snapshots_left -= 1;
+                actions.push(Action::Render { scene: Box::new(scene), pass, hdr });
+            }
+            "save" => {
+                a.expect(&[1])?;
+                actions.push(Action::Save { hdr: a.keyword(0, &["ldr", "hdr"])? == 1 });
+            }
+            "postprocess" => {
+                a.expect(&[1, 2])?;
+                let effect = match a.keyword(0, &["monochrome", "blur"])? {
+                    0 => {
+                        a.expect(&[1])?;
+                        PostProcess::Monochrome
+                    }
+                    _ => PostProcess::Blur { radius: if a.len() == 2 { a.f32_in(1, |r| r > 0.0, "> 0")? } else { 1.0 } },
+                };
+                actions.push(Action::PostProcess(effect));
+            }
+            _ => return Ok(false),
+        }
+        Ok(true)
+    }
+}
+

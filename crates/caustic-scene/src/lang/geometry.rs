@@ -1,0 +1,202 @@
+//! Geometry: vertices, triangles gathered into meshes, and the analytic shapes (sphere, box,
+//! plane, disk), each under the current transform and with the current material.
+
+use super::args::{Args, Res};
+use super::error::Location;
+use super::interpreter::MAX_TRIANGLES;
+use super::materials::material_key;
+use super::state::OpenMesh;
+use super::Interpreter;
+use crate::{Mesh, Shape};
+use glam::{DMat3, DMat4, Vec3};
+
+impl Interpreter {
+    /// Executes the geometry commands (`vertex`, `tri`, `sphere`, `box`, ...).
+    /// Returns whether `a` is one of them.
+    pub(super) fn geometry_command(&mut self, a: &Args, at: Location<'_>) -> Res<bool> {
+        let w = &mut self.world;
+        match a.name {
+            "vertex" => {
+                a.expect(&[3])?;
+                let p = a.dvec3_f32(0)?.as_vec3();
+                w.vertices.push(p);
+                let (base, _) = self.bases();
+                self.check_announced(a, at, false, base);
+            }
+            "vertexnormal" => {
+                a.expect(&[6])?;
+                let p = a.dvec3_f32(0)?.as_vec3();
+                let n = a.dvec3_f32(3)?.as_vec3();
+                if n == Vec3::ZERO {
+                    return a.fail_at(3, "the normal must not be zero");
+                }
+                w.normal_vertices.push([p, n]);
+                let (_, base) = self.bases();
+                self.check_announced(a, at, true, base);
+            }
+            "tri" => self.triangle(a, at, false)?,
+            "trinormal" => self.triangle(a, at, true)?,
+            "sphere" => {
+                a.expect(&[4])?;
+                let centre = a.dvec3_f32(0)?.as_vec3();
+                let radius = a.f32_in(3, |r| r > 0.0, "> 0")?;
+                let shape = Shape::sphere(w.current.as_mat4(), centre, radius, 0);
+                self.add_shape(a, shape)?;
+            }
+            "box" => {
+                a.expect(&[6])?;
+                let centre = a.dvec3_f32(0)?.as_vec3();
+                let size = Vec3::new(a.f32_in(3, |v| v > 0.0, "> 0")?, a.f32_in(4, |v| v > 0.0, "> 0")?, a.f32_in(5, |v| v > 0.0, "> 0")?);
+                let shape = Shape::cuboid(w.current.as_mat4(), centre, size, 0);
+                self.add_shape(a, shape)?;
+            }
+            "plane" => {
+                a.expect(&[6])?;
+                let point = a.dvec3_f32(0)?.as_vec3();
+                let normal = a.dvec3_f32(3)?.as_vec3();
+                if normal.normalize_or_zero() == Vec3::ZERO {
+                    return a.fail_at(3, "the normal must not be zero");
+                }
+                let shape = Shape::plane(w.current.as_mat4(), point, normal, 0);
+                self.add_shape(a, shape)?;
+            }
+            "disk" => {
+                a.expect(&[7])?;
+                let centre = a.dvec3_f32(0)?.as_vec3();
+                let normal = a.dvec3_f32(3)?.as_vec3();
+                if normal.normalize_or_zero() == Vec3::ZERO {
+                    return a.fail_at(3, "the normal must not be zero");
+                }
+                let radius = a.f32_in(6, |r| r > 0.0, "> 0")?;
+                let shape = Shape::disk(w.current.as_mat4(), centre, normal, radius, 0);
+                self.add_shape(a, shape)?;
+            }
+            _ => return Ok(false),
+        }
+        Ok(true)
+    }
+}
+
+impl Interpreter {
+    /// Warns once when more vertices than `maxverts` (or `maxvertnorms`) announced exist in
+    /// the current file.
+    fn check_announced(&mut self, a: &Args, at: Location<'_>, normals: bool, base: usize) {
+        let w = &mut self.world;
+        let (count, announced, warned, what) = if normals {
+            (w.normal_vertices.len() - base.min(w.normal_vertices.len()), w.settings.max_vert_norms, &mut w.warned_max_vert_norms, "maxvertnorms")
+        } else {
+            (w.vertices.len() - base.min(w.vertices.len()), w.settings.max_verts, &mut w.warned_max_verts, "maxverts")
+        };
+        if let Some(max) = announced {
+            if count as u64 > max && !*warned {
+                *warned = true;
+                self.warn(at, a.name_column(), format!("more vertices than {what} {max} announced (accepted)"));
+            }
+        }
+    }
+
+    /// Checks the shape's transform, then adds it with the current material.
+    fn add_shape(&mut self, a: &Args, shape: Shape) -> Res<()> {
+        let m = shape.object_to_world;
+        let det = m.determinant();
+        if !m.is_finite() || !det.is_finite() || det.abs() < 1e-30 {
+            return a.fail("the shape's transform is degenerate or not finite (a zero or huge scale?)");
+        }
+        let material = self.world.material_index();
+        self.world.scene.shapes.push(Shape { material, ..shape });
+        Ok(())
+    }
+
+    fn triangle(&mut self, a: &Args, at: Location<'_>, normals: bool) -> Res<()> {
+        a.expect(&[3])?;
+        let (vertex_base, normal_base) = self.bases();
+        let w = &mut self.world;
+        let (base, count, what) = if normals {
+            (normal_base, w.normal_vertices.len(), "vertexnormal vertices")
+        } else {
+            (vertex_base, w.vertices.len(), "vertices")
+        };
+        let available = count.saturating_sub(base);
+        let mut global = [0usize; 3];
+        for (k, slot) in global.iter_mut().enumerate() {
+            let i = a.int(k)?;
+            match usize::try_from(i) {
+                Ok(i) if i < available => *slot = base + i,
+                _ => return a.fail_at(k, format!("vertex index {i} out of range ({available} {what})")),
+            }
+        }
+        if w.triangles >= MAX_TRIANGLES {
+            return a.fail(format!("more than {MAX_TRIANGLES} triangles"));
+        }
+        // The open mesh continues when the material (as registered, if it is) and the kind of
+        // triangle match; then vertices already added under this transform are shared.
+        let known_material = w.material_index.or_else(|| w.interned.get(&material_key(&w.material)).copied());
+        let open = w.open.filter(|o| Some(o.material) == known_material && o.normals == normals && o.mesh + 1 == w.scene.meshes.len());
+        let identity = w.current == DMat4::IDENTITY;
+        let normal_matrix = if normals && !identity { w.normal_matrix() } else { DMat3::IDENTITY };
+        // Each corner: an existing local vertex, or a new world-space vertex (and normal).
+        // Everything is checked before anything changes.
+        let mut corners: [(Option<u32>, Vec3, Vec3); 3] = [(None, Vec3::ZERO, Vec3::ZERO); 3];
+        for (k, &g) in global.iter().enumerate() {
+            let remap = if normals { &w.remap_normals } else { &w.remap };
+            if let (Some(_), Some(&(stamp, local))) = (open, remap.get(g)) {
+                if stamp == w.generation {
+                    corners[k].0 = Some(local);
+                    continue;
+                }
+            }
+            let (p, n) = if normals {
+                let [p, n] = w.normal_vertices.get(g).copied().unwrap_or_default();
+                (p, n)
+            } else {
+                (w.vertices.get(g).copied().unwrap_or_default(), Vec3::ZERO)
+            };
+            let p = if identity { p } else { w.current.transform_point3(p.as_dvec3()).as_vec3() };
+            let n = if normals { (normal_matrix * n.as_dvec3()).normalize_or_zero().as_vec3() } else { n };
+            if !p.is_finite() || (normals && (!n.is_finite() || n == Vec3::ZERO)) {
+                return a.fail_at(k, format!("vertex {} is not finite after the current transform (a singular or huge transform?)", g - base));
+            }
+            corners[k] = (None, p, n);
+        }
+        let material = w.material_index();
+        let mesh_index = match open {
+            Some(o) => o.mesh,
+            None => {
+                let file = at.file.file_name().map_or_else(|| at.file.display().to_string(), |n| n.to_string_lossy().into_owned());
+                w.scene.meshes.push(Mesh { name: format!("{file}:{}", at.line), material, ..Mesh::default() });
+                let mesh = w.scene.meshes.len() - 1;
+                w.open = Some(OpenMesh { mesh, material, normals });
+                w.bump_generation();
+                mesh
+            }
+        };
+        let generation = w.generation;
+        let remap = if normals { &mut w.remap_normals } else { &mut w.remap };
+        if remap.len() < count {
+            remap.resize(count, (0, 0));
+        }
+        let Some(mesh) = w.scene.meshes.get_mut(mesh_index) else {
+            return a.fail("internal error: the open mesh is missing");
+        };
+        let mut triangle = [0u32; 3];
+        for (k, (local, p, n)) in corners.into_iter().enumerate() {
+            triangle[k] = match local {
+                Some(local) => local,
+                None => {
+                    let local = mesh.positions.len() as u32;
+                    mesh.positions.push(p);
+                    if normals {
+                        mesh.normals.push(n);
+                    }
+                    if let Some(entry) = remap.get_mut(global[k]) {
+                        *entry = (generation, local);
+                    }
+                    local
+                }
+            };
+        }
+        mesh.indices.push(triangle);
+        w.triangles += 1;
+        Ok(())
+    }
+}

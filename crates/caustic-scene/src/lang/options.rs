@@ -1,0 +1,160 @@
+//! Global settings: image size, depth, camera, sampling, integrator switches, output names,
+//! the environment and the vertex-count hints.
+
+use super::args::{shown, Args, Res};
+use super::error::Location;
+use super::interpreter::{resolve, MAX_IMAGE_SIDE, RESERVE_CAP};
+use super::Interpreter;
+use crate::{Camera, Environment, EnvironmentMap, ImportanceSampling, Integrator, NextEvent, RenderOptions, RenderPass};
+use glam::Vec3;
+use std::path::PathBuf;
+
+/// The render options a scene-language file starts with (CSE167/CSE168 defaults).
+pub fn default_options() -> RenderOptions {
+    RenderOptions {
+        integrator: Integrator::RayTracer,
+        max_depth: Some(5),
+        spp: None,
+        light_samples: 1,
+        light_stratify: false,
+        next_event: NextEvent::Off,
+        russian_roulette: false,
+        importance_sampling: ImportanceSampling::Hemisphere,
+        gamma: 1.0,
+        output: None,
+        pass: RenderPass::Image,
+        hdr: false,
+    }
+}
+
+fn on_off(a: &Args, i: usize) -> Res<bool> {
+    Ok(a.keyword(i, &["on", "off"])? == 0)
+}
+
+impl Interpreter {
+    /// Executes the global settings (`size`, `camera`, `integrator`, `spp`, ...).
+    /// Returns whether `a` is one of them.
+    pub(super) fn setting_command(&mut self, a: &Args, at: Location<'_>) -> Res<bool> {
+        let w = &mut self.world;
+        match a.name {
+            "size" => {
+                a.expect(&[2])?;
+                let width = a.int_in(0, 1, MAX_IMAGE_SIDE)?;
+                let height = a.int_in(1, 1, MAX_IMAGE_SIDE)?;
+                w.scene.resolution = (width as u32, height as u32);
+            }
+            "maxdepth" => {
+                a.expect(&[1])?;
+                let depth = a.int_in(0, -1, i64::from(u32::MAX))?;
+                w.scene.options.max_depth = u32::try_from(depth).ok();
+            }
+            "output" => {
+                a.expect(&[1])?;
+                w.scene.options.output = Some(PathBuf::from(a.text(0)?));
+            }
+            "preview" => {
+                a.expect(&[1])?;
+                w.settings.preview = Some(PathBuf::from(a.text(0)?));
+            }
+            "camera" => {
+                a.expect(&[10])?;
+                let eye = a.dvec3_f32(0)?.as_vec3();
+                let target = a.dvec3_f32(3)?.as_vec3();
+                let up = a.dvec3_f32(6)?.as_vec3();
+                let fovy = a.num(9)?;
+                if !(fovy > 0.0 && fovy < 180.0) {
+                    return a.fail_at(9, format!("fovy must be between 0 and 180 degrees (exclusive), found {}", shown(a.text(9)?)));
+                }
+                let camera = Camera { eye, target, up, fov_y: fovy.to_radians() as f32 };
+                if eye == target {
+                    return a.fail_at(3, "the centre must differ from the eye");
+                }
+                if !camera.is_valid() {
+                    return a.fail_at(6, "the up vector must not be zero or parallel to the view direction");
+                }
+                w.scene.camera = camera;
+            }
+            "dof" => {
+                a.expect(&[1])?;
+                w.settings.dof = a.f32_in(0, |v| v >= 0.0, ">= 0")?;
+            }
+            "supersample" => {
+                a.expect(&[1])?;
+                let n = a.int_in(0, 1, 65535)? as u32;
+                w.set_sampling(a, n, w.settings.resample)?;
+            }
+            "resample" => {
+                a.expect(&[1])?;
+                let n = a.int_in(0, 1, i64::from(u32::MAX))? as u32;
+                w.set_sampling(a, w.settings.supersample, n)?;
+            }
+            "spp" => {
+                a.expect(&[1])?;
+                w.scene.options.spp = Some(a.int_in(0, 1, i64::from(u32::MAX))? as u32);
+            }
+            "integrator" => {
+                a.expect(&[1])?;
+                const KINDS: [Integrator; 4] = [Integrator::RayTracer, Integrator::AnalyticDirect, Integrator::Direct, Integrator::PathTracer];
+                w.scene.options.integrator = KINDS[a.keyword(0, &["raytracer", "analyticdirect", "direct", "pathtracer"])?.min(3)];
+            }
+            "lightsamples" => {
+                a.expect(&[1])?;
+                w.scene.options.light_samples = a.int_in(0, 1, i64::from(u32::MAX))? as u32;
+            }
+            "lightstratify" => {
+                a.expect(&[1])?;
+                w.scene.options.light_stratify = on_off(a, 0)?;
+            }
+            "nexteventestimation" => {
+                a.expect(&[1])?;
+                const MODES: [NextEvent; 3] = [NextEvent::On, NextEvent::Off, NextEvent::Mis];
+                w.scene.options.next_event = MODES[a.keyword(0, &["on", "off", "mis"])?.min(2)];
+            }
+            "russianroulette" => {
+                a.expect(&[1])?;
+                w.russian_roulette = Some(on_off(a, 0)?);
+            }
+            "importancesampling" => {
+                a.expect(&[1])?;
+                const MODES: [ImportanceSampling; 3] = [ImportanceSampling::Hemisphere, ImportanceSampling::Cosine, ImportanceSampling::Brdf];
+                w.scene.options.importance_sampling = MODES[a.keyword(0, &["hemisphere", "cosine", "brdf"])?.min(2)];
+            }
+            "gamma" => {
+                a.expect(&[1])?;
+                w.scene.options.gamma = a.f32_in(0, |g| g > 0.0, "> 0")?;
+            }
+            "environment" => {
+                a.expect(&[1, 3])?;
+                w.scene.environment = if a.len() == 3 {
+                    Environment::Constant(a.color(0)?)
+                } else if a.text(0)?.parse::<f64>().is_ok() {
+                    let grey = a.f32_in(0, |v| v >= 0.0, ">= 0")?;
+                    Environment::Constant(Vec3::splat(grey))
+                } else if !self.file_access {
+                    return a.fail_at(0, "reading files is disabled in this session");
+                } else {
+                    let path = resolve(at.file, a.text(0)?);
+                    match EnvironmentMap::load(&path) {
+                        Ok(map) => Environment::Map(map),
+                        Err(e) => return a.fail_at(0, e),
+                    }
+                };
+            }
+            "maxverts" | "maxvertnorms" => {
+                a.expect(&[1])?;
+                let count = a.int_in(0, 1, i64::MAX)?;
+                let reserve = usize::try_from(count).unwrap_or(usize::MAX).min(RESERVE_CAP);
+                if a.name == "maxverts" {
+                    w.settings.max_verts = Some(count as u64);
+                    w.vertices.reserve(reserve.saturating_sub(w.vertices.len()));
+                } else {
+                    w.settings.max_vert_norms = Some(count as u64);
+                    w.normal_vertices.reserve(reserve.saturating_sub(w.normal_vertices.len()));
+                }
+            }
+            _ => return Ok(false),
+        }
+        Ok(true)
+    }
+}
+

@@ -1,0 +1,188 @@
+//! The interpreter's state: the scene being built, vertex lists, the transform stack, the
+//! current material and attenuation, the settings `Scene` has no field for, and the frames of
+//! the files being sourced. `reset` replaces the whole [`World`].
+
+use super::args::{Args, Res};
+use super::materials::{default_material, material_key, model_name, MATERIAL_KEY_LEN};
+use super::options::default_options;
+use crate::{Attenuation, Material, Scene};
+use glam::{DMat3, DMat4, Vec3};
+use std::collections::HashMap;
+use std::path::PathBuf;
+
+/// Settings of the extended dialect that [`Scene`] has no field for yet. They are parsed,
+/// checked and kept here so a renderer (or the shell) can use them.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LanguageSettings {
+    /// `supersample n`: n x n jittered sub-pixels (default 1).
+    pub supersample: u32,
+    /// `resample n`: samples per sub-pixel (default 1).
+    pub resample: u32,
+    /// `preview NAME`: JPEG preview written next to an HDR image.
+    pub preview: Option<PathBuf>,
+    /// `dof size`: lens size for depth of field (default 0 = pinhole).
+    pub dof: f32,
+    /// `glosssamples n` (default 1).
+    pub gloss_samples: u32,
+    /// `frostsamples n` (default 1).
+    pub frost_samples: u32,
+    /// `lightspread f`: point light radius / directional light spread (default 0).
+    pub light_spread: f32,
+    /// `maxverts n`, if given.
+    pub max_verts: Option<u64>,
+    /// `maxvertnorms n`, if given.
+    pub max_vert_norms: Option<u64>,
+}
+
+impl Default for LanguageSettings {
+    fn default() -> Self {
+        LanguageSettings {
+            supersample: 1,
+            resample: 1,
+            preview: None,
+            dof: 0.0,
+            gloss_samples: 1,
+            frost_samples: 1,
+            light_spread: 0.0,
+            max_verts: None,
+            max_vert_norms: None,
+        }
+    }
+}
+
+/// Where a `pushTransform` (or `attenuation`) was, for end-of-input warnings.
+#[derive(Clone, Debug)]
+pub(super) struct Site {
+    pub(super) file: PathBuf,
+    pub(super) line: usize,
+    pub(super) column: usize,
+    pub(super) warned: bool,
+}
+
+/// The mesh triangles are being added to.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct OpenMesh {
+    pub(super) mesh: usize,
+    pub(super) material: u32,
+    pub(super) normals: bool,
+}
+
+/// A file being executed: its canonical path (for cycle detection), the name it was given,
+/// and its frame pointers (vertex counts when it started).
+#[derive(Clone, Debug)]
+pub(super) struct Frame {
+    pub(super) canonical: PathBuf,
+    pub(super) shown: PathBuf,
+    pub(super) vertex_base: usize,
+    pub(super) normal_base: usize,
+}
+
+/// Everything `reset` clears.
+#[derive(Clone, Debug)]
+pub(super) struct World {
+    pub(super) scene: Scene,
+    pub(super) russian_roulette: Option<bool>,
+    pub(super) settings: LanguageSettings,
+    pub(super) vertices: Vec<Vec3>,
+    pub(super) normal_vertices: Vec<[Vec3; 2]>,
+    pub(super) current: DMat4,
+    pub(super) saved: Vec<DMat4>,
+    pub(super) push_sites: Vec<Site>,
+    pub(super) material: Material,
+    pub(super) material_index: Option<u32>,
+    pub(super) interned: HashMap<[u32; MATERIAL_KEY_LEN], u32>,
+    pub(super) attenuation: Attenuation,
+    pub(super) unused_attenuation: Option<Site>,
+    pub(super) open: Option<OpenMesh>,
+    pub(super) remap: Vec<(u32, u32)>,
+    pub(super) remap_normals: Vec<(u32, u32)>,
+    pub(super) generation: u32,
+    pub(super) normal_matrix: (u32, DMat3),
+    pub(super) triangles: usize,
+    pub(super) warned_max_verts: bool,
+    pub(super) warned_max_vert_norms: bool,
+    pub(super) warned_weights: bool,
+}
+
+impl World {
+    pub(super) fn new(name: String) -> World {
+        World {
+            scene: Scene { name, resolution: (640, 480), options: default_options(), ..Scene::default() },
+            russian_roulette: None,
+            settings: LanguageSettings::default(),
+            vertices: Vec::new(),
+            normal_vertices: Vec::new(),
+            current: DMat4::IDENTITY,
+            saved: Vec::new(),
+            push_sites: Vec::new(),
+            material: default_material(),
+            material_index: None,
+            interned: HashMap::new(),
+            attenuation: Attenuation::default(),
+            unused_attenuation: None,
+            open: None,
+            remap: Vec::new(),
+            remap_normals: Vec::new(),
+            generation: 1,
+            normal_matrix: (0, DMat3::IDENTITY),
+            triangles: 0,
+            warned_max_verts: false,
+            warned_max_vert_norms: false,
+            warned_weights: false,
+        }
+    }
+
+    /// Invalidates the vertex sharing of the open mesh (the transform or the mesh changed).
+    pub(super) fn bump_generation(&mut self) {
+        self.generation = self.generation.wrapping_add(1);
+        if self.generation == 0 {
+            self.remap.iter_mut().chain(self.remap_normals.iter_mut()).for_each(|e| *e = (0, 0));
+            self.generation = 1;
+        }
+    }
+
+    /// Inverse transpose of the current transform's linear part, cached per generation.
+    pub(super) fn normal_matrix(&mut self) -> DMat3 {
+        if self.normal_matrix.0 != self.generation {
+            self.normal_matrix = (self.generation, DMat3::from_mat4(self.current).inverse().transpose());
+        }
+        self.normal_matrix.1
+    }
+
+    /// Index of the current material in the scene, registering it on first use.
+    pub(super) fn material_index(&mut self) -> u32 {
+        if let Some(index) = self.material_index {
+            return index;
+        }
+        let next = self.scene.materials.len() as u32;
+        let index = *self.interned.entry(material_key(&self.material)).or_insert(next);
+        if index == next {
+            let mut material = self.material.clone();
+            material.name = format!("{} {index}", model_name(material.model));
+            self.scene.materials.push(material);
+        }
+        self.material_index = Some(index);
+        index
+    }
+
+    pub(super) fn set_material(&mut self, change: impl FnOnce(&mut Material)) {
+        change(&mut self.material);
+        self.material_index = None;
+    }
+
+    /// Sets `supersample` and `resample` and `spp` = supersample^2 x resample, unless that
+    /// overflows (then nothing changes).
+    pub(super) fn set_sampling(&mut self, a: &Args, supersample: u32, resample: u32) -> Res<()> {
+        let s = u64::from(supersample);
+        let spp = (s * s).saturating_mul(u64::from(resample));
+        match u32::try_from(spp) {
+            Ok(spp) => {
+                self.scene.options.spp = Some(spp);
+                self.settings.supersample = supersample;
+                self.settings.resample = resample;
+                Ok(())
+            }
+            Err(_) => a.fail_at(0, format!("supersample^2 x resample = {spp} samples per pixel is too many")),
+        }
+    }
+}
