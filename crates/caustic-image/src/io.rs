@@ -110,7 +110,17 @@ impl Image {
     pub fn save(&self, path: &Path, options: &SaveOptions) -> Result<(), ImageError> {
         let format = output_format(path)?;
         self.check_consistent()?;
-        write_atomically(path, |writer| self.encode(format, options, writer))
+        write_atomically(path, |writer| self.encode(format, || self.srgb8_buffer(options), writer))
+    }
+
+    /// Writes the image like [`Image::save`], but LDR formats get the classic ray tracers'
+    /// encoding (CSE167/CSE168, the scene language's `gamma`): each channel clamped to
+    /// [0, 1], raised to 1 / `gamma` and rounded to 8 bits, with no tone map and no sRGB
+    /// curve. Non-finite pixels are written black. `.exr` and `.hdr` stay linear.
+    pub fn save_gamma(&self, path: &Path, gamma: f32) -> Result<(), ImageError> {
+        let format = output_format(path)?;
+        self.check_consistent()?;
+        write_atomically(path, |writer| self.encode(format, || self.gamma8_buffer(gamma), writer))
     }
 
     /// Fails if `pixels` does not hold exactly `width * height` values.
@@ -126,11 +136,12 @@ impl Image {
         Ok(())
     }
 
-    /// Encodes the (consistent) image in `format` into `writer`.
+    /// Encodes the (consistent) image in `format` into `writer`; `ldr` gives the 8-bit
+    /// values of the LDR formats.
     fn encode(
         &self,
         format: Format,
-        options: &SaveOptions,
+        ldr: impl FnOnce() -> RgbImage,
         writer: &mut BufWriter<File>,
     ) -> image::ImageResult<()> {
         match format {
@@ -141,15 +152,9 @@ impl Image {
                 .rgbe_safe()
                 .linear_buffer()
                 .write_with_encoder(HdrEncoder::new(writer)),
-            Format::Png => self
-                .srgb8_buffer(options)
-                .write_with_encoder(PngEncoder::new(writer)),
-            Format::Bmp => self
-                .srgb8_buffer(options)
-                .write_with_encoder(BmpEncoder::new(writer)),
-            Format::Jpeg => self
-                .srgb8_buffer(options)
-                .write_with_encoder(JpegEncoder::new_with_quality(writer, JPEG_QUALITY)),
+            Format::Png => ldr().write_with_encoder(PngEncoder::new(writer)),
+            Format::Bmp => ldr().write_with_encoder(BmpEncoder::new(writer)),
+            Format::Jpeg => ldr().write_with_encoder(JpegEncoder::new_with_quality(writer, JPEG_QUALITY)),
         }
     }
 
@@ -163,6 +168,18 @@ impl Image {
     fn srgb8_buffer(&self, options: &SaveOptions) -> RgbImage {
         let rgba = to_srgb8(self, options);
         let data = rgba.iter().flat_map(|&[r, g, b, _]| [r, g, b]).collect();
+        ImageBuffer::from_raw(self.width, self.height, data).expect("checked pixel count")
+    }
+
+    /// The pixels clamped to [0, 1], raised to 1 / `gamma`, as an 8-bit RGB buffer.
+    fn gamma8_buffer(&self, gamma: f32) -> RgbImage {
+        let exponent = 1.0 / f64::from(gamma);
+        let encode = |c: f32| (f64::from(c).clamp(0.0, 1.0).powf(exponent) * 255.0).round() as u8;
+        let data = self
+            .pixels
+            .iter()
+            .flat_map(|p| if p.iter().all(|c| c.is_finite()) { p.map(encode) } else { [0; 3] })
+            .collect();
         ImageBuffer::from_raw(self.width, self.height, data).expect("checked pixel count")
     }
 

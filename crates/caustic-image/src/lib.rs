@@ -5,7 +5,8 @@
 //! losslessly to EXR/HDR, or through exposure, a [`ToneMap`] and the sRGB
 //! curve to 8-bit PNG/BMP/JPEG ([`to_srgb8`]). Every save is atomic. The
 //! [`metrics`] module compares renders against references. The crate holds
-//! no GPU types, so every consumer can depend on it.
+//! no GPU types, so every consumer can depend on it. Post-process effects
+//! (`Image::monochrome`, `Image::gaussian_blur`) work on the linear image.
 
 mod display;
 mod error;
@@ -13,6 +14,7 @@ mod film;
 mod io;
 pub mod metrics;
 mod partial;
+mod postprocess;
 mod tonemap;
 
 pub use display::{SaveOptions, linear_to_srgb, srgb_to_linear, to_srgb8};

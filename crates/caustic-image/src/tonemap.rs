@@ -26,7 +26,7 @@ pub enum ToneMap {
 }
 
 /// Rec. 709 / sRGB luminance weights of linear R, G, B.
-const LUMINANCE: [f64; 3] = [0.2126, 0.7152, 0.0722];
+pub(crate) const LUMINANCE: [f64; 3] = [0.2126, 0.7152, 0.0722];
 
 impl ToneMap {
     /// All operators, in the order they are listed to users.

@@ -291,3 +291,22 @@ fn loading_a_missing_or_corrupt_file_names_it() {
 fn bare_file_names_save_into_the_current_folder() {
     assert!(check_output_path(Path::new("render.png")).is_ok());
 }
+
+#[test]
+fn gamma_saves_clamp_and_raise_to_one_over_gamma_without_srgb() {
+    let scratch = Scratch::new("gamma");
+    let image = Image { width: 4, height: 1, pixels: vec![[0.5, 0.25, 0.0], [2.0, -1.0, 1.0], [f32::NAN, 0.5, 0.5], [0.01, 0.1, 0.9]] };
+    for (name, gamma) in [("g.bmp", 1.0f32), ("g.png", 2.2)] {
+        let path = scratch.path(name);
+        image.save_gamma(&path, gamma).unwrap();
+        let decoded = image::open(&path).unwrap().into_rgb8();
+        let expected = |c: f32| (f64::from(c).clamp(0.0, 1.0).powf(1.0 / f64::from(gamma)) * 255.0).round() as u8;
+        for (x, pixel) in image.pixels.iter().enumerate() {
+            let want = if pixel.iter().all(|c| c.is_finite()) { pixel.map(expected) } else { [0; 3] };
+            assert_eq!(decoded.get_pixel(x as u32, 0).0, want, "{name} pixel {x}");
+        }
+    }
+    let exr = scratch.path("g.exr");
+    image.save_gamma(&exr, 2.2).unwrap();
+    assert_eq!(Image::load(&exr).unwrap().pixels[3], image.pixels[3], "EXR stays linear");
+}
