@@ -138,7 +138,7 @@ fn bad_input_fails_clearly_without_output() {
 
 #[test]
 fn bench_reports_throughput() {
-    let report = support::caustic_json(&["bench", "--rays", "128", "--repeats", "1", "--json"]);
+    let report = support::caustic_json(&["bench", "--grid", "128", "--repeats", "1", "--json"]);
     let mesh = &report["meshes"][0];
     println!("bench: {mesh}");
     assert_eq!(mesh["triangles"], 32);

@@ -251,9 +251,17 @@ pub struct MergeArgs {
 pub struct BenchArgs {
     /// Meshes (.obj, .ply, .gltf) or built-in scene names; default: the Cornell box.
     pub meshes: Vec<String>,
-    /// Rays per side of the square ray set (1024 = 1,048,576 rays).
-    #[arg(long, default_value_t = 1024)]
-    pub rays: u32,
+    /// Rays per side of the generated square ray sets (1024 = 1,048,576 rays).
+    #[arg(long, default_value_t = 1024, value_name = "N")]
+    pub grid: u32,
+    /// Trace this ray file instead of generated sets: little-endian f32 records
+    /// `ox oy oz dx dy dz` (24 bytes each), closest hit with t in (0, inf).
+    #[arg(long, value_name = "FILE")]
+    pub rays: Option<PathBuf>,
+    /// With --rays: write the hits, little-endian: n f32 distances (inf on a miss), then n
+    /// i32 triangle indices in the mesh's face order (-1 on a miss).
+    #[arg(long, value_name = "FILE", requires = "rays")]
+    pub hits: Option<PathBuf>,
     /// Timed repeats per ray set; the best is reported.
     #[arg(long, default_value_t = 5)]
     pub repeats: u32,

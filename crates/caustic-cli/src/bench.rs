@@ -1,7 +1,8 @@
 //! `caustic bench`: BVH build time and closest-hit ray throughput per mesh.
 
 use crate::args::BenchArgs;
-use caustic_gpu::{BenchResult, GpuContext, GpuScene, RayBench, RayKind};
+use crate::ray_file::{read_rays, write_hits};
+use caustic_gpu::{BenchResult, ExternalRay, GpuContext, GpuScene, RayBench, RayKind};
 use caustic_scene::{SceneSource, load_scene};
 use serde::Serialize;
 use std::time::Instant;
@@ -25,26 +26,60 @@ struct MeshReport {
     incoherent_hit_fraction: f64,
 }
 
+/// One mesh's figures on an external ray set.
 #[derive(Debug, Serialize)]
-struct BenchReport {
+struct RaySetReport {
+    mesh: String,
+    triangles: usize,
+    load_ms: f64,
+    bvh_build_ms: f64,
+    bvh_sah_cost: f32,
+    ray_file: String,
+    rays: u64,
+    mrays_per_second: f64,
+    nodes_per_ray: f64,
+    hit_fraction: f64,
+    hits: Option<String>,
+}
+
+#[derive(Debug, Serialize)]
+struct BenchReport<T> {
     adapter: String,
     adapter_type: String,
-    meshes: Vec<MeshReport>,
+    meshes: Vec<T>,
 }
 
 /// Runs `caustic bench`.
 pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
-    if args.rays == 0 || args.rays > 4096 {
-        anyhow::bail!("--rays {}: the ray set is --rays squared; use 1..=4096", args.rays);
+    if args.grid == 0 || args.grid > 4096 {
+        anyhow::bail!("--grid {}: the generated ray sets are --grid squared; use 1..=4096", args.grid);
     }
+    let names = if args.meshes.is_empty() { vec!["cornell".to_string()] } else { args.meshes.clone() };
+    if args.hits.is_some() && names.len() != 1 {
+        anyhow::bail!("--hits takes one mesh, not {}", names.len());
+    }
+    let external = args.rays.as_deref().map(read_rays).transpose()?;
     let ctx = GpuContext::new(args.device.adapter.as_deref())?;
     eprintln!("adapter: {}", ctx.adapter);
-    let names = if args.meshes.is_empty() { vec!["cornell".to_string()] } else { args.meshes.clone() };
+    match &external {
+        None => report(&ctx, args, &names, |name| bench_mesh(&ctx, name, args), print_row),
+        Some(rays) => report(&ctx, args, &names, |name| bench_ray_set(&ctx, name, rays, args), print_ray_set_row),
+    }
+}
+
+/// Benchmarks each mesh, printing a table row each or one JSON object at the end.
+fn report<T: Serialize>(
+    ctx: &GpuContext,
+    args: &BenchArgs,
+    names: &[String],
+    bench: impl Fn(&str) -> anyhow::Result<T>,
+    print: fn(&T, bool),
+) -> anyhow::Result<()> {
     let mut meshes = Vec::new();
-    for name in &names {
-        let report = bench_mesh(&ctx, name, args)?;
+    for name in names {
+        let report = bench(name)?;
         if !args.device.json {
-            print_row(&report, meshes.is_empty());
+            print(&report, meshes.is_empty());
         }
         meshes.push(report);
     }
@@ -55,12 +90,53 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// Traces an external ray set through one mesh, and writes its hits when asked.
+fn bench_ray_set(ctx: &GpuContext, name: &str, rays: &[ExternalRay], args: &BenchArgs) -> anyhow::Result<RaySetReport> {
+    let start = Instant::now();
+    let scene = load_scene(&SceneSource::parse(name))?;
+    let load_ms = start.elapsed().as_secs_f64() * 1e3;
+    let gpu_scene = GpuScene::upload(ctx, &scene)?;
+    let bench = RayBench::with_rays(ctx, &gpu_scene, rays)?;
+    let result = bench.run(RayKind::External, args.repeats)?;
+    if let Some(path) = &args.hits {
+        write_hits(path, &bench.traced_rays()?)?;
+    }
+    Ok(RaySetReport {
+        mesh: name.to_string(),
+        triangles: gpu_scene.triangle_count,
+        load_ms,
+        bvh_build_ms: gpu_scene.bvh_stats.build_ms,
+        bvh_sah_cost: gpu_scene.bvh_stats.sah_cost,
+        ray_file: args.rays.as_deref().map(|p| p.display().to_string()).unwrap_or_default(),
+        rays: result.rays,
+        mrays_per_second: result.mrays_per_second,
+        nodes_per_ray: result.mean_nodes_visited,
+        hit_fraction: result.hit_fraction,
+        hits: args.hits.as_deref().map(|p| p.display().to_string()),
+    })
+}
+
+fn print_ray_set_row(r: &RaySetReport, header: bool) {
+    if header {
+        println!("{:<40} {:>10} {:>10} {:>10} {:>12} {:>12}", "mesh", "triangles", "build ms", "rays", "Mrays/s", "hit");
+    }
+    println!(
+        "{:<40} {:>10} {:>10.1} {:>10} {:>12.2} {:>11.1}%",
+        r.mesh,
+        r.triangles,
+        r.bvh_build_ms,
+        r.rays,
+        r.mrays_per_second,
+        r.hit_fraction * 100.0
+    );
+}
+
 fn bench_mesh(ctx: &GpuContext, name: &str, args: &BenchArgs) -> anyhow::Result<MeshReport> {
     let start = Instant::now();
     let scene = load_scene(&SceneSource::parse(name))?;
     let load_ms = start.elapsed().as_secs_f64() * 1e3;
     let gpu_scene = GpuScene::upload(ctx, &scene)?;
-    let bench = RayBench::new(ctx, &gpu_scene, &scene.camera, args.rays)?;
+    let bench = RayBench::new(ctx, &gpu_scene, &scene.camera, args.grid)?;
     let primary: BenchResult = bench.run(RayKind::Primary, args.repeats)?;
     let incoherent: BenchResult = bench.run(RayKind::Incoherent, args.repeats)?;
     let stats = &gpu_scene.bvh_stats;

@@ -5,6 +5,7 @@ mod args;
 mod bench;
 mod fingerprint;
 mod merge;
+mod ray_file;
 mod render;
 mod tasks;
 mod view;

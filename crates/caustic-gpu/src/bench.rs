@@ -16,6 +16,17 @@ pub enum RayKind {
     /// A cosine-distributed bounce off each primary hit (misses start at random points inside
     /// the scene bounds in random directions): incoherent.
     Incoherent,
+    /// The rays given to [`RayBench::with_rays`], traced as they are.
+    External,
+}
+
+/// A ray given from outside, e.g. read from a ray file shared with another tracer.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ExternalRay {
+    /// Ray origin.
+    pub origin: glam::Vec3,
+    /// Ray direction (any length; hit distances are in units of it).
+    pub direction: glam::Vec3,
 }
 
 /// One measured ray set.
@@ -56,7 +67,11 @@ struct BenchParams {
 const RAY_BYTES: u64 = 32;
 const RESULT_BYTES: u64 = 16;
 
-/// Kernels and buffers for `size x size` rays from `camera` against one uploaded scene.
+/// Largest workgroup count of one dispatch dimension (WebGPU's default limit).
+const MAX_GROUPS_PER_DIMENSION: u32 = 65_535;
+
+/// Kernels and buffers for a ray set (generated from a camera, or given) against one
+/// uploaded scene.
 pub struct RayBench<'a> {
     ctx: &'a GpuContext,
     generate_primary: wgpu::ComputePipeline,
@@ -82,9 +97,9 @@ pub struct TracedRay {
 }
 
 impl<'a> RayBench<'a> {
-    /// Compiles the kernels and allocates ray and result buffers.
+    /// Compiles the kernels and allocates buffers for `size x size` rays through `camera`
+    /// (the [`RayKind::Primary`] and [`RayKind::Incoherent`] sets).
     pub fn new(ctx: &'a GpuContext, gpu: &GpuScene, camera: &Camera, size: u32) -> Result<Self, GpuError> {
-        let ray_count = size * size;
         let (right, up, forward) = camera.frame();
         let half = (camera.fov_y * 0.5).tan();
         let params = BenchParams {
@@ -93,14 +108,33 @@ impl<'a> RayBench<'a> {
             right: (right * half).to_array(),
             height: size,
             up: (up * half).to_array(),
-            seed: 7,
             forward: forward.to_array(),
-            bounds_min: gpu.bounds.0.to_array(),
-            bounds_max: gpu.bounds.1.to_array(),
-            first_plane: gpu.first_plane,
-            shape_count: gpu.shape_count,
-            ..Default::default()
+            ..scene_params(gpu)
         };
+        Self::with_params(ctx, gpu, params, None)
+    }
+
+    /// Compiles the kernels and uploads `rays` to be traced as they are
+    /// ([`RayKind::External`]). Errors when the set exceeds the device's storage binding.
+    pub fn with_rays(ctx: &'a GpuContext, gpu: &GpuScene, rays: &[ExternalRay]) -> Result<Self, GpuError> {
+        let count = u32::try_from(rays.len())
+            .map_err(|_| GpuError::Scene(format!("{} rays: a ray set holds at most {} rays", rays.len(), u32::MAX)))?;
+        let packed: Vec<[f32; 8]> = rays
+            .iter()
+            .map(|r| [r.origin.x, r.origin.y, r.origin.z, f32::INFINITY, r.direction.x, r.direction.y, r.direction.z, 0.0])
+            .collect();
+        let params = BenchParams { width: count, height: 1, ..scene_params(gpu) };
+        Self::with_params(ctx, gpu, params, Some(bytemuck::cast_slice(&packed)))
+    }
+
+    fn with_params(ctx: &'a GpuContext, gpu: &GpuScene, params: BenchParams, rays: Option<&[u8]>) -> Result<Self, GpuError> {
+        let ray_count = params.width * params.height;
+        for (what, bytes) in [("bench rays", RAY_BYTES), ("bench results", RESULT_BYTES)] {
+            let needed = u64::from(ray_count) * bytes;
+            if needed > ctx.max_storage_binding() {
+                return Err(GpuError::Limit { what: what.into(), need: needed, limit: ctx.max_storage_binding() });
+            }
+        }
         let device = &ctx.device;
         let params = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("bench params"),
@@ -111,12 +145,15 @@ impl<'a> RayBench<'a> {
             device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
                 size: bytes,
-                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             })
         };
-        let rays = storage("bench rays", u64::from(ray_count) * RAY_BYTES);
-        let results = storage("bench results", u64::from(ray_count) * RESULT_BYTES);
+        let rays_buffer = storage("bench rays", (u64::from(ray_count) * RAY_BYTES).max(RAY_BYTES));
+        if let Some(bytes) = rays {
+            ctx.queue.write_buffer(&rays_buffer, 0, bytes);
+        }
+        let results = storage("bench results", (u64::from(ray_count) * RESULT_BYTES).max(RESULT_BYTES));
         let module = Program::RayBench.module(device);
         let layout = bind_group_layout(device);
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -141,7 +178,7 @@ impl<'a> RayBench<'a> {
                 wgpu::BindGroupEntry { binding: 0, resource: params.as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 1, resource: gpu.nodes.as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 2, resource: gpu.triangles.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 3, resource: rays.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 3, resource: rays_buffer.as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 4, resource: results.as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 9, resource: gpu.shapes.as_entire_binding() },
             ],
@@ -152,7 +189,7 @@ impl<'a> RayBench<'a> {
             generate_incoherent: pipeline("generate_incoherent"),
             trace_rays: pipeline("trace_rays"),
             bind_group,
-            rays,
+            rays: rays_buffer,
             results,
             ray_count,
         };
@@ -162,7 +199,9 @@ impl<'a> RayBench<'a> {
 
     /// Generates the rays of `kind`, then traces them `repeats` times and keeps the best time.
     pub fn run(&self, kind: RayKind, repeats: u32) -> Result<BenchResult, GpuError> {
-        self.dispatch(&self.generate_primary)?;
+        if kind != RayKind::External {
+            self.dispatch(&self.generate_primary)?;
+        }
         if kind == RayKind::Incoherent {
             self.dispatch(&self.trace_rays)?;
             self.dispatch(&self.generate_incoherent)?;
@@ -209,10 +248,24 @@ impl<'a> RayBench<'a> {
             let mut pass = encoder.begin_compute_pass(&Default::default());
             pass.set_pipeline(pipeline);
             pass.set_bind_group(0, &self.bind_group, &[]);
-            pass.dispatch_workgroups(self.ray_count.div_ceil(64), 1, 1);
+            let groups = self.ray_count.div_ceil(64).max(1);
+            let rows = groups.div_ceil(MAX_GROUPS_PER_DIMENSION);
+            pass.dispatch_workgroups(groups.div_ceil(rows), rows, 1);
         }
         self.ctx.queue.submit([encoder.finish()]);
         self.ctx.wait()
+    }
+}
+
+/// The scene-dependent part of the kernels' parameters.
+fn scene_params(gpu: &GpuScene) -> BenchParams {
+    BenchParams {
+        seed: 7,
+        bounds_min: gpu.bounds.0.to_array(),
+        bounds_max: gpu.bounds.1.to_array(),
+        first_plane: gpu.first_plane,
+        shape_count: gpu.shape_count,
+        ..Default::default()
     }
 }
 

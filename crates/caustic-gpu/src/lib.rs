@@ -16,7 +16,7 @@ mod scene_buffers;
 mod scene_data;
 pub mod shaders;
 
-pub use bench::{BenchResult, RayBench, RayKind, TracedRay};
+pub use bench::{BenchResult, ExternalRay, RayBench, RayKind, TracedRay};
 pub use context::{AdapterSummary, GpuContext};
 pub use error::GpuError;
 pub use path_tracer::{DebugView, PassOutcome, PathTracer, RenderSettings};
