@@ -33,7 +33,9 @@ struct Frame {
     triangle_count: u32,
     // Which debug view `render_debug` shows (integrator/debug.wgsl); 0 = none.
     debug_view: u32,
-    _pad0: u32,
+    // The pixel (row-major index) whose path the inspector records (integrator/inspect.wgsl);
+    // 0xffffffff = none.
+    inspect_pixel: u32,
     _pad1: u32,
 }
 
@@ -125,6 +127,46 @@ const LIGHT_DIRECTIONAL: u32 = 3u;
 struct AccumTexel {
     sum: vec4<f32>,
     compensation: vec4<f32>,
+}
+
+// One ray of an inspected path (integrator/inspect.wgsl): the ray, its hit (primitive id as
+// in Hit, NO_HIT if it escaped), the surface there, the BSDF and light samples drawn at it,
+// and the path's throughput and radiance before it. `flags`: INSPECT_* bits.
+struct InspectBounce {
+    origin: vec3<f32>,
+    primitive: u32,
+    direction: vec3<f32>,
+    t: f32,
+    point: vec3<f32>,
+    material: u32,
+    shading_normal: vec3<f32>,
+    flags: u32,
+    geometric_normal: vec3<f32>,
+    bsdf_pdf: f32,
+    bsdf_wi: vec3<f32>,
+    light_index: u32,
+    bsdf_weight: vec3<f32>,
+    light_pdf: f32,
+    light_wi: vec3<f32>,
+    light_mis_weight: f32,
+    light_contribution: vec3<f32>,
+    _pad0: u32,
+    throughput: vec3<f32>,
+    _pad1: u32,
+    radiance: vec3<f32>,
+    _pad2: u32,
+}
+
+// The inspector's record of one path: the first 64 of its `bounce_count` rays, why it ended
+// (END_*) and the sample's radiance.
+struct InspectRecord {
+    pixel: u32,
+    sample: u32,
+    bounce_count: u32,
+    termination: u32,
+    radiance: vec3<f32>,
+    _pad0: u32,
+    bounces: array<InspectBounce, 64>,
 }
 
 const PI: f32 = 3.14159265358979;

@@ -12,18 +12,20 @@ fn next_event(si: SurfaceInteraction, local: Frame3, rng: ptr<function, Rng>) ->
         return vec3<f32>(0.0);
     }
     let ls = sample_light(si.p, u_select, u_point);
+    inspect_light(u_select, ls);
     let cos_surface = dot(ls.wi, si.ns);
     if ls.pdf <= 0.0 || cos_surface <= 0.0 || dot(ls.wi, si.ng) <= 0.0 {
         return vec3<f32>(0.0);
     }
     let shadow = shadow_ray(si.p, spawn_ray(si, ls.wi).origin, ls.wi, ls.distance);
     if occluded(shadow.ray, shadow.t_max) {
+        inspect_light_occluded();
         return vec3<f32>(0.0);
     }
     let wi_local = vec3<f32>(dot(ls.wi, local.t), dot(ls.wi, local.b), cos_surface);
     let f = lambert_eval(si.material.base_color, wi_local);
     let weight = select(power_heuristic(ls.pdf, lambert_pdf(wi_local)), 1.0, ls.is_delta);
-    return f * ls.radiance * (weight / ls.pdf);
+    return inspect_light_result(weight, f * ls.radiance * (weight / ls.pdf));
 }
 
 fn trace_path(primary: Ray, rng: ptr<function, Rng>) -> vec3<f32> {
@@ -35,8 +37,10 @@ fn trace_path(primary: Ray, rng: ptr<function, Rng>) -> vec3<f32> {
     path_vertices = 0u;
     for (var bounce = 0u; ; bounce++) {
         let hit = closest_hit(ray, 3.0e38);
+        inspect_ray(bounce, ray, hit, throughput, radiance);
         if hit.triangle == NO_HIT {
             radiance += throughput * environment_radiance(ray.direction);
+            inspect_end(END_ESCAPED, radiance);
             break;
         }
         path_vertices = bounce + 1u;
@@ -51,13 +55,16 @@ fn trace_path(primary: Ray, rng: ptr<function, Rng>) -> vec3<f32> {
             radiance += throughput * si.material.emission * weight;
         }
         if bounce >= max_bounces {
+            inspect_end(END_MAX_DEPTH, radiance);
             break;
         }
         let local = frame_from_normal(si.ns);
         radiance += throughput * next_event(si, local, rng);
         let bs = lambert_sample(si.material.base_color, next_2d(rng));
         let wi = frame_to_world(local, bs.wi);
+        inspect_bsdf(wi, bs.pdf, bs.weight);
         if bs.pdf <= 0.0 || dot(wi, si.ng) <= 0.0 {
+            inspect_end(END_ABSORBED, radiance);
             break;
         }
         throughput *= bs.weight;
@@ -65,6 +72,7 @@ fn trace_path(primary: Ray, rng: ptr<function, Rng>) -> vec3<f32> {
         if bounce + 1u >= frame.rr_start {
             let survive = min(max(throughput.x, max(throughput.y, throughput.z)), 0.95);
             if next_f32(rng) >= survive {
+                inspect_end(END_ROULETTE, radiance);
                 break;
             }
             throughput /= survive;
@@ -80,6 +88,7 @@ fn render_sample(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let pixel = begin_pixel(id.x);
+    inspect_begin(pixel);
     var rng = rng_for_sample(pixel, frame.sample_index, frame.seed);
     let ray = pixel_ray(pixel, &rng);
     record_sample(pixel, trace_path(ray, &rng));

@@ -48,9 +48,14 @@ pub struct Frame {
     pub triangle_count: u32,
     /// Debug view shown by `render_debug` ([`crate::DebugView`] as a number; 0 = none).
     pub debug_view: u32,
+    /// The pixel (row-major index) whose path the inspector records; [`NO_PIXEL`] = none.
+    pub inspect_pixel: u32,
     /// Padding to 16 bytes.
-    pub _pad: [u32; 2],
+    pub _pad: u32,
 }
+
+/// [`Frame::inspect_pixel`] when no pixel is inspected.
+pub const NO_PIXEL: u32 = u32::MAX;
 
 /// Shading attributes of one triangle, by scene triangle index (`TriangleShading` in WGSL).
 #[repr(C)]
@@ -129,4 +134,81 @@ pub struct AccumTexel {
     pub sum: [f32; 4],
     /// Kahan compensation term.
     pub compensation: [f32; 4],
+}
+
+/// Bounces an [`InspectRecord`] holds (`INSPECT_MAX_BOUNCES` in WGSL); longer paths keep
+/// their first ones.
+pub const INSPECT_MAX_BOUNCES: usize = 64;
+
+/// One ray of an inspected path (`InspectBounce` in WGSL); decoded by
+/// [`crate::inspector::PathRecord`].
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct InspectBounce {
+    /// Ray origin.
+    pub origin: [f32; 3],
+    /// Hit primitive: scene triangle index, or shape index with the top bit set; `u32::MAX`
+    /// if the ray escaped.
+    pub primitive: u32,
+    /// Unit ray direction.
+    pub direction: [f32; 3],
+    /// Hit distance along the ray.
+    pub t: f32,
+    /// Hit point.
+    pub point: [f32; 3],
+    /// Material index of the hit (`u32::MAX` if none).
+    pub material: u32,
+    /// Shading normal, facing the incoming ray's side.
+    pub shading_normal: [f32; 3],
+    /// `INSPECT_*` bits of `shaders/integrator/inspect.wgsl`.
+    pub flags: u32,
+    /// Geometric normal, facing the incoming ray's side.
+    pub geometric_normal: [f32; 3],
+    /// Solid-angle density of the BSDF sample.
+    pub bsdf_pdf: f32,
+    /// BSDF-sampled direction (world space).
+    pub bsdf_wi: [f32; 3],
+    /// Index of the light next-event estimation chose (`u32::MAX` if none).
+    pub light_index: u32,
+    /// BSDF sample weight f cos / pdf.
+    pub bsdf_weight: [f32; 3],
+    /// Density of the light sample (solid angle for area lights, selection for delta lights).
+    pub light_pdf: f32,
+    /// Direction to the light sample.
+    pub light_wi: [f32; 3],
+    /// MIS weight of the light sample.
+    pub light_mis_weight: f32,
+    /// The light sample's estimate f Li cos w / pdf, before the path throughput.
+    pub light_contribution: [f32; 3],
+    /// Padding.
+    pub _pad0: u32,
+    /// Path throughput arriving at this ray.
+    pub throughput: [f32; 3],
+    /// Padding.
+    pub _pad1: u32,
+    /// Radiance the path gathered before this ray.
+    pub radiance: [f32; 3],
+    /// Padding.
+    pub _pad2: u32,
+}
+
+/// The inspector's storage buffer (`InspectRecord` in WGSL): one path of one pixel.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct InspectRecord {
+    /// Inspected pixel (row-major index).
+    pub pixel: u32,
+    /// Global sample index of the path.
+    pub sample: u32,
+    /// Rays the path traced (the record holds the first [`INSPECT_MAX_BOUNCES`]).
+    pub bounce_count: u32,
+    /// Why the path ended: 1 escaped, 2 max depth, 3 Russian roulette, 4 absorbed; 0 if the
+    /// kernel did not record the pixel.
+    pub termination: u32,
+    /// The sample's radiance estimate.
+    pub radiance: [f32; 3],
+    /// Padding.
+    pub _pad0: u32,
+    /// The rays in order.
+    pub bounces: [InspectBounce; INSPECT_MAX_BOUNCES],
 }

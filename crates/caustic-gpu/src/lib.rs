@@ -10,6 +10,7 @@ mod bench;
 mod context;
 mod error;
 pub mod gpu_types;
+pub mod inspector;
 mod path_tracer;
 mod readback;
 mod scene_buffers;

@@ -1,6 +1,7 @@
 //! The accumulating path tracer: one bounded dispatch per tile and sample pass.
 
-use crate::gpu_types::{AccumTexel, Frame};
+use crate::gpu_types::{AccumTexel, Frame, InspectRecord, NO_PIXEL};
+use crate::inspector::PathRecord;
 use crate::readback::read_buffer;
 use crate::shaders::Program;
 use crate::{GpuContext, GpuError, GpuScene};
@@ -96,6 +97,7 @@ pub enum PassOutcome {
 const WORKGROUP_SIZE: u32 = 64;
 const MIN_TILE_PIXELS: u32 = 4096;
 const MAX_TILE_PIXELS: u32 = WORKGROUP_SIZE * 65535;
+const TEXEL_BYTES: u64 = std::mem::size_of::<AccumTexel>() as u64;
 
 /// A progressive render of one scene: call [`PathTracer::render_sample`] repeatedly, then read
 /// the per-pixel mean with [`PathTracer::image`].
@@ -109,6 +111,8 @@ pub struct PathTracer<'a> {
     frame_buffer: wgpu::Buffer,
     accumulation: wgpu::Buffer,
     nonfinite_counts: wgpu::Buffer,
+    /// The pixel inspector's record (`shaders/integrator/inspect.wgsl`).
+    inspection: wgpu::Buffer,
     frame: Frame,
     target_submit: Duration,
     tile_pixels: u32,
@@ -127,7 +131,7 @@ impl<'a> PathTracer<'a> {
         let frame_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("frame"),
             contents: bytemuck::bytes_of(&frame),
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
         });
         let layout = bind_group_layout(device);
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -144,7 +148,14 @@ impl<'a> PathTracer<'a> {
             compilation_options: Default::default(),
             cache: None,
         });
-        let bind_group = bind_group(device, &layout, &frame_buffer, gpu, &accumulation, &nonfinite_counts);
+        let inspection = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("inspection"),
+            size: std::mem::size_of::<InspectRecord>() as u64,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let film = Film { accumulation: &accumulation, nonfinite_counts: &nonfinite_counts, inspection: &inspection };
+        let bind_group = bind_group(device, &layout, &frame_buffer, gpu, &film);
         ctx.check()?;
         Ok(PathTracer {
             ctx,
@@ -155,6 +166,7 @@ impl<'a> PathTracer<'a> {
             frame_buffer,
             accumulation,
             nonfinite_counts,
+            inspection,
             frame,
             target_submit: settings.target_submit,
             tile_pixels: MIN_TILE_PIXELS,
@@ -184,7 +196,8 @@ impl<'a> PathTracer<'a> {
             (self.accumulation, self.nonfinite_counts) = accumulation_buffers(self.ctx, scene.resolution)?;
         }
         self.frame = frame_constants(scene, gpu, settings);
-        self.bind_group = bind_group(&self.ctx.device, &self.layout, &self.frame_buffer, gpu, &self.accumulation, &self.nonfinite_counts);
+        let film = Film { accumulation: &self.accumulation, nonfinite_counts: &self.nonfinite_counts, inspection: &self.inspection };
+        self.bind_group = bind_group(&self.ctx.device, &self.layout, &self.frame_buffer, gpu, &film);
         self.target_submit = settings.target_submit;
         self.first_sample = settings.first_sample;
         self.complete_passes = 0;
@@ -289,6 +302,54 @@ impl<'a> PathTracer<'a> {
         read_buffer(self.ctx, &self.nonfinite_counts)
     }
 
+    /// Traces sample `sample` (a global sample index) of pixel (`x`, `y`) once more with the
+    /// pixel inspector armed and returns its path: the kernel a render runs, with the same
+    /// random numbers, so the path is the one that sample of a render takes. The film is left
+    /// as it was. Only the path-tracing kernel (integrators `pathtracer` and `direct`, image
+    /// pass, no debug view) records paths.
+    pub fn inspect(&mut self, x: u32, y: u32, sample: u32) -> Result<PathRecord, GpuError> {
+        if self.entry_point != "render_sample" {
+            return Err(GpuError::Scene(format!("the pixel inspector records path-traced paths; this tracer runs {}", self.entry_point)));
+        }
+        if x >= self.frame.width || y >= self.frame.height {
+            return Err(GpuError::Scene(format!("pixel ({x}, {y}) is outside the {}x{} image", self.frame.width, self.frame.height)));
+        }
+        let pixel = y * self.frame.width + x;
+        let saved = self.frame;
+        self.frame.sample_index = sample;
+        self.frame.inspect_pixel = pixel;
+        let film = self.save_pixel(pixel);
+        let traced = self.dispatch_tile(pixel, 1);
+        self.restore_pixel(pixel, &film);
+        self.frame = saved;
+        traced?;
+        let record: Vec<InspectRecord> = read_buffer(self.ctx, &self.inspection)?;
+        PathRecord::decode(&record[0], self.frame.width)
+    }
+
+    /// Copies pixel `pixel`'s accumulation texel and non-finite count aside.
+    fn save_pixel(&self, pixel: u32) -> wgpu::Buffer {
+        let saved = self.ctx.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("saved pixel"),
+            size: TEXEL_BYTES + 4,
+            usage: wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let mut encoder = self.ctx.device.create_command_encoder(&Default::default());
+        encoder.copy_buffer_to_buffer(&self.accumulation, u64::from(pixel) * TEXEL_BYTES, &saved, 0, TEXEL_BYTES);
+        encoder.copy_buffer_to_buffer(&self.nonfinite_counts, u64::from(pixel) * 4, &saved, TEXEL_BYTES, 4);
+        self.ctx.queue.submit([encoder.finish()]);
+        saved
+    }
+
+    /// Puts back what [`PathTracer::save_pixel`] copied aside.
+    fn restore_pixel(&self, pixel: u32, saved: &wgpu::Buffer) {
+        let mut encoder = self.ctx.device.create_command_encoder(&Default::default());
+        encoder.copy_buffer_to_buffer(saved, 0, &self.accumulation, u64::from(pixel) * TEXEL_BYTES, TEXEL_BYTES);
+        encoder.copy_buffer_to_buffer(saved, TEXEL_BYTES, &self.nonfinite_counts, u64::from(pixel) * 4, 4);
+        self.ctx.queue.submit([encoder.finish()]);
+    }
+
     /// Total samples rejected as non-finite.
     pub fn nonfinite_samples(&self) -> Result<u64, GpuError> {
         Ok(self.nonfinite_counts()?.iter().map(|&c| u64::from(c)).sum())
@@ -318,15 +379,15 @@ fn accumulation_buffers(ctx: &GpuContext, (width, height): (u32, u32)) -> Result
     Ok((storage("accumulation", accumulation_bytes), storage("non-finite counts", pixels * 4)))
 }
 
+/// The buffers the kernels write.
+struct Film<'b> {
+    accumulation: &'b wgpu::Buffer,
+    nonfinite_counts: &'b wgpu::Buffer,
+    inspection: &'b wgpu::Buffer,
+}
+
 /// The integrators' bindings: the frame constants, `gpu`'s scene buffers and the film.
-fn bind_group(
-    device: &wgpu::Device,
-    layout: &wgpu::BindGroupLayout,
-    frame: &wgpu::Buffer,
-    gpu: &GpuScene,
-    accumulation: &wgpu::Buffer,
-    nonfinite_counts: &wgpu::Buffer,
-) -> wgpu::BindGroup {
+fn bind_group(device: &wgpu::Device, layout: &wgpu::BindGroupLayout, frame: &wgpu::Buffer, gpu: &GpuScene, film: &Film) -> wgpu::BindGroup {
     let entries = [
         wgpu::BindGroupEntry { binding: 0, resource: frame.as_entire_binding() },
         wgpu::BindGroupEntry { binding: 1, resource: gpu.nodes.as_entire_binding() },
@@ -334,10 +395,11 @@ fn bind_group(
         wgpu::BindGroupEntry { binding: 3, resource: gpu.shading.as_entire_binding() },
         wgpu::BindGroupEntry { binding: 4, resource: gpu.materials.as_entire_binding() },
         wgpu::BindGroupEntry { binding: 5, resource: gpu.lights.as_entire_binding() },
-        wgpu::BindGroupEntry { binding: 6, resource: accumulation.as_entire_binding() },
-        wgpu::BindGroupEntry { binding: 7, resource: nonfinite_counts.as_entire_binding() },
+        wgpu::BindGroupEntry { binding: 6, resource: film.accumulation.as_entire_binding() },
+        wgpu::BindGroupEntry { binding: 7, resource: film.nonfinite_counts.as_entire_binding() },
         wgpu::BindGroupEntry { binding: 8, resource: wgpu::BindingResource::TextureView(&gpu.environment_view) },
         wgpu::BindGroupEntry { binding: 9, resource: gpu.shapes.as_entire_binding() },
+        wgpu::BindGroupEntry { binding: 10, resource: film.inspection.as_entire_binding() },
     ];
     device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("path tracer"), layout, entries: &entries })
 }
@@ -368,6 +430,7 @@ fn frame_constants(scene: &Scene, gpu: &GpuScene, settings: &RenderSettings) -> 
         shape_count: gpu.shape_count,
         triangle_count: gpu.triangle_count as u32,
         debug_view: settings.debug.map_or(0, |view| view as u32),
+        inspect_pixel: NO_PIXEL,
         ..Default::default()
     }
 }
@@ -401,7 +464,7 @@ fn bind_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some("integrators"),
         entries: &[
-            entry(0, buffer(wgpu::BufferBindingType::Uniform)),
+            entry(0, read),
             entry(1, read),
             entry(2, read),
             entry(3, read),
@@ -411,6 +474,7 @@ fn bind_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
             entry(7, write),
             entry(8, texture),
             entry(9, read),
+            entry(10, write),
         ],
     })
 }

@@ -25,7 +25,7 @@ const COMMON: [ShaderFile; 5] = [
 const TRAVERSAL: [ShaderFile; 3] =
     [shader_file!("bvh/bindings.wgsl"), shader_file!("bvh/shapes.wgsl"), shader_file!("bvh/traverse.wgsl")];
 
-const PATH_TRACER: [ShaderFile; 11] = [
+const PATH_TRACER: [ShaderFile; 12] = [
     shader_file!("integrator/bindings.wgsl"),
     shader_file!("integrator/camera.wgsl"),
     shader_file!("integrator/environment.wgsl"),
@@ -37,6 +37,7 @@ const PATH_TRACER: [ShaderFile; 11] = [
     shader_file!("integrator/whitted.wgsl"),
     shader_file!("integrator/passes.wgsl"),
     shader_file!("integrator/debug.wgsl"),
+    shader_file!("integrator/inspect.wgsl"),
 ];
 
 const RAY_BENCH: [ShaderFile; 1] = [shader_file!("bench/rays.wgsl")];

@@ -1,7 +1,7 @@
 //! Every WGSL program parses and validates with naga, and the host structs match naga's layout
 //! of their WGSL mirrors. Needs no device.
 
-use caustic_gpu::gpu_types::{AccumTexel, Frame, GpuLight, GpuMaterial, TriangleShading};
+use caustic_gpu::gpu_types::{AccumTexel, Frame, GpuLight, GpuMaterial, InspectBounce, InspectRecord, TriangleShading};
 use caustic_gpu::shaders::Program;
 
 fn parse(program: Program) -> naga::Module {
@@ -38,6 +38,8 @@ fn host_structs_match_wgsl_layout() {
         ("Material", size_of::<GpuMaterial>()),
         ("Light", size_of::<GpuLight>()),
         ("AccumTexel", size_of::<AccumTexel>()),
+        ("InspectBounce", size_of::<InspectBounce>()),
+        ("InspectRecord", size_of::<InspectRecord>()),
         ("BvhNode", size_of::<caustic_bvh::GpuNode>()),
         ("BvhTriangle", size_of::<caustic_bvh::GpuTriangle>()),
         ("BvhShape", size_of::<caustic_bvh::GpuShape>()),

@@ -1,0 +1,123 @@
+// The pixel inspector: the path tracer's hooks record one chosen pixel's path (ray, hit,
+// normals, material, BSDF and light samples, throughput, why it ended) into `inspection`,
+// read back by crates/caustic-gpu/src/inspector.rs. `frame.inspect_pixel` names the pixel
+// (NO_PIXEL: none); every hook returns at once in the other invocations, so a normal render
+// runs the same code and writes nothing.
+
+@group(0) @binding(10) var<storage, read_write> inspection: InspectRecord;
+
+const NO_PIXEL: u32 = 0xffffffffu;
+const INSPECT_MAX_BOUNCES: u32 = 64u;
+// InspectBounce.flags
+const INSPECT_SURFACE: u32 = 1u;
+const INSPECT_FRONT_FACE: u32 = 2u;
+const INSPECT_BSDF_SAMPLED: u32 = 4u;
+const INSPECT_LIGHT_SAMPLED: u32 = 8u;
+const INSPECT_LIGHT_DELTA: u32 = 16u;
+const INSPECT_LIGHT_OCCLUDED: u32 = 32u;
+// InspectRecord.termination
+const END_ESCAPED: u32 = 1u;
+const END_MAX_DEPTH: u32 = 2u;
+const END_ROULETTE: u32 = 3u;
+const END_ABSORBED: u32 = 4u;
+
+// Whether this invocation traces the inspected pixel; set by inspect_begin.
+var<private> inspecting: bool;
+// Index of the bounce the hooks write.
+var<private> inspect_bounce: u32;
+
+// Arms the hooks if `pixel` is the inspected one, and clears its record.
+fn inspect_begin(pixel: u32) {
+    inspecting = pixel == frame.inspect_pixel && frame.inspect_pixel != NO_PIXEL;
+    if !inspecting {
+        return;
+    }
+    inspection.pixel = pixel;
+    inspection.sample = frame.sample_index;
+    inspection.bounce_count = 0u;
+    inspection.termination = 0u;
+    inspection.radiance = vec3<f32>(0.0);
+}
+
+// Whether the hooks write this bounce (the record holds the first INSPECT_MAX_BOUNCES).
+fn inspect_slot() -> bool {
+    return inspecting && inspect_bounce < INSPECT_MAX_BOUNCES;
+}
+
+// A ray of the path was traced: records it, what it hit, and the path's state before it.
+fn inspect_ray(bounce: u32, ray: Ray, hit: Hit, throughput: vec3<f32>, radiance: vec3<f32>) {
+    if !inspecting {
+        return;
+    }
+    inspect_bounce = bounce;
+    inspection.bounce_count = bounce + 1u;
+    if !inspect_slot() {
+        return;
+    }
+    var b: InspectBounce;
+    b.origin = ray.origin;
+    b.direction = ray.direction;
+    b.primitive = hit.triangle;
+    b.t = hit.t;
+    b.throughput = throughput;
+    b.radiance = radiance;
+    b.material = NO_HIT;
+    b.light_index = NO_HIT;
+    if hit.triangle != NO_HIT {
+        let si = surface_interaction(ray, hit);
+        b.point = si.p;
+        b.shading_normal = si.ns;
+        b.geometric_normal = si.ng;
+        b.material = hit_material(hit);
+        b.flags = INSPECT_SURFACE | select(0u, INSPECT_FRONT_FACE, si.front_face);
+    }
+    inspection.bounces[inspect_bounce] = b;
+}
+
+// The BSDF sampled the continuation direction `wi` (world space) with density `pdf` and
+// weight f * cos / pdf.
+fn inspect_bsdf(wi: vec3<f32>, pdf: f32, weight: vec3<f32>) {
+    if !inspect_slot() {
+        return;
+    }
+    inspection.bounces[inspect_bounce].bsdf_wi = wi;
+    inspection.bounces[inspect_bounce].bsdf_pdf = pdf;
+    inspection.bounces[inspect_bounce].bsdf_weight = weight;
+    inspection.bounces[inspect_bounce].flags |= INSPECT_BSDF_SAMPLED;
+}
+
+// Next-event estimation drew light sample `ls` from the light that `u_select` selects.
+fn inspect_light(u_select: f32, ls: LightSample) {
+    if !inspect_slot() {
+        return;
+    }
+    inspection.bounces[inspect_bounce].light_index = select_light(u_select);
+    inspection.bounces[inspect_bounce].light_wi = ls.wi;
+    inspection.bounces[inspect_bounce].light_pdf = ls.pdf;
+    inspection.bounces[inspect_bounce].flags |= INSPECT_LIGHT_SAMPLED | select(0u, INSPECT_LIGHT_DELTA, ls.is_delta);
+}
+
+// The light sample's shadow ray was blocked.
+fn inspect_light_occluded() {
+    if inspect_slot() {
+        inspection.bounces[inspect_bounce].flags |= INSPECT_LIGHT_OCCLUDED;
+    }
+}
+
+// The light sample contributed `contribution` (before the path throughput) with MIS weight
+// `weight`; returns `contribution`, so the hook wraps the value returned.
+fn inspect_light_result(weight: f32, contribution: vec3<f32>) -> vec3<f32> {
+    if inspect_slot() {
+        inspection.bounces[inspect_bounce].light_mis_weight = weight;
+        inspection.bounces[inspect_bounce].light_contribution = contribution;
+    }
+    return contribution;
+}
+
+// The path ended for `reason` (END_*) with `radiance` as the sample's estimate.
+fn inspect_end(reason: u32, radiance: vec3<f32>) {
+    if inspecting {
+        inspection.termination = reason;
+        inspection.radiance = radiance;
+    }
+}
