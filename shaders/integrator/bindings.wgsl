@@ -1,6 +1,9 @@
 // Bindings of the path tracer (group 0); the BVH sits at 1 and 2 (bvh/bindings.wgsl).
 
-@group(0) @binding(0) var<uniform> frame: Frame;
+// A read-only storage buffer, not a uniform: lavapipe (Mesa 22.3) inlines the uniform values
+// that loop bounds depend on and recompiles the kernel at every dispatch, leaking each
+// variant (~1.2 MiB per dispatch, docs/ROBUSTNESS.md); storage loads are never inlined.
+@group(0) @binding(0) var<storage, read> frame: Frame;
 @group(0) @binding(3) var<storage, read> shading: array<TriangleShading>;
 @group(0) @binding(4) var<storage, read> materials: array<Material>;
 @group(0) @binding(5) var<storage, read> lights: array<Light>;
