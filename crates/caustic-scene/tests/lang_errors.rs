@@ -48,6 +48,8 @@ fn each_error_names_the_place_and_what_was_expected() {
         ("render ldr image\n", "bad.test:1:8: render: expected hdr, found 'ldr'"),
         ("render hdr\n", "bad.test:1:8: render: expected image, depth, normals or photo, found 'hdr'"),
         ("save\n", "bad.test:1:5: save: expected 1 argument (save ldr|hdr), found 0"),
+        ("save ldr\n", "bad.test:1:1: save: nothing has been rendered yet: save needs a render line before it"),
+        ("reset\npostprocess blur 2\n", "bad.test:2:1: postprocess: nothing has been rendered yet: postprocess needs a render line before it"),
         ("postprocess sepia\n", "bad.test:1:13: postprocess: expected monochrome or blur, found 'sepia'"),
         ("postprocess monochrome 2\n", "bad.test:1:24: postprocess: expected 1 argument (postprocess monochrome|blur [radius]), found 2"),
         ("material wood\n", "bad.test:1:10: material: expected flat, lambert, phong, blinnphong, ggx, translucent, checkers, mirror or glass, found 'wood'"),

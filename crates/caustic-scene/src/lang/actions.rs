@@ -46,7 +46,6 @@ impl Interpreter {
     /// Executes the scripting and action commands (`reset`, `exit`, `render`, `save`, `postprocess`).
     /// Returns whether `a` is one of them.
     pub(super) fn action_command(&mut self, a: &Args, _at: Location<'_>, actions: &mut Vec<Action>) -> Res<bool> {
-        let w = &mut self.world;
         match a.name {
             "reset" => {
                 a.expect(&[0])?;
@@ -57,36 +56,12 @@ impl Interpreter {
                 self.exit_requested = true;
                 actions.push(Action::Exit);
             }
-            "render" => {
-                a.expect(&[1, 2])?;
-                let first = if a.len() == 2 {
-                    a.keyword(0, &["hdr"])?;
-                    1
-                } else {
-                    0
-                };
-                const PASSES: [RenderPass; 4] = [RenderPass::Image, RenderPass::Depth, RenderPass::Normals, RenderPass::Photo];
-                let pass = PASSES[a.keyword(first, &["image", "depth", "normals", "photo"])?.min(3)];
-                let hdr = first == 1;
-                if self.snapshots_left == 0 {
-                    w.scene.options.pass = pass;
-                    w.scene.options.hdr = hdr;
-                    return Ok(true);
-                }
-                let mut scene = self.scene();
-                scene.options.pass = pass;
-                scene.options.hdr = hdr;
-                if let Err(e) = scene.validate() {
-                    return a.fail(format!("the scene cannot be rendered: {e}"));
-                }
-                self.world.scene.options.pass = pass;
-                self.world.scene.options.hdr = hdr;
-                self.snapshots_left -= 1;
-                actions.push(Action::Render { scene: Box::new(scene), pass, hdr });
-            }
+            "render" => self.render_command(a, actions)?,
             "save" => {
                 a.expect(&[1])?;
-                actions.push(Action::Save { hdr: a.keyword(0, &["ldr", "hdr"])? == 1 });
+                let hdr = a.keyword(0, &["ldr", "hdr"])? == 1;
+                self.require_image(a)?;
+                actions.push(Action::Save { hdr });
             }
             "postprocess" => {
                 a.expect(&[1, 2])?;
@@ -97,11 +72,50 @@ impl Interpreter {
                     }
                     _ => PostProcess::Blur { radius: if a.len() == 2 { a.f32_in(1, |r| r > 0.0, "> 0")? } else { 1.0 } },
                 };
+                self.require_image(a)?;
                 actions.push(Action::PostProcess(effect));
             }
             _ => return Ok(false),
         }
         Ok(true)
     }
-}
 
+    /// `render [hdr] PASS`: validates a snapshot of the scene and returns it as an action
+    /// (only the pass and the HDR flag change once the snapshots allowed are spent).
+    fn render_command(&mut self, a: &Args, actions: &mut Vec<Action>) -> Res<()> {
+        a.expect(&[1, 2])?;
+        let first = if a.len() == 2 {
+            a.keyword(0, &["hdr"])?;
+            1
+        } else {
+            0
+        };
+        const PASSES: [RenderPass; 4] = [RenderPass::Image, RenderPass::Depth, RenderPass::Normals, RenderPass::Photo];
+        let pass = PASSES[a.keyword(first, &["image", "depth", "normals", "photo"])?.min(3)];
+        let hdr = first == 1;
+        if self.snapshots_left > 0 {
+            let mut scene = self.scene();
+            scene.options.pass = pass;
+            scene.options.hdr = hdr;
+            if let Err(e) = scene.validate() {
+                return a.fail(format!("the scene cannot be rendered: {e}"));
+            }
+            self.snapshots_left -= 1;
+            actions.push(Action::Render { scene: Box::new(scene), pass, hdr });
+        }
+        self.world.scene.options.pass = pass;
+        self.world.scene.options.hdr = hdr;
+        self.rendered = true;
+        Ok(())
+    }
+
+    /// `save` and `postprocess` act on the last rendered image: an error before any `render`
+    /// (`reset` clears the scene, not the image).
+    fn require_image(&self, a: &Args) -> Res<()> {
+        if self.rendered {
+            Ok(())
+        } else {
+            a.fail(format!("nothing has been rendered yet: {} needs a render line before it", a.name))
+        }
+    }
+}

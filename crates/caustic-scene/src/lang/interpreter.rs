@@ -36,6 +36,8 @@ pub struct Interpreter {
     pub(super) file_access: bool,
     sourced_files: usize,
     pub(super) snapshots_left: usize,
+    /// Whether a `render` line has run in this session (`save` and `postprocess` need one).
+    pub(super) rendered: bool,
 }
 
 impl Default for Interpreter {
@@ -55,7 +57,7 @@ pub(super) fn resolve(file: &Path, name: &str) -> PathBuf {
 impl Interpreter {
     /// A fresh session with the default state.
     pub fn new() -> Interpreter {
-        Interpreter { world: World::new("scene".to_string()), frames: Vec::new(), warnings: Vec::new(), exit_requested: false, file_access: true, sourced_files: 0, snapshots_left: usize::MAX }
+        Interpreter { world: World::new("scene".to_string()), frames: Vec::new(), warnings: Vec::new(), exit_requested: false, file_access: true, sourced_files: 0, snapshots_left: usize::MAX, rendered: false }
     }
 
     /// Allows or forbids reading files (`source`, `environment FILE`); forbidden, they are
