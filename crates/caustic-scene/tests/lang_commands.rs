@@ -276,16 +276,18 @@ fn an_attenuation_no_light_follows_is_warned_about() {
 #[test]
 fn actions_come_back_in_order_with_snapshots() {
     let (interpreter, actions) = run(
-        "sphere 0 0 0 1\nrender image\npostprocess monochrome\nsave ldr\nsphere 0 0 3 1\nrender hdr photo\n\
+        "sphere 0 0 0 1\nrender image\npostprocess monochrome\nsave ldr\nsphere 0 0 3 1\npreview quick\nrender hdr photo\n\
          postprocess blur\npostprocess blur 2.5\nsave hdr\nexit\nsphere 0 0 9 1\n",
     );
     assert_eq!(actions.len(), 8);
-    let Action::Render { scene, pass, hdr } = &actions[0] else { panic!("render") };
+    let Action::Render { scene, pass, hdr, preview } = &actions[0] else { panic!("render") };
     assert_eq!((scene.shapes.len(), *pass, *hdr, scene.options.pass), (1, RenderPass::Image, false, RenderPass::Image));
+    assert_eq!(*preview, None);
     assert_eq!(actions[1], Action::PostProcess(PostProcess::Monochrome));
     assert_eq!(actions[2], Action::Save { hdr: false });
-    let Action::Render { scene, pass, hdr } = &actions[3] else { panic!("render") };
+    let Action::Render { scene, pass, hdr, preview } = &actions[3] else { panic!("render") };
     assert_eq!((scene.shapes.len(), *pass, *hdr, scene.options.hdr), (2, RenderPass::Photo, true, true));
+    assert_eq!(preview.as_deref(), Some(Path::new("quick")), "the preview in effect at the render line");
     assert_eq!(actions[4], Action::PostProcess(PostProcess::Blur { radius: 1.0 }));
     assert_eq!(actions[5], Action::PostProcess(PostProcess::Blur { radius: 2.5 }));
     assert_eq!(actions[6], Action::Save { hdr: true });

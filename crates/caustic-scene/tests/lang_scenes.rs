@@ -172,7 +172,7 @@ fn reference_cornell_box_equals_the_built_in_scene() {
     let path = shared.join("references/cornell/scene.txt");
     let (actions, _) = lang::run_file(&path).expect("the reference Cornell box parses");
     let render = actions.iter().find_map(|a| match a {
-        Action::Render { scene, pass, hdr } => Some((scene, *pass, *hdr)),
+        Action::Render { scene, pass, hdr, .. } => Some((scene, *pass, *hdr)),
         _ => None,
     });
     let (scene, pass, hdr) = render.expect("the file ends with `render hdr photo`");

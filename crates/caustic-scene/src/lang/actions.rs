@@ -5,6 +5,7 @@ use super::args::{Args, Res};
 use super::error::Location;
 use super::Interpreter;
 use crate::{RenderPass, Scene};
+use std::path::PathBuf;
 
 /// An effect applied to the last rendered image (`postprocess`).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -30,6 +31,8 @@ pub enum Action {
         pass: RenderPass,
         /// Whether the image is saved as linear HDR.
         hdr: bool,
+        /// The `preview` file name in effect at that line: a JPEG written beside HDR saves.
+        preview: Option<PathBuf>,
     },
     /// `save ldr|hdr`: save the last rendered image (to `options.output`).
     Save {
@@ -101,7 +104,8 @@ impl Interpreter {
                 return a.fail(format!("the scene cannot be rendered: {e}"));
             }
             self.snapshots_left -= 1;
-            actions.push(Action::Render { scene: Box::new(scene), pass, hdr });
+            let preview = self.world.settings.preview.clone();
+            actions.push(Action::Render { scene: Box::new(scene), pass, hdr, preview });
         }
         self.world.scene.options.pass = pass;
         self.world.scene.options.hdr = hdr;
