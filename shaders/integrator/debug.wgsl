@@ -1,8 +1,10 @@
 // Debug views: passes of the same kernels that show what they do per pixel. The value is
 // written to all three channels (counts, ids) or as a colour (uv, albedo); the host maps
-// counts to a heat map with a legend. `frame.debug_view` selects:
-// 1 BVH nodes visited by the camera ray, 2 primitives tested by it, 3 texture coordinates,
-// 4 albedo, 5 material id, 6 path vertices of one path-traced sample.
+// counts to a heat map with a legend (crates/caustic-gpu/src/debug_image.rs).
+// `frame.debug_view` selects: 1 BVH nodes visited by the camera ray, 2 primitives tested by
+// it, 3 texture coordinates, 4 albedo, 5 material id (-1 where the ray escapes), 6 path
+// vertices of one path-traced sample, 7 the path-traced sample itself (the NaN/Inf finder:
+// the film counts the non-finite ones per pixel, the host marks those pixels).
 
 const DEBUG_NODE_VISITS: u32 = 1u;
 const DEBUG_PRIMITIVE_TESTS: u32 = 2u;
@@ -10,6 +12,7 @@ const DEBUG_UV: u32 = 3u;
 const DEBUG_ALBEDO: u32 = 4u;
 const DEBUG_MATERIAL_ID: u32 = 5u;
 const DEBUG_BOUNCES: u32 = 6u;
+const DEBUG_NONFINITE: u32 = 7u;
 
 // Number of surface hits of the last trace_path call in this invocation.
 var<private> path_vertices: u32;
@@ -18,6 +21,9 @@ fn debug_value(ray: Ray, rng: ptr<function, Rng>) -> vec3<f32> {
     if frame.debug_view == DEBUG_BOUNCES {
         _ = trace_path(ray, rng);
         return vec3<f32>(f32(path_vertices));
+    }
+    if frame.debug_view == DEBUG_NONFINITE {
+        return trace_path(ray, rng);
     }
     var cost = TraversalCost(0u, 0u);
     let hit = trace(ray, 3.0e38, false, &cost);
@@ -28,7 +34,7 @@ fn debug_value(ray: Ray, rng: ptr<function, Rng>) -> vec3<f32> {
         return vec3<f32>(f32(cost.triangles));
     }
     if hit.triangle == NO_HIT {
-        return vec3<f32>(0.0);
+        return vec3<f32>(select(0.0, -1.0, frame.debug_view == DEBUG_MATERIAL_ID));
     }
     if frame.debug_view == DEBUG_UV {
         return vec3<f32>(fract(hit_uv(hit)), 0.0);

@@ -158,10 +158,7 @@ impl PathRecord {
         Ok(PathRecord {
             pixel: (record.pixel % width, record.pixel / width),
             sample: record.sample,
-            bounces: record.bounces[..kept]
-                .iter()
-                .map(BounceRecord::decode)
-                .collect(),
+            bounces: record.bounces[..kept].iter().map(BounceRecord::decode).collect(),
             ray_count: record.bounce_count,
             termination,
             radiance: Vec3::from(record.radiance),

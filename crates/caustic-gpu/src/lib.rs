@@ -8,6 +8,7 @@
 
 mod bench;
 mod context;
+pub mod debug_image;
 mod error;
 pub mod gpu_types;
 pub mod inspector;

@@ -62,26 +62,35 @@ pub enum DebugView {
     Uv = 3,
     /// Diffuse albedo of the first hit.
     Albedo = 4,
-    /// Material index of the first hit.
+    /// Material index of the first hit (-1 where the camera ray escapes).
     MaterialId = 5,
     /// Surface hits of one path-traced path.
+    /// The NaN/Inf finder: the path-traced image, whose non-finite samples the film counts
+    /// per pixel ([`PathTracer::nonfinite_counts`]); [`crate::debug_image`] marks those pixels.
+    NonFinite = 7,
     Bounces = 6,
 }
 
 impl DebugView {
     /// Every view, with its command-line name.
-    pub const ALL: [(&'static str, DebugView); 6] = [
+    pub const ALL: [(&'static str, DebugView); 7] = [
         ("node-visits", DebugView::NodeVisits),
         ("primitive-tests", DebugView::PrimitiveTests),
         ("uv", DebugView::Uv),
         ("albedo", DebugView::Albedo),
         ("material-id", DebugView::MaterialId),
+        ("nonfinite", DebugView::NonFinite),
         ("bounces", DebugView::Bounces),
     ];
 
     /// Whether the view is a count, shown as a heat map.
     pub fn is_count(self) -> bool {
-        matches!(self, DebugView::NodeVisits | DebugView::PrimitiveTests | DebugView::Bounces | DebugView::MaterialId)
+        matches!(self, DebugView::NodeVisits | DebugView::PrimitiveTests | DebugView::Bounces)
+    }
+
+    /// The view's command-line name.
+    pub fn name(self) -> &'static str {
+        DebugView::ALL.iter().find(|(_, v)| *v == self).map_or("?", |(name, _)| name)
     }
 }
 

@@ -19,10 +19,7 @@ fn setup() -> (GpuContext, Scene, RenderSettings) {
     println!("adapter: {}", ctx.adapter);
     let mut scene = load_scene(&SceneSource::parse("cornell")).expect("cornell");
     scene.resolution = (SIZE, SIZE);
-    assert!(
-        scene.shapes.is_empty(),
-        "the CPU twin below covers triangles only"
-    );
+    assert!(scene.shapes.is_empty(), "the CPU twin below covers triangles only");
     let settings = RenderSettings {
         max_depth: Some(8),
         seed: 7,
@@ -61,11 +58,7 @@ struct Worst {
 
 /// Checks one path against the CPU twins; returns the worst relative errors seen.
 fn check_path(path: &PathRecord, bvh: &GpuBvh, rr_start: u32, worst: &mut Worst) {
-    assert_eq!(
-        path.bounces.len() as u32,
-        path.ray_count,
-        "the record holds the whole path"
-    );
+    assert_eq!(path.bounces.len() as u32, path.ray_count, "the record holds the whole path");
     for (i, bounce) in path.bounces.iter().enumerate() {
         worst.rays += 1;
         let cpu = bvh.closest_hit(&Ray {
@@ -83,35 +76,17 @@ fn check_path(path: &PathRecord, bvh: &GpuBvh, rr_start: u32, worst: &mut Worst)
                     path.pixel
                 );
                 let error = relative(hit.t, cpu.t);
-                assert!(
-                    error < 1e-5,
-                    "pixel {:?} bounce {i}: t {} vs CPU {}",
-                    path.pixel,
-                    hit.t,
-                    cpu.t
-                );
+                assert!(error < 1e-5, "pixel {:?} bounce {i}: t {} vs CPU {}", path.pixel, hit.t, cpu.t);
                 worst.t = worst.t.max(error);
             }
-            (gpu, cpu) => panic!(
-                "pixel {:?} bounce {i}: device hit {gpu:?}, CPU twin {cpu:?}",
-                path.pixel
-            ),
+            (gpu, cpu) => panic!("pixel {:?} bounce {i}: device hit {gpu:?}, CPU twin {cpu:?}", path.pixel),
         }
         let Some(next) = path.bounces.get(i + 1) else {
             continue;
         };
-        let hit = bounce
-            .hit
-            .as_ref()
-            .expect("only a surface hit continues the path");
-        let bsdf = bounce
-            .bsdf
-            .as_ref()
-            .expect("a continued path sampled the BSDF");
-        assert_eq!(
-            next.direction, bsdf.wi,
-            "the next ray follows the BSDF sample"
-        );
+        let hit = bounce.hit.as_ref().expect("only a surface hit continues the path");
+        let bsdf = bounce.bsdf.as_ref().expect("a continued path sampled the BSDF");
+        assert_eq!(next.direction, bsdf.wi, "the next ray follows the BSDF sample");
         let side = if next.direction.dot(hit.geometric_normal) >= 0.0 {
             hit.geometric_normal
         } else {
@@ -148,10 +123,7 @@ fn inspected_paths_match_cpu_traces_of_the_same_rays() {
     let (ctx, scene, settings) = setup();
     let gpu = GpuScene::upload(&ctx, &scene).expect("upload");
     let triangles: Vec<_> = scene.triangles().collect();
-    let bvh = caustic_bvh::flatten(
-        &caustic_bvh::build(&triangles, &BuildOptions::default()),
-        &triangles,
-    );
+    let bvh = caustic_bvh::flatten(&caustic_bvh::build(&triangles, &BuildOptions::default()), &triangles);
     let mut tracer = PathTracer::new(&ctx, &scene, &gpu, &settings).expect("tracer");
     let mut worst = Worst::default();
     let mut endings = std::collections::BTreeMap::new();
@@ -170,10 +142,7 @@ fn inspected_paths_match_cpu_traces_of_the_same_rays() {
         worst.t,
         worst.throughput
     );
-    assert!(
-        worst.rays > 2 * PIXELS.len() * SAMPLES.len(),
-        "paths should bounce"
-    );
+    assert!(worst.rays > 2 * PIXELS.len() * SAMPLES.len(), "paths should bounce");
 }
 
 #[test]
@@ -193,10 +162,7 @@ fn inspected_radiance_is_the_sample_a_render_adds() {
             let path = tracer.inspect(x, y, sample).expect("inspect");
             let rendered = Vec3::from(image.get(x, y));
             let error = relative3(path.radiance, rendered);
-            println!(
-                "pixel ({x}, {y}) sample {sample}: inspected {} rendered {rendered}",
-                path.radiance
-            );
+            println!("pixel ({x}, {y}) sample {sample}: inspected {} rendered {rendered}", path.radiance);
             assert!(
                 error < 1e-5,
                 "the inspected radiance {} differs from the rendered sample {rendered}",
@@ -205,10 +171,7 @@ fn inspected_radiance_is_the_sample_a_render_adds() {
             worst.radiance = worst.radiance.max(error);
         }
         let after = tracer.image().expect("image");
-        assert_eq!(
-            after.pixels, image.pixels,
-            "inspecting leaves the film as it was"
-        );
+        assert_eq!(after.pixels, image.pixels, "inspecting leaves the film as it was");
     }
     println!("worst relative radiance difference {:.2e}", worst.radiance);
 }

@@ -1,0 +1,181 @@
+//! Debug views made visible: the kernels accumulate raw values (counts, ids, colours; see
+//! `shaders/integrator/debug.wgsl`); this turns them into a picture a person reads. Counts
+//! become a heat map with a legend bar underneath (0 at the left, the hottest value written
+//! at the right), material ids distinct colours, and the NaN/Inf finder marks in red every
+//! pixel where any sample was non-finite, over the dimmed image.
+
+use crate::DebugView;
+use caustic_image::{srgb_to_linear, Image, SaveOptions, ToneMap};
+
+/// How a debug picture is saved: its colours are final, so no exposure and no tone curve.
+pub const DEBUG_SAVE_OPTIONS: SaveOptions = SaveOptions {
+    exposure: 0.0,
+    tone_map: ToneMap::Clamp,
+};
+
+/// Rows the legend adds under a heat map.
+pub const LEGEND_ROWS: u32 = 10;
+
+/// A debug view as a picture.
+#[derive(Clone, Debug)]
+pub struct DebugPicture {
+    /// Linear RGB; heat maps are [`LEGEND_ROWS`] taller than the render (the legend).
+    pub image: Image,
+    /// For heat maps, the value of the hottest colour (the legend's right end).
+    pub legend_max: Option<f32>,
+    /// For the NaN/Inf finder, the number of pixels marked.
+    pub marked: Option<usize>,
+}
+
+/// The picture of `view`, from its accumulated `image` and the per-pixel counts of
+/// non-finite samples.
+pub fn debug_picture(view: DebugView, image: &Image, nonfinite: &[u32]) -> DebugPicture {
+    match view {
+        DebugView::NodeVisits | DebugView::PrimitiveTests | DebugView::Bounces => heat_map(image),
+        DebugView::MaterialId => DebugPicture {
+            image: map_pixels(image, |p| id_color(p[0])),
+            legend_max: None,
+            marked: None,
+        },
+        DebugView::Uv | DebugView::Albedo => DebugPicture {
+            image: image.clone(),
+            legend_max: None,
+            marked: None,
+        },
+        DebugView::NonFinite => nonfinite_marks(image, nonfinite),
+    }
+}
+
+fn map_pixels(image: &Image, f: impl Fn([f32; 3]) -> [f32; 3]) -> Image {
+    Image {
+        width: image.width,
+        height: image.height,
+        pixels: image.pixels.iter().map(|&p| f(p)).collect(),
+    }
+}
+
+/// Counts as colours from black (0) to light yellow (the image's largest count, rounded up).
+fn heat_map(image: &Image) -> DebugPicture {
+    let max = image
+        .pixels
+        .iter()
+        .map(|p| p[0])
+        .filter(|v| v.is_finite())
+        .fold(0.0f32, f32::max)
+        .ceil()
+        .max(1.0);
+    let mut picture = map_pixels(image, |p| heat_color(p[0] / max));
+    let legend = legend(image.width, max);
+    picture.height += LEGEND_ROWS;
+    picture.pixels.extend(legend);
+    DebugPicture {
+        image: picture,
+        legend_max: Some(max),
+        marked: None,
+    }
+}
+
+/// The heat colour of `x` in [0, 1] (linear RGB), interpolated between sRGB stops.
+pub fn heat_color(x: f32) -> [f32; 3] {
+    const STOPS: [[f32; 3]; 5] = [
+        [0.0, 0.0, 0.0],
+        [0.25, 0.05, 0.55],
+        [0.85, 0.15, 0.25],
+        [1.0, 0.6, 0.0],
+        [1.0, 1.0, 0.7],
+    ];
+    let x = if x.is_finite() { x.clamp(0.0, 1.0) } else { 1.0 };
+    let scaled = x * (STOPS.len() - 1) as f32;
+    let i = (scaled as usize).min(STOPS.len() - 2);
+    let f = scaled - i as f32;
+    [0, 1, 2].map(|c| srgb_to_linear(STOPS[i][c] + (STOPS[i + 1][c] - STOPS[i][c]) * f))
+}
+
+/// A distinct colour per material id (golden-ratio hues); black for -1 (no hit).
+pub fn id_color(id: f32) -> [f32; 3] {
+    if !(id >= 0.0) {
+        return [0.0; 3];
+    }
+    let hue = (id.round() * 0.618_034).fract() * 6.0;
+    let f = hue.fract();
+    let (v, s) = (0.9, 0.65);
+    let (p, q, t) = (v * (1.0 - s), v * (1.0 - s * f), v * (1.0 - s * (1.0 - f)));
+    let rgb = match hue as u32 {
+        0 => [v, t, p],
+        1 => [q, v, p],
+        2 => [p, v, t],
+        3 => [p, q, v],
+        4 => [t, p, v],
+        _ => [v, p, q],
+    };
+    rgb.map(srgb_to_linear)
+}
+
+/// The NaN/Inf finder: the finite part of the image tone mapped, grey and dimmed, and red
+/// wherever a sample was non-finite.
+fn nonfinite_marks(image: &Image, nonfinite: &[u32]) -> DebugPicture {
+    let mut picture = map_pixels(image, |p| {
+        let [r, g, b] = ToneMap::Aces.apply(p);
+        [0.3 * (0.2126 * r + 0.7152 * g + 0.0722 * b); 3]
+    });
+    let mut marked = 0;
+    for (pixel, &count) in picture.pixels.iter_mut().zip(nonfinite) {
+        if count > 0 {
+            *pixel = [1.0, 0.0, 0.0];
+            marked += 1;
+        }
+    }
+    DebugPicture {
+        image: picture,
+        legend_max: None,
+        marked: Some(marked),
+    }
+}
+
+/// The legend rows: a black row, the colour bar from 0 to `max`, and "0" and `max` written
+/// at its ends in a 3x5 pixel font (digits only where the image is wide enough).
+fn legend(width: u32, max: f32) -> Vec<[f32; 3]> {
+    let mut rows = vec![[0.0f32; 3]; (width * LEGEND_ROWS) as usize];
+    for x in 0..width {
+        let color = heat_color(x as f32 / (width.max(2) - 1) as f32);
+        for y in 1..4 {
+            rows[(y * width + x) as usize] = color;
+        }
+    }
+    let label = format!("{max}");
+    let label_width = 4 * label.len() as u32;
+    if width >= label_width + 8 {
+        draw_text(&mut rows, width, 1, 5, "0");
+        draw_text(&mut rows, width, width - label_width, 5, &label);
+    }
+    rows
+}
+
+/// Writes `text` (digits and '.') in white at (`x`, `y`) of a `width`-wide pixel buffer.
+fn draw_text(pixels: &mut [[f32; 3]], width: u32, x: u32, y: u32, text: &str) {
+    // Rows of each glyph, 3 bits each, most significant bit at the left.
+    const DIGITS: [[u8; 5]; 10] = [
+        [7, 5, 5, 5, 7],
+        [2, 6, 2, 2, 7],
+        [7, 1, 7, 4, 7],
+        [7, 1, 7, 1, 7],
+        [5, 5, 7, 1, 1],
+        [7, 4, 7, 1, 7],
+        [7, 4, 7, 5, 7],
+        [7, 1, 1, 1, 1],
+        [7, 5, 7, 5, 7],
+        [7, 5, 7, 1, 7],
+    ];
+    const DOT: [u8; 5] = [0, 0, 0, 0, 2];
+    for (i, c) in text.chars().enumerate() {
+        let glyph = c.to_digit(10).map_or(&DOT, |d| &DIGITS[d as usize]);
+        for (row, bits) in glyph.iter().enumerate() {
+            for column in 0..3u32 {
+                let px = x + 4 * i as u32 + column;
+                if bits & (4 >> column) != 0 && px < width {
+                    pixels[((y + row as u32) * width + px) as usize] = [1.0; 3];
+                }
+            }
+        }
+    }
+}
