@@ -28,6 +28,9 @@ pub enum Command {
     Merge(MergeArgs),
     /// Open a window that renders the scene progressively, with camera controls and settings.
     View(ViewArgs),
+    /// Render progressively and record the error against a reference over time and samples
+    /// (CSV table, SVG plot): the speed/accuracy trade, measured.
+    Converge(crate::converge::ConvergeArgs),
 }
 
 /// Options every command that opens a device shares.

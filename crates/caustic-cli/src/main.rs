@@ -3,8 +3,11 @@
 
 mod args;
 mod bench;
+mod converge;
 mod fingerprint;
 mod merge;
+mod plot;
+mod preset;
 mod ray_file;
 mod render;
 mod tasks;
@@ -20,6 +23,7 @@ fn main() -> ExitCode {
         args::Command::Bench(bench_args) => bench::run(&bench_args),
         args::Command::Merge(merge_args) => merge::run(&merge_args),
         args::Command::View(view_args) => view::run(&view_args),
+        args::Command::Converge(converge_args) => converge::run(&converge_args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

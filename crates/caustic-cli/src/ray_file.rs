@@ -5,7 +5,6 @@
 use anyhow::{Context, bail};
 use caustic_gpu::{ExternalRay, TracedRay};
 use glam::Vec3;
-use std::io::Write;
 use std::path::Path;
 
 /// Bytes of one ray record.
@@ -48,21 +47,9 @@ pub fn encode_hits(traced: &[TracedRay]) -> Vec<u8> {
     distances.chain(indices).flatten().collect()
 }
 
-/// Writes the hit file atomically (a temporary name in the same folder, then a rename), so an
-/// interrupted run leaves no half-written file.
+/// Writes the hit file atomically, so an interrupted run leaves no half-written file.
 pub fn write_hits(path: &Path, traced: &[TracedRay]) -> anyhow::Result<()> {
-    let file_name = path.file_name().with_context(|| format!("{} is not a file name", path.display()))?;
-    let temporary = path.with_file_name(format!(".{}.partial", file_name.to_string_lossy()));
-    let write = || -> std::io::Result<()> {
-        let mut file = std::fs::File::create(&temporary)?;
-        file.write_all(&encode_hits(traced))?;
-        file.sync_all()?;
-        std::fs::rename(&temporary, path)
-    };
-    write().map_err(|e| {
-        let _ = std::fs::remove_file(&temporary);
-        anyhow::anyhow!("cannot write hit file {}: {e}", path.display())
-    })
+    caustic_image::write_file_atomically(path, &encode_hits(traced)).with_context(|| format!("cannot write hit file {}", path.display()))
 }
 
 #[cfg(test)]

@@ -114,6 +114,21 @@ impl GpuContext {
         self.check()
     }
 
+    /// A buffer holding `bytes` (a multiple of 4 long), for `usage` (`COPY_DST` is added).
+    /// Written through the queue rather than mapped at creation as `create_buffer_init` does,
+    /// which panics when the device is lost; here a lost device is an error that
+    /// [`GpuContext::check`] reports.
+    pub fn buffer_with_data(&self, label: &str, bytes: &[u8], usage: wgpu::BufferUsages) -> wgpu::Buffer {
+        let buffer = self.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size: bytes.len() as u64,
+            usage: usage | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        self.queue.write_buffer(&buffer, 0, bytes);
+        buffer
+    }
+
     /// Largest storage buffer binding the device allows, in bytes.
     pub fn max_storage_binding(&self) -> u64 {
         u64::from(self.limits.max_storage_buffer_binding_size).min(self.limits.max_buffer_size)
@@ -134,11 +149,16 @@ fn install_error_handlers(device: &wgpu::Device, first_error: &Arc<Mutex<Option<
     let sink = first_error.clone();
     device.on_uncaptured_error(Arc::new(move |error: wgpu::Error| record(&sink, describe(&error))));
     let sink = first_error.clone();
-    device.set_device_lost_callback(move |reason, message| {
-        if reason != wgpu::DeviceLostReason::Destroyed {
-            record(&sink, format!("device lost ({reason:?}): {message}"));
-        }
-    });
+    // Every loss counts, `Destroyed` too: work submitted to a destroyed device is silently
+    // dropped, so a render would otherwise go on and read back nothing.
+    device.set_device_lost_callback(move |reason, message| record(&sink, describe_loss(reason, &message)));
+}
+
+/// What a user reads when the device is gone: the reason, wgpu's message if any, and that
+/// the render cannot go on.
+fn describe_loss(reason: wgpu::DeviceLostReason, message: &str) -> String {
+    let detail = if message.trim().is_empty() { String::new() } else { format!(": {}", message.trim()) };
+    format!("the device was lost (reason: {reason:?}{detail}); the work submitted to it is gone and the render cannot continue")
 }
 
 /// The full text of a device error: its description, or its source chain.

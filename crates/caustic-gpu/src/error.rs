@@ -28,7 +28,13 @@ pub enum GpuError {
         message: String,
     },
     /// The scene needs more than a device limit allows.
-    #[error("the scene needs {need} bytes for {what}, but this device allows at most {limit} bytes per storage binding")]
+    #[error(
+        "the scene needs {} for {what}, but this device's largest storage binding \
+         (max_storage_buffer_binding_size) is {}: render a smaller scene or image, or use a \
+         device with larger bindings",
+        byte_size(*need),
+        byte_size(*limit)
+    )]
     Limit {
         /// Which buffer.
         what: String,
@@ -43,4 +49,21 @@ pub enum GpuError {
     /// The device reported an error (validation, out of memory) or was lost.
     #[error("GPU error: {0}")]
     Runtime(String),
+}
+
+/// `bytes` for a reader: "128 MiB", "3.13 GiB", "96.5 KiB", "40 bytes" (binary units, three
+/// significant digits).
+fn byte_size(bytes: u64) -> String {
+    const UNITS: [&str; 4] = ["KiB", "MiB", "GiB", "TiB"];
+    if bytes < 1024 {
+        return format!("{bytes} bytes");
+    }
+    let mut value = bytes as f64 / 1024.0;
+    let mut unit = 0;
+    while value >= 1024.0 && unit + 1 < UNITS.len() {
+        value /= 1024.0;
+        unit += 1;
+    }
+    let decimals = if value.fract() == 0.0 || value >= 100.0 { 0 } else if value >= 10.0 { 1 } else { 2 };
+    format!("{value:.decimals$} {}", UNITS[unit])
 }

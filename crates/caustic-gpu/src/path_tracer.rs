@@ -8,7 +8,6 @@ use crate::{GpuContext, GpuError, GpuScene};
 use caustic_image::Image;
 use caustic_scene::{Integrator, RenderPass, Scene};
 use std::time::{Duration, Instant};
-use wgpu::util::DeviceExt;
 
 /// Integrator settings.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -137,11 +136,7 @@ impl<'a> PathTracer<'a> {
         let (accumulation, nonfinite_counts) = accumulation_buffers(ctx, scene.resolution)?;
         let frame = frame_constants(scene, gpu, settings);
         let device = &ctx.device;
-        let frame_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("frame"),
-            contents: bytemuck::bytes_of(&frame),
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-        });
+        let frame_buffer = ctx.buffer_with_data("frame", bytemuck::bytes_of(&frame), wgpu::BufferUsages::STORAGE);
         let layout = bind_group_layout(device);
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("integrators"),

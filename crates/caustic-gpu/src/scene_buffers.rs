@@ -60,7 +60,7 @@ impl GpuScene {
         let gpu_bvh: GpuBvh = caustic_bvh::flatten_with_shapes(&bvh, &data.triangles, &data.shapes);
         let uploader = Uploader { ctx };
         let (environment_view, environment_color) = upload_environment(ctx, &scene.environment)?;
-        Ok(GpuScene {
+        let uploaded = GpuScene {
             nodes: uploader.storage("BVH nodes", &gpu_bvh.nodes)?,
             triangles: uploader.storage("BVH triangles", &gpu_bvh.triangles)?,
             shapes: uploader.storage("shapes", &gpu_bvh.shapes)?,
@@ -76,7 +76,9 @@ impl GpuScene {
             triangle_count: data.triangles.len(),
             bvh_stats: bvh.stats,
             bounds: scene.bounds().unwrap_or((Vec3::ZERO, Vec3::ZERO)),
-        })
+        };
+        ctx.check()?;
+        Ok(uploaded)
     }
 
     /// Re-uploads the materials and the light list (emission sets the lights' power) after
@@ -113,13 +115,10 @@ impl Uploader<'_> {
         let bytes: &[u8] = bytemuck::cast_slice(data);
         let limit = self.ctx.max_storage_binding();
         if bytes.len() as u64 > limit {
-            return Err(GpuError::Limit { what: what.to_string(), need: bytes.len() as u64, limit });
+            let what = format!("{} {what} of {} bytes", data.len(), std::mem::size_of::<T>());
+            return Err(GpuError::Limit { what, need: bytes.len() as u64, limit });
         }
-        Ok(self.ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some(what),
-            contents: bytes,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-        }))
+        Ok(self.ctx.buffer_with_data(what, bytes, wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC))
     }
 }
 

@@ -254,6 +254,15 @@ fn io_error(path: &Path, action: &'static str, source: std::io::Error) -> ImageE
     }
 }
 
+/// Writes `bytes` to `target` atomically, like image saves (a temporary beside it, synced,
+/// then renamed), so an interrupted run never leaves a half-written file: for the other
+/// outputs (CSV tables, SVG plots, ray-hit files).
+pub fn write_file_atomically(target: &Path, bytes: &[u8]) -> Result<(), ImageError> {
+    write_atomically(target, |writer| {
+        std::io::Write::write_all(writer, bytes).map_err(image::ImageError::IoError)
+    })
+}
+
 /// Runs `encode` into a fresh temporary file next to `target`, syncs it and
 /// renames it over `target`. The temporary never outlives this call.
 pub(crate) fn write_atomically(

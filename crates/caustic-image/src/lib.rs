@@ -14,12 +14,13 @@ mod film;
 mod io;
 pub mod metrics;
 mod partial;
+pub mod perceptual;
 mod postprocess;
 mod tonemap;
 
 pub use display::{SaveOptions, linear_to_srgb, srgb_to_linear, to_srgb8};
 pub use error::{ImageError, SUPPORTED_EXTENSIONS};
 pub use film::Image;
-pub use io::check_output_path;
+pub use io::{check_output_path, write_file_atomically};
 pub use partial::{PartInfo, PartialImage, SAMPLE_COUNT_CHANNEL, parse_range};
 pub use tonemap::{ParseToneMapError, ToneMap};

@@ -61,7 +61,7 @@ fn mean_over_channels(
 }
 
 /// Fails unless both images are consistent, equally sized and non-empty.
-fn check_comparable(image: &Image, reference: &Image) -> Result<(), ImageError> {
+pub(crate) fn check_comparable(image: &Image, reference: &Image) -> Result<(), ImageError> {
     image.check_consistent()?;
     reference.check_consistent()?;
     if (image.width, image.height) != (reference.width, reference.height) {

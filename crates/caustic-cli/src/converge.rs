@@ -1,0 +1,252 @@
+//! `caustic converge`: renders progressively and records the error against a reference over
+//! time and samples (relative MSE and a FLIP-like perceptual error), as a CSV table and an SVG
+//! plot: the speed/accuracy trade of a scene and its settings, measured.
+
+use crate::args::{DeviceArgs, SceneOverrides};
+use crate::plot::{Series, log_log_svg};
+use crate::preset::Preset;
+use anyhow::{Context, bail};
+use caustic_gpu::{GpuContext, GpuScene, PathTracer, RenderSettings};
+use caustic_image::metrics::{RELMSE_EPSILON, mean_absolute_error, relative_mse};
+use caustic_image::perceptual::{Viewing, mean_flip_color};
+use caustic_image::{Image, write_file_atomically};
+use caustic_scene::{SceneSource, load_scene};
+use clap::Args;
+use serde::Serialize;
+use std::fmt::Write;
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
+
+/// `caustic converge`.
+#[derive(Debug, Args)]
+pub struct ConvergeArgs {
+    /// Scene file or built-in name.
+    #[arg(default_value = "cornell")]
+    pub scene: String,
+    /// Linear reference image (.exr or .hdr); the render takes its size unless --size is given.
+    #[arg(long, value_name = "FILE")]
+    pub reference: PathBuf,
+    /// Quality preset: its integrator settings and its samples per pixel.
+    #[arg(long, value_enum)]
+    pub preset: Option<Preset>,
+    /// Samples per pixel to render (default: the preset's, else 1024).
+    #[arg(long, value_name = "N")]
+    pub spp: Option<u32>,
+    /// Stop after this many seconds of rendering, whatever the spp.
+    #[arg(long, value_name = "SECONDS")]
+    pub time: Option<f64>,
+    /// Measurement points per doubling of the sample count (1 = at 1, 2, 4, 8... spp).
+    #[arg(long, default_value_t = 2, value_name = "N")]
+    pub points_per_doubling: u32,
+    /// CSV table written: spp, seconds, samples/s, relMSE, FLIP-like error, MAE.
+    #[arg(long, default_value = "converge.csv", value_name = "FILE")]
+    pub csv: PathBuf,
+    /// SVG plot of the errors against time (log-log).
+    #[arg(long, value_name = "FILE")]
+    pub plot: Option<PathBuf>,
+    /// Scene settings that replace the scene's.
+    #[command(flatten)]
+    pub overrides: SceneOverrides,
+    /// Device selection and output format.
+    #[command(flatten)]
+    pub device: DeviceArgs,
+}
+
+/// One measurement.
+#[derive(Clone, Debug, Serialize)]
+struct Point {
+    spp: u32,
+    /// Rendering time so far (measurements excluded).
+    seconds: f64,
+    relmse: f64,
+    flip: f64,
+    mae: f64,
+}
+
+#[derive(Debug, Serialize)]
+struct ConvergeReport {
+    adapter: String,
+    scene: String,
+    width: u32,
+    height: u32,
+    preset: Option<String>,
+    samples_per_second: f64,
+    /// Seconds until relMSE first fell to 1e-2 and 1e-3 (interpolated in log-log), if it did.
+    seconds_to_relmse_1e_2: Option<f64>,
+    seconds_to_relmse_1e_3: Option<f64>,
+    points: Vec<Point>,
+    csv: PathBuf,
+    plot: Option<PathBuf>,
+}
+
+/// Runs `caustic converge`.
+pub fn run(args: &ConvergeArgs) -> anyhow::Result<()> {
+    if args.points_per_doubling == 0 {
+        bail!("--points-per-doubling 0: at least one measurement per doubling is needed");
+    }
+    if let Some(t) = args.time.filter(|t| !(t.is_finite() && *t > 0.0)) {
+        bail!("--time {t}: must be a positive number of seconds");
+    }
+    let reference = Image::load(&args.reference).with_context(|| format!("reference {}", args.reference.display()))?;
+    let mut scene = load_scene(&SceneSource::parse(&args.scene))?;
+    if let Some(preset) = args.preset {
+        preset.apply(&mut scene);
+    }
+    scene.resolution = (reference.width, reference.height);
+    let (integrator, max_depth) = args.overrides.apply(&mut scene)?;
+    if scene.resolution != (reference.width, reference.height) {
+        bail!(
+            "--size {}x{} differs from the reference's {}x{}",
+            scene.resolution.0,
+            scene.resolution.1,
+            reference.width,
+            reference.height
+        );
+    }
+    let spp = args.spp.or(args.preset.map(Preset::spp)).unwrap_or(1024);
+    if spp == 0 {
+        bail!("--spp 0: at least one sample per pixel is needed");
+    }
+    let ctx = GpuContext::new(args.device.adapter.as_deref())?;
+    eprintln!("adapter: {}", ctx.adapter);
+    let gpu_scene = GpuScene::upload(&ctx, &scene)?;
+    let settings = RenderSettings { integrator, pass: scene.options.pass, max_depth, seed: args.overrides.seed, ..RenderSettings::default() };
+    let mut tracer = PathTracer::new(&ctx, &scene, &gpu_scene, &settings)?;
+    let points = measure(&mut tracer, &reference, spp, args)?;
+    write_outputs(&points, args)?;
+    let last = points.last().context("no measurement was made")?;
+    let pixels = f64::from(reference.width) * f64::from(reference.height);
+    let report = ConvergeReport {
+        adapter: ctx.adapter.name.clone(),
+        scene: scene.name.clone(),
+        width: reference.width,
+        height: reference.height,
+        preset: args.preset.map(|p| format!("{p:?}").to_lowercase()),
+        samples_per_second: pixels * f64::from(last.spp) / last.seconds.max(1e-9),
+        seconds_to_relmse_1e_2: seconds_to_reach(&points, 1e-2),
+        seconds_to_relmse_1e_3: seconds_to_reach(&points, 1e-3),
+        points,
+        csv: args.csv.clone(),
+        plot: args.plot.clone(),
+    };
+    print_report(&report, args.device.json)
+}
+
+/// Renders to `spp` (or the time limit), measuring at geometrically spaced sample counts.
+fn measure(tracer: &mut PathTracer<'_>, reference: &Image, spp: u32, args: &ConvergeArgs) -> anyhow::Result<Vec<Point>> {
+    let checkpoints = checkpoints(spp, args.points_per_doubling);
+    let limit = args.time.map(Duration::from_secs_f64);
+    let mut rendering = Duration::ZERO;
+    let mut points = Vec::new();
+    let viewing = Viewing::default();
+    for &target in &checkpoints {
+        let start = Instant::now();
+        let budget_left = limit.map(|l| l.saturating_sub(rendering));
+        let out_of_time = || budget_left.is_some_and(|left| start.elapsed() >= left);
+        while tracer.samples_per_pixel() < target && !out_of_time() {
+            tracer.render_sample_until(&out_of_time)?;
+        }
+        rendering += start.elapsed();
+        if tracer.samples_per_pixel() == 0 {
+            bail!("the time limit ended before the first sample pass");
+        }
+        let image = tracer.image()?;
+        let point = Point {
+            spp: tracer.samples_per_pixel(),
+            seconds: rendering.as_secs_f64(),
+            relmse: relative_mse(&image, reference, RELMSE_EPSILON)?,
+            flip: mean_flip_color(&image, reference, &viewing)?,
+            mae: mean_absolute_error(&image, reference)?,
+        };
+        if !args.device.json {
+            eprintln!("{:>7} spp {:>9.2} s  relMSE {:.3e}  FLIP {:.4}", point.spp, point.seconds, point.relmse, point.flip);
+        }
+        let stop = point.spp < target;
+        points.push(point);
+        if stop {
+            break;
+        }
+    }
+    Ok(points)
+}
+
+/// Sample counts to measure at: `per_doubling` per doubling from 1 up to `spp`, always ending at `spp`.
+fn checkpoints(spp: u32, per_doubling: u32) -> Vec<u32> {
+    let mut counts: Vec<u32> = (0..)
+        .map(|i| 2f64.powf(f64::from(i) / f64::from(per_doubling)).round() as u32)
+        .take_while(|&n| n < spp)
+        .collect();
+    counts.push(spp);
+    counts.dedup();
+    counts
+}
+
+/// The first time relMSE reaches `target`, interpolated in log-log between measurements.
+fn seconds_to_reach(points: &[Point], target: f64) -> Option<f64> {
+    let index = points.iter().position(|p| p.relmse <= target)?;
+    let Some(before) = index.checked_sub(1).map(|i| &points[i]) else {
+        return Some(points[index].seconds);
+    };
+    let after = &points[index];
+    let fraction = (before.relmse.ln() - target.ln()) / (before.relmse.ln() - after.relmse.ln());
+    Some((before.seconds.ln() + fraction * (after.seconds.ln() - before.seconds.ln())).exp())
+}
+
+fn write_outputs(points: &[Point], args: &ConvergeArgs) -> anyhow::Result<()> {
+    let mut csv = String::from("spp,seconds,relmse,flip,mae\n");
+    for p in points {
+        let _ = writeln!(csv, "{},{:.6},{:.6e},{:.6e},{:.6e}", p.spp, p.seconds, p.relmse, p.flip, p.mae);
+    }
+    write_file_atomically(&args.csv, csv.as_bytes())?;
+    if let Some(path) = &args.plot {
+        let series = [
+            Series { name: "relMSE", points: points.iter().map(|p| (p.seconds, p.relmse)).collect() },
+            Series { name: "FLIP-like (mean)", points: points.iter().map(|p| (p.seconds, p.flip)).collect() },
+        ];
+        let title = format!("{} against {}", args.scene, args.reference.display());
+        write_file_atomically(path, log_log_svg(&title, "seconds of rendering", "error", &series).as_bytes())?;
+    }
+    Ok(())
+}
+
+fn print_report(report: &ConvergeReport, json: bool) -> anyhow::Result<()> {
+    if json {
+        println!("{}", serde_json::to_string(report)?);
+        return Ok(());
+    }
+    let show = |s: Option<f64>| s.map_or("not reached".to_string(), |s| format!("{s:.2} s"));
+    println!(
+        "{} {}x{}: {:.3} M samples/s; relMSE 1e-2 after {}, 1e-3 after {}; table {}",
+        report.scene,
+        report.width,
+        report.height,
+        report.samples_per_second / 1e6,
+        show(report.seconds_to_relmse_1e_2),
+        show(report.seconds_to_relmse_1e_3),
+        report.csv.display()
+    );
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn checkpoints_double_and_end_at_the_target() {
+        assert_eq!(checkpoints(16, 1), vec![1, 2, 4, 8, 16]);
+        assert_eq!(checkpoints(10, 1), vec![1, 2, 4, 8, 10]);
+        assert_eq!(checkpoints(8, 2), vec![1, 2, 3, 4, 6, 8]);
+        assert_eq!(checkpoints(1, 4), vec![1]);
+    }
+
+    #[test]
+    fn time_to_an_error_is_interpolated_in_log_log() {
+        let point = |seconds, relmse| Point { spp: 1, seconds, relmse, flip: 0.0, mae: 0.0 };
+        let points = [point(1.0, 1e-1), point(100.0, 1e-3)];
+        let t = seconds_to_reach(&points, 1e-2).unwrap();
+        assert!((t - 10.0).abs() < 1e-9, "{t}");
+        assert_eq!(seconds_to_reach(&points, 1e-1), Some(1.0));
+        assert_eq!(seconds_to_reach(&points, 1e-4), None);
+    }
+}

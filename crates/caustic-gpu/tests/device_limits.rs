@@ -1,0 +1,88 @@
+//! Scenes beyond the device's limits are refused with an error that names the buffer, what it
+//! needs and the limit, before anything is bound: never a device loss, a hang or a black image.
+//! The device is opened with a deliberately small storage binding limit (64 KiB), so ordinary
+//! scenes exceed it.
+
+use caustic_gpu::{GpuContext, GpuError, GpuScene, PathTracer, RenderSettings};
+use caustic_scene::{Mesh, Scene};
+use glam::Vec3;
+
+const SMALL_BINDING: u64 = 64 * 1024;
+
+/// A device on the chosen adapter whose storage bindings hold at most [`SMALL_BINDING`] bytes.
+fn small_device() -> GpuContext {
+    let instance = wgpu::Instance::new(wgpu::InstanceDescriptor {
+        backends: wgpu::Backends::VULKAN,
+        ..wgpu::InstanceDescriptor::new_without_display_handle()
+    });
+    let adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::VULKAN));
+    let adapter = GpuContext::choose_adapter(adapters, std::env::var("CAUSTIC_ADAPTER").ok().as_deref()).expect("adapter");
+    let mut descriptor = GpuContext::device_descriptor(&adapter);
+    descriptor.required_limits.max_storage_buffer_binding_size = SMALL_BINDING;
+    let (device, queue) = pollster::block_on(adapter.request_device(&descriptor)).expect("device with small bindings");
+    let ctx = GpuContext::from_parts(device, queue, &adapter.get_info());
+    println!("adapter: {}, storage bindings limited to {} bytes", ctx.adapter, ctx.max_storage_binding());
+    ctx
+}
+
+/// A flat grid of `2 n²` triangles in the Cornell box's material 0.
+fn grid(n: u32) -> Mesh {
+    let mut mesh = Mesh { name: "grid".into(), ..Mesh::default() };
+    for y in 0..=n {
+        for x in 0..=n {
+            mesh.positions.push(Vec3::new(x as f32, 0.0, y as f32));
+        }
+    }
+    for y in 0..n {
+        for x in 0..n {
+            let i = y * (n + 1) + x;
+            mesh.indices.extend([[i, i + n + 1, i + 1], [i + 1, i + n + 1, i + n + 2]]);
+        }
+    }
+    mesh
+}
+
+fn limit_error(what: &str, result: Result<(), GpuError>) -> (String, u64, u64) {
+    match result {
+        Err(error @ GpuError::Limit { .. }) => {
+            println!("{what}: {error}");
+            let GpuError::Limit { what, need, limit } = error else { unreachable!() };
+            (what, need, limit)
+        }
+        other => panic!("{what}: expected a limit error, got {other:?}"),
+    }
+}
+
+/// 2,080 triangles need about 97 KiB of gathered BVH triangles and 65 KiB of BVH nodes: the
+/// upload names the first buffer over the limit, its element count and size, the bytes it
+/// needs and the limit, and nothing reaches the device.
+#[test]
+fn a_scene_beyond_the_storage_binding_limit_is_refused_by_name() {
+    let ctx = small_device();
+    let mut scene: Scene = caustic_scene::cornell_box();
+    scene.meshes.push(grid(32));
+    let (what, need, limit) = limit_error("upload", GpuScene::upload(&ctx, &scene).map(|_| ()));
+    assert!(what.contains("BVH"), "names the buffer: {what}");
+    let numbers: Vec<u64> = what.split(' ').filter_map(|w| w.parse().ok()).collect();
+    assert_eq!(numbers.iter().product::<u64>(), need, "element count x element size = the bytes needed: {what}");
+    assert_eq!(limit, SMALL_BINDING);
+    assert!(need > limit, "needs {need} > {limit}");
+    let message = GpuError::Limit { what, need, limit }.to_string();
+    assert!(message.contains("64 KiB") && message.contains("max_storage_buffer_binding_size"), "readable sizes and the limit's name: {message}");
+    assert!(ctx.check().is_ok(), "nothing reached the device: {:?}", ctx.check());
+}
+
+/// The scene fits but the image does not: a 128x128 accumulation buffer is 512 KiB.
+#[test]
+fn an_image_beyond_the_storage_binding_limit_is_refused_by_name() {
+    let ctx = small_device();
+    let mut scene = caustic_scene::cornell_box();
+    let gpu = GpuScene::upload(&ctx, &scene).expect("the Cornell box fits");
+    scene.resolution = (128, 128);
+    let (what, need, _) = limit_error("render", PathTracer::new(&ctx, &scene, &gpu, &RenderSettings::default()).map(|_| ()));
+    assert!(what.contains("128x128 accumulation"), "names the buffer: {what}");
+    assert_eq!(need, 128 * 128 * 32);
+    scene.resolution = (32, 32);
+    let mut tracer = PathTracer::new(&ctx, &scene, &gpu, &RenderSettings::default()).expect("32x32 fits in 32 KiB");
+    tracer.render_sample().expect("a pass on the small device");
+}

@@ -1,0 +1,66 @@
+//! `caustic converge` measures error against a reference over time: its table falls as the
+//! samples grow (relMSE roughly as 1/spp for an unbiased render), and its plot and CSV are
+//! written.
+
+mod support;
+
+#[test]
+fn error_falls_with_samples_and_outputs_are_written() {
+    let dir = support::scratch("converge");
+    let reference = dir.join("reference.exr");
+    let rendered = support::caustic(&["render", "--size", "32x32", "--spp", "1024", "--seed", "99", "-o", reference.to_str().unwrap()]);
+    assert!(rendered.status.success());
+    let (csv, plot) = (dir.join("converge.csv"), dir.join("converge.svg"));
+    let report = support::caustic_json(&[
+        "converge",
+        "--reference",
+        reference.to_str().unwrap(),
+        "--spp",
+        "64",
+        "--points-per-doubling",
+        "1",
+        "--csv",
+        csv.to_str().unwrap(),
+        "--plot",
+        plot.to_str().unwrap(),
+        "--json",
+    ]);
+    let points = report["points"].as_array().expect("points");
+    let spp: Vec<u64> = points.iter().map(|p| p["spp"].as_u64().unwrap()).collect();
+    assert_eq!(spp, [1, 2, 4, 8, 16, 32, 64]);
+    let relmse: Vec<f64> = points.iter().map(|p| p["relmse"].as_f64().unwrap()).collect();
+    let flip: Vec<f64> = points.iter().map(|p| p["flip"].as_f64().unwrap()).collect();
+    println!("relMSE by spp: {relmse:?}\nFLIP-like by spp: {flip:?}");
+    // Monte Carlo error falls as 1/spp: the least-squares slope of log relMSE against log spp
+    // is about -1 (a little flatter at low spp, where the rare bright samples that dominate the
+    // expectation are missing from a 1,024-pixel image, and near the 1024 spp reference's own
+    // noise floor).
+    let slope = log_log_slope(&spp.iter().map(|&n| n as f64).collect::<Vec<_>>(), &relmse);
+    println!("log-log slope of relMSE against spp: {slope:.3} (expected about -1; accepted -1.25..-0.65)");
+    assert!((-1.25..-0.65).contains(&slope));
+    assert!(flip[6] < flip[0] * 0.5, "the perceptual error must fall too");
+    let table = std::fs::read_to_string(&csv).expect("csv");
+    assert_eq!(table.lines().count(), 8, "header and 7 rows:\n{table}");
+    assert!(std::fs::read_to_string(&plot).expect("svg").contains("<polyline"));
+}
+
+/// Least-squares slope of ln y against ln x.
+fn log_log_slope(x: &[f64], y: &[f64]) -> f64 {
+    let (lx, ly): (Vec<f64>, Vec<f64>) = x.iter().zip(y).map(|(a, b)| (a.ln(), b.ln())).unzip();
+    let n = lx.len() as f64;
+    let (mx, my) = (lx.iter().sum::<f64>() / n, ly.iter().sum::<f64>() / n);
+    let covariance: f64 = lx.iter().zip(&ly).map(|(a, b)| (a - mx) * (b - my)).sum();
+    covariance / lx.iter().map(|a| (a - mx).powi(2)).sum::<f64>()
+}
+
+#[test]
+fn a_reference_of_another_size_is_an_error() {
+    let dir = support::scratch("converge-size");
+    let reference = dir.join("reference.exr");
+    assert!(support::caustic(&["render", "--size", "16x8", "--spp", "4", "-o", reference.to_str().unwrap()]).status.success());
+    let output = support::caustic(&["converge", "--reference", reference.to_str().unwrap(), "--size", "32x32", "--csv", dir.join("c.csv").to_str().unwrap()]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(!output.status.success());
+    assert!(stderr.contains("32x32") && stderr.contains("16x8"), "{stderr}");
+    assert!(!dir.join("c.csv").exists(), "no table on failure");
+}
