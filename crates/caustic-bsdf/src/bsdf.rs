@@ -1,0 +1,180 @@
+//! The path tracer's BSDF: a weighted sum of lobes in fixed slots, one lobe chosen per sample
+//! with probability proportional to its estimated albedo (one-sample MIS over the lobes).
+//! Twin of `shaders/bsdf/bsdf.wgsl` (`eval_bsdf`, `pdf_bsdf`, `sample_bsdf`), slot for slot.
+
+use crate::conductor::Conductor;
+use crate::lambert::Lambert;
+use crate::params::BsdfParams;
+use crate::phong::PhongLobe;
+use crate::rough_dielectric::RoughDielectric;
+use crate::translucent::DiffuseTransmission;
+use crate::{BsdfSample, Bxdf, cosine_hemisphere, fresnel_schlick, luminance, uniform_hemisphere};
+use glam::{Vec2, Vec3};
+use std::f32::consts::{FRAC_1_PI, PI};
+
+/// How the non-delta reflection lobes are sampled (CSE168 `importancesampling`); transmissive
+/// and delta lobes always sample themselves.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Sampling {
+    /// Uniformly over the hemisphere.
+    Hemisphere,
+    /// Proportionally to the cosine.
+    Cosine,
+    /// By each lobe's own sampler.
+    Bsdf,
+}
+
+/// Number of lobe slots (diffuse, translucent, Phong, GGX specular, mirror, dielectric).
+pub const LOBE_SLOTS: usize = 6;
+
+/// One lobe of a [`Bsdf`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Lobe {
+    /// Diffuse reflection.
+    Lambert(Lambert),
+    /// Diffuse transmission.
+    Translucent(DiffuseTransmission),
+    /// Modified Phong lobe.
+    Phong(PhongLobe),
+    /// GGX reflection (specular coat, metal, mirror).
+    Conductor(Conductor),
+    /// Dielectric interface.
+    Dielectric(RoughDielectric),
+}
+
+impl Lobe {
+    fn bxdf(&self) -> &dyn Bxdf {
+        match self {
+            Lobe::Lambert(l) => l,
+            Lobe::Translucent(l) => l,
+            Lobe::Phong(l) => l,
+            Lobe::Conductor(l) => l,
+            Lobe::Dielectric(l) => l,
+        }
+    }
+
+    /// Whether `sampling` replaces this lobe's own sampler (non-delta reflection lobes).
+    fn replaced_by(&self, sampling: Sampling) -> bool {
+        let reflective = match self {
+            Lobe::Lambert(_) | Lobe::Phong(_) => true,
+            Lobe::Conductor(c) => !c.is_smooth(),
+            Lobe::Translucent(_) | Lobe::Dielectric(_) => false,
+        };
+        reflective && sampling != Sampling::Bsdf
+    }
+}
+
+/// A material's BSDF at a shading point: the lobes of [`BsdfParams`] in slot order.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Bsdf {
+    params: BsdfParams,
+    lobes: [Lobe; LOBE_SLOTS],
+}
+
+impl Bsdf {
+    /// The BSDF of `params` seen from the side where the far side has relative index `eta`
+    /// (`ior` from outside, `1 / ior` from inside).
+    pub fn new(params: BsdfParams, eta: f32) -> Bsdf {
+        let lobes = [
+            Lobe::Lambert(Lambert { albedo: Vec3::ONE }),
+            Lobe::Translucent(DiffuseTransmission { albedo: Vec3::ONE }),
+            Lobe::Phong(PhongLobe { albedo: Vec3::ONE, exponent: params.phong_exponent }),
+            Lobe::Conductor(Conductor { alpha: params.specular_alpha, f0: params.specular_f0 }),
+            Lobe::Conductor(Conductor { alpha: params.mirror_alpha, f0: Vec3::ONE }),
+            Lobe::Dielectric(RoughDielectric { alpha: params.dielectric_alpha, eta }),
+        ];
+        Bsdf { params, lobes }
+    }
+
+    /// The lobes in slot order.
+    pub fn lobes(&self) -> &[Lobe; LOBE_SLOTS] {
+        &self.lobes
+    }
+
+    /// The share of light the coat lets through to the diffuse base at cosine `cos_theta`:
+    /// `1 - coat_weight * F_schlick(coat_f0, cos_theta)`. Applied for both directions, it keeps
+    /// the coated diffuse lobe reciprocal and the sum with the coat's own reflection below 1.
+    pub fn coat_transmission(&self, cos_theta: f32) -> f32 {
+        1.0 - self.params.coat_weight * fresnel_schlick(Vec3::splat(self.params.coat_f0), cos_theta).x
+    }
+
+    /// Each slot's weight for outgoing direction `wo` (the coat's Fresnel term depends on it).
+    pub fn weights(&self, wo: Vec3) -> [Vec3; LOBE_SLOTS] {
+        let p = &self.params;
+        [p.diffuse * self.coat_transmission(wo.z), p.translucent, p.phong, Vec3::splat(p.specular_weight), Vec3::splat(p.mirror), p.dielectric]
+    }
+
+    /// Probability of sampling each slot: its weight's luminance, times the Schlick
+    /// reflectance at `wo` for the GGX specular lobe; normalised (all 0 for a black surface).
+    pub fn selection(&self, wo: Vec3) -> [f32; LOBE_SLOTS] {
+        let w = self.weights(wo);
+        let mut s = w.map(luminance);
+        s[3] *= luminance(fresnel_schlick(self.params.specular_f0, wo.z));
+        let total: f32 = s.iter().sum();
+        if total > 0.0 { s.map(|x| x / total) } else { [0.0; LOBE_SLOTS] }
+    }
+
+    /// BSDF times |cos theta_i|, summed over the lobes.
+    pub fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
+        let mut w = self.weights(wo);
+        w[0] *= self.coat_transmission(wi.z);
+        self.lobes.iter().zip(w).filter(|(_, w)| *w != Vec3::ZERO).map(|(l, w)| w * l.bxdf().eval(wo, wi)).sum()
+    }
+
+    /// Density with which [`Bsdf::sample`] draws `wi` by a non-delta lobe under `sampling`.
+    pub fn pdf(&self, wo: Vec3, wi: Vec3, sampling: Sampling) -> f32 {
+        let s = self.selection(wo);
+        self.lobes.iter().zip(s).filter(|(_, s)| *s > 0.0).map(|(l, s)| s * lobe_pdf(l, wo, wi, sampling)).sum()
+    }
+
+    /// Chooses a lobe with `u_lobe` (rescaled and passed on for the lobe's own discrete
+    /// choice), samples it with `u`, and weights the result by the whole BSDF (non-delta) or
+    /// the chosen lobe alone (delta).
+    pub fn sample(&self, wo: Vec3, u_lobe: f32, u: Vec2, sampling: Sampling) -> Option<BsdfSample> {
+        let s = self.selection(wo);
+        let (slot, u_rescaled) = choose(&s, u_lobe)?;
+        let lobe = &self.lobes[slot];
+        let drawn = if lobe.replaced_by(sampling) {
+            let wi = if sampling == Sampling::Cosine { cosine_hemisphere(u) } else { uniform_hemisphere(u) };
+            BsdfSample { wi, pdf: 0.0, weight: Vec3::ZERO, eta: 1.0, delta: false }
+        } else {
+            lobe.bxdf().sample(wo, u_rescaled, u)?
+        };
+        if drawn.delta {
+            let weight = self.weights(wo)[slot] * drawn.weight / s[slot];
+            return Some(BsdfSample { pdf: drawn.pdf * s[slot], weight, ..drawn });
+        }
+        let pdf = self.pdf(wo, drawn.wi, sampling);
+        if !(pdf > 0.0 && pdf.is_finite()) {
+            return None;
+        }
+        Some(BsdfSample { pdf, weight: self.eval(wo, drawn.wi) / pdf, ..drawn })
+    }
+}
+
+/// The slot `u` falls into by the cumulative `selection`, and `u` rescaled to [0, 1) within it.
+fn choose(selection: &[f32; LOBE_SLOTS], u: f32) -> Option<(usize, f32)> {
+    let mut start = 0.0;
+    let mut last = None;
+    for (slot, &p) in selection.iter().enumerate() {
+        if p <= 0.0 {
+            continue;
+        }
+        if u < start + p {
+            return Some((slot, ((u - start) / p).min(1.0 - f32::EPSILON)));
+        }
+        start += p;
+        last = Some((slot, 1.0 - f32::EPSILON));
+    }
+    last
+}
+
+fn lobe_pdf(lobe: &Lobe, wo: Vec3, wi: Vec3, sampling: Sampling) -> f32 {
+    if !lobe.replaced_by(sampling) {
+        return lobe.bxdf().pdf(wo, wi);
+    }
+    if wo.z <= 0.0 || wi.z <= 0.0 {
+        return 0.0;
+    }
+    if sampling == Sampling::Cosine { wi.z * FRAC_1_PI } else { 0.5 / PI }
+}
