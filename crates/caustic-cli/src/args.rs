@@ -31,6 +31,9 @@ pub enum Command {
     /// Render progressively and record the error against a reference over time and samples
     /// (CSV table, SVG plot): the speed/accuracy trade, measured.
     Converge(crate::converge::ConvergeArgs),
+    /// Trace one sample of one pixel and print its path (rays, hits, BSDF and light samples,
+    /// throughput) as JSON.
+    DebugPixel(DebugPixelArgs),
 }
 
 /// Options every command that opens a device shares.
@@ -225,6 +228,27 @@ pub struct ViewArgs {
     /// that reproduces it.
     #[arg(long, value_name = "FILE", requires = "frames")]
     pub save: Option<PathBuf>,
+}
+
+/// `caustic debug-pixel`.
+#[derive(Debug, Args)]
+pub struct DebugPixelArgs {
+    /// Scene file (.gltf, .glb, .obj, .ply, .test) or built-in name (cornell).
+    pub scene: String,
+    /// Pixel column, 0 at the left.
+    pub x: u32,
+    /// Pixel row, 0 at the top.
+    pub y: u32,
+    /// Global sample index to trace: the path this sample of a render takes (`caustic render
+    /// --samples N..` starts at sample N).
+    #[arg(long, default_value_t = 0, value_name = "N")]
+    pub sample: u32,
+    /// What the command line changes in the scene.
+    #[command(flatten)]
+    pub overrides: SceneOverrides,
+    /// Use the Vulkan adapter whose name contains this text (case-insensitive).
+    #[arg(long, env = "CAUSTIC_ADAPTER", value_name = "NAME")]
+    pub adapter: Option<String>,
 }
 
 /// `caustic merge`.

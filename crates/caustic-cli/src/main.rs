@@ -4,6 +4,7 @@
 mod args;
 mod bench;
 mod converge;
+mod debug_pixel;
 mod fingerprint;
 mod merge;
 mod plot;
@@ -24,6 +25,7 @@ fn main() -> ExitCode {
         args::Command::Merge(merge_args) => merge::run(&merge_args),
         args::Command::View(view_args) => view::run(&view_args),
         args::Command::Converge(converge_args) => converge::run(&converge_args),
+        args::Command::DebugPixel(debug_args) => debug_pixel::run(&debug_args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

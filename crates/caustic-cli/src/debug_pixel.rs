@@ -1,0 +1,166 @@
+//! `caustic debug-pixel`: trace one sample of one pixel with the kernel's inspector armed and
+//! print its path as JSON (the fields are described in docs/DEBUGGING.md).
+
+use crate::args::DebugPixelArgs;
+use anyhow::bail;
+use caustic_gpu::inspector::{BounceRecord, BsdfRecord, LightRecord, PathRecord, Primitive, SurfaceRecord};
+use caustic_gpu::{GpuContext, GpuScene, PathTracer, RenderSettings};
+use caustic_scene::{load_scene, Integrator, Scene, SceneSource};
+use glam::Vec3;
+use serde_json::{json, Value};
+
+/// Runs `caustic debug-pixel`.
+pub fn run(args: &DebugPixelArgs) -> anyhow::Result<()> {
+    let mut scene = load_scene(&SceneSource::parse(&args.scene))?;
+    let (integrator, max_depth) = args.overrides.apply(&mut scene)?;
+    if !matches!(integrator, Integrator::PathTracer | Integrator::Direct) {
+        bail!("debug-pixel records path-traced paths; this scene renders with another integrator: add --integrator pathtracer");
+    }
+    let (width, height) = scene.resolution;
+    if args.x >= width || args.y >= height {
+        bail!(
+            "pixel ({}, {}) is outside the {width}x{height} image (x in 0..{width}, y in 0..{height})",
+            args.x,
+            args.y
+        );
+    }
+    let settings = RenderSettings {
+        integrator,
+        max_depth,
+        seed: args.overrides.seed,
+        first_sample: args.sample,
+        ..RenderSettings::default()
+    };
+    let ctx = GpuContext::new(args.adapter.as_deref())?;
+    eprintln!("adapter: {}", ctx.adapter);
+    let gpu = GpuScene::upload(&ctx, &scene)?;
+    let mut tracer = PathTracer::new(&ctx, &scene, &gpu, &settings)?;
+    let path = tracer.inspect(args.x, args.y, args.sample)?;
+    let report = json!({
+        "scene": scene.name,
+        "adapter": ctx.adapter.name,
+        "width": width,
+        "height": height,
+        "seed": settings.seed,
+        "max_depth": max_depth,
+        "rr_start": settings.rr_start,
+        "path": path_json(&path, &scene),
+    });
+    let mut text = String::new();
+    write_json(&report, 0, &mut text);
+    println!("{text}");
+    Ok(())
+}
+
+/// The JSON form of an inspected path; material and mesh names come from `scene`.
+fn path_json(path: &PathRecord, scene: &Scene) -> Value {
+    json!({
+        "pixel": [path.pixel.0, path.pixel.1],
+        "sample": path.sample,
+        "radiance": vec3(path.radiance),
+        "termination": path.termination.name(),
+        "rays": path.ray_count,
+        "bounces": path.bounces.iter().enumerate().map(|(i, b)| bounce_json(i, b, scene)).collect::<Vec<_>>(),
+    })
+}
+
+fn bounce_json(index: usize, bounce: &BounceRecord, scene: &Scene) -> Value {
+    json!({
+        "bounce": index,
+        "ray": { "origin": vec3(bounce.origin), "direction": vec3(bounce.direction) },
+        "hit": bounce.hit.as_ref().map(|h| hit_json(h, scene)),
+        "light": bounce.light.as_ref().map(light_json),
+        "bsdf": bounce.bsdf.as_ref().map(bsdf_json),
+        "throughput": vec3(bounce.throughput),
+        "radiance": vec3(bounce.radiance),
+    })
+}
+
+fn hit_json(hit: &SurfaceRecord, scene: &Scene) -> Value {
+    let primitive = match hit.primitive {
+        Primitive::Triangle(t) => json!({ "triangle": t, "mesh": mesh_of(scene, t) }),
+        Primitive::Shape(s) => json!({ "shape": s }),
+    };
+    json!({
+        "t": num(hit.t),
+        "point": vec3(hit.point),
+        "primitive": primitive,
+        "front_face": hit.front_face,
+        "shading_normal": vec3(hit.shading_normal),
+        "geometric_normal": vec3(hit.geometric_normal),
+        "material": hit.material,
+        "material_name": scene.materials.get(hit.material as usize).map(|m| m.name.as_str()),
+    })
+}
+
+fn light_json(light: &LightRecord) -> Value {
+    json!({
+        "light": light.light,
+        "direction": vec3(light.wi),
+        "pdf": num(light.pdf),
+        "delta": light.delta,
+        "occluded": light.occluded,
+        "mis_weight": num(light.mis_weight),
+        "contribution": vec3(light.contribution),
+    })
+}
+
+fn bsdf_json(bsdf: &BsdfRecord) -> Value {
+    json!({ "direction": vec3(bsdf.wi), "pdf": num(bsdf.pdf), "weight": vec3(bsdf.weight) })
+}
+
+/// The name of the mesh holding scene triangle `triangle`.
+fn mesh_of(scene: &Scene, triangle: u32) -> Option<&str> {
+    let mut first = 0usize;
+    for mesh in &scene.meshes {
+        let end = first + mesh.triangle_count();
+        if (triangle as usize) < end {
+            return Some(&mesh.name);
+        }
+        first = end;
+    }
+    None
+}
+
+fn vec3(v: Vec3) -> Value {
+    Value::Array(v.to_array().into_iter().map(num).collect())
+}
+
+/// A float as JSON: its shortest decimal form, or the string "NaN", "inf" or "-inf" (JSON has
+/// no non-finite numbers, and a debugging tool must show them).
+fn num(x: f32) -> Value {
+    match x.to_string() {
+        text if x.is_finite() => text.parse::<f64>().map_or(Value::Null, Value::from),
+        text => Value::from(text),
+    }
+}
+
+/// Pretty-prints `value` with arrays of scalars on one line, so a vector takes one line.
+fn write_json(value: &Value, indent: usize, out: &mut String) {
+    let pad = |n: usize| "  ".repeat(n);
+    match value {
+        Value::Object(map) if !map.is_empty() => {
+            out.push_str("{\n");
+            for (i, (key, item)) in map.iter().enumerate() {
+                out.push_str(&format!("{}{}: ", pad(indent + 1), Value::from(key.as_str())));
+                write_json(item, indent + 1, out);
+                out.push_str(if i + 1 < map.len() { ",\n" } else { "\n" });
+            }
+            out.push_str(&format!("{}}}", pad(indent)));
+        }
+        Value::Array(items) if items.iter().any(|v| v.is_object() || v.is_array()) => {
+            out.push_str("[\n");
+            for (i, item) in items.iter().enumerate() {
+                out.push_str(&pad(indent + 1));
+                write_json(item, indent + 1, out);
+                out.push_str(if i + 1 < items.len() { ",\n" } else { "\n" });
+            }
+            out.push_str(&format!("{}]", pad(indent)));
+        }
+        Value::Array(items) => {
+            let items: Vec<String> = items.iter().map(Value::to_string).collect();
+            out.push_str(&format!("[{}]", items.join(", ")));
+        }
+        scalar => out.push_str(&scalar.to_string()),
+    }
+}
