@@ -30,9 +30,23 @@ pub const SAH_TRAVERSAL_COST: f32 = 1.0;
 /// defaults; it makes splits cheap enough that leaves stay small.
 pub const SAH_INTERSECTION_COST: f32 = 1.0;
 
+/// How the builder chooses where to split a node.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum SplitMethod {
+    /// The binned surface area heuristic: the split with the lowest expected cost, and a leaf
+    /// where no split pays.
+    #[default]
+    BinnedSah,
+    /// The spatial midpoint of the widest centroid axis, down to leaves of at most
+    /// `max_leaf_size`: the classic ray tracer's builder, kept to measure what the SAH buys.
+    Midpoint,
+}
+
 /// Tuning knobs for [`build`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct BuildOptions {
+    /// How nodes are split (default: binned SAH).
+    pub split: SplitMethod,
     /// Bins per axis in the SAH sweep (default 16); clamped to `2..=64`.
     pub bins: usize,
     /// Largest leaf the SAH may choose (default 4); nodes with more triangles are
@@ -47,6 +61,7 @@ impl Default for BuildOptions {
     /// 16 bins, leaves of up to 4 triangles, parallel from 4096 triangles on.
     fn default() -> Self {
         Self {
+            split: SplitMethod::BinnedSah,
             bins: 16,
             max_leaf_size: 4,
             parallel_threshold: 4096,
@@ -144,6 +159,7 @@ fn build_from_bounds(bounds: &[Aabb], options: &BuildOptions, start: Instant) ->
             bounds,
             centroids: &centroids,
         },
+        split: options.split,
         bins: options.bins.clamp(2, MAX_BINS),
         max_leaf_size: options.max_leaf_size.clamp(1, MAX_LEAF_SIZE),
         parallel_threshold: options.parallel_threshold,
@@ -218,12 +234,14 @@ fn ceil_log2(n: usize) -> usize {
 enum Decision {
     Leaf,
     Binned(split::BinnedSplit),
+    Midpoint,
     Median,
 }
 
 /// Immutable state shared by all (possibly parallel) recursive calls.
 struct Builder<'a> {
     prims: Prims<'a>,
+    split: SplitMethod,
     bins: usize,
     max_leaf_size: usize,
     parallel_threshold: usize,
@@ -257,6 +275,7 @@ impl Builder<'_> {
                 return;
             }
             Decision::Binned(plane) => split::partition_binned(self.prims, indices, &plane),
+            Decision::Midpoint => split::partition_midpoint(self.prims, indices, &summary.centroids),
             Decision::Median => split::partition_median(self.prims, indices, &summary.centroids),
         };
         let (left, right) = indices.split_at_mut(mid);
@@ -275,7 +294,8 @@ impl Builder<'_> {
         }
     }
 
-    /// Chooses between a leaf, the best binned SAH split and a median split.
+    /// Chooses between a leaf, the best binned SAH split (or the midpoint, as asked) and a
+    /// median split.
     fn decide(&self, indices: &[u32], summary: &Summary, depth: usize, parallel: bool) -> Decision {
         let count = indices.len();
         if count <= 1 {
@@ -290,6 +310,9 @@ impl Builder<'_> {
             } else {
                 Decision::Leaf
             };
+        }
+        if self.split == SplitMethod::Midpoint {
+            return if must_split { Decision::Midpoint } else { Decision::Leaf };
         }
         match split::best_binned_split(self.prims, indices, &summary.centroids, self.bins, parallel)
         {

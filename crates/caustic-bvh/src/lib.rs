@@ -36,7 +36,7 @@ mod triangle;
 pub use aabb::Aabb;
 pub use build::{
     BuildOptions, BuildStats, Bvh, MAX_DEPTH, MAX_LEAF_SIZE, Node, SAH_INTERSECTION_COST,
-    SAH_TRAVERSAL_COST, build, build_with_shapes, sah_cost,
+    SAH_TRAVERSAL_COST, SplitMethod, build, build_with_shapes, sah_cost,
 };
 pub use layout::{
     EMPTY_CHILD, GpuBvh, GpuNode, GpuTriangle, LEAF_BIT, MAX_TRIANGLES, decode_leaf, encode_leaf,

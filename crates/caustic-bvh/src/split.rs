@@ -222,18 +222,41 @@ pub(crate) fn partition_binned(prims: Prims, indices: &mut [u32], split: &Binned
     left
 }
 
-/// Splits `indices` in half by index after ordering them around the median centroid of the
-/// widest centroid axis; returns the left size. With all centroids equal this is simply
-/// the middle of the index range, which is what keeps duplicated geometry splittable.
-pub(crate) fn partition_median(prims: Prims, indices: &mut [u32], centroids: &Aabb) -> usize {
-    let extent = centroids.extent();
-    let axis = if extent.x >= extent.y && extent.x >= extent.z {
+/// Reorders `indices` so the centroids below the middle of the widest centroid axis come
+/// first; returns the left size. Where that leaves a side empty (all centroids in one half
+/// after rounding), falls back to [`partition_median`] so every split makes progress.
+pub(crate) fn partition_midpoint(prims: Prims, indices: &mut [u32], centroids: &Aabb) -> usize {
+    let axis = widest_axis(centroids);
+    let middle = centroids.centroid()[axis];
+    let (mut left, mut right) = (0, indices.len());
+    while left < right {
+        if prims.centroids[indices[left] as usize][axis] < middle {
+            left += 1;
+        } else {
+            right -= 1;
+            indices.swap(left, right);
+        }
+    }
+    if left == 0 || left == indices.len() { partition_median(prims, indices, centroids) } else { left }
+}
+
+/// The axis (0, 1, 2) along which `bounds` is widest.
+fn widest_axis(bounds: &Aabb) -> usize {
+    let extent = bounds.extent();
+    if extent.x >= extent.y && extent.x >= extent.z {
         0
     } else if extent.y >= extent.z {
         1
     } else {
         2
-    };
+    }
+}
+
+/// Splits `indices` in half by index after ordering them around the median centroid of the
+/// widest centroid axis; returns the left size. With all centroids equal this is simply
+/// the middle of the index range, which is what keeps duplicated geometry splittable.
+pub(crate) fn partition_median(prims: Prims, indices: &mut [u32], centroids: &Aabb) -> usize {
+    let axis = widest_axis(centroids);
     let mid = indices.len() / 2;
     indices.select_nth_unstable_by(mid, |&a, &b| {
         prims.centroids[a as usize][axis].total_cmp(&prims.centroids[b as usize][axis])
@@ -294,6 +317,19 @@ mod tests {
             (sa.axis, sa.bin, sa.weighted_area),
             (sb.axis, sb.bin, sb.weighted_area)
         );
+    }
+
+    #[test]
+    fn midpoint_splits_at_the_middle_of_the_centroid_bounds() {
+        let (bounds, centroids) = line_of_boxes(10);
+        let prims = Prims { bounds: &bounds, centroids: &centroids };
+        let mut indices: Vec<u32> = (0..10).rev().collect();
+        let summary = summarize(prims, &indices, false);
+        let middle = summary.centroids.centroid().x;
+        let left = partition_midpoint(prims, &mut indices, &summary.centroids);
+        assert!(left > 0 && left < 10);
+        assert!(indices[..left].iter().all(|&i| centroids[i as usize].x < middle));
+        assert!(indices[left..].iter().all(|&i| centroids[i as usize].x >= middle));
     }
 
     #[test]

@@ -289,12 +289,24 @@ pub struct BenchArgs {
     /// i32 triangle indices in the mesh's face order (-1 on a miss).
     #[arg(long, value_name = "FILE", requires = "rays")]
     pub hits: Option<PathBuf>,
+    /// BVH split method: sah (binned surface area heuristic) or midpoint (the classic
+    /// builder, for comparison).
+    #[arg(long, default_value = "sah", value_parser = parse_split)]
+    pub split: caustic_bvh::SplitMethod,
     /// Timed repeats per ray set; the best is reported.
     #[arg(long, default_value_t = 5)]
     pub repeats: u32,
     /// Device selection and output format.
     #[command(flatten)]
     pub device: DeviceArgs,
+}
+
+fn parse_split(text: &str) -> Result<caustic_bvh::SplitMethod, String> {
+    match text {
+        "sah" => Ok(caustic_bvh::SplitMethod::BinnedSah),
+        "midpoint" => Ok(caustic_bvh::SplitMethod::Midpoint),
+        _ => Err(format!("'{text}': use sah or midpoint")),
+    }
 }
 
 fn parse_samples(text: &str) -> Result<Range<u32>, String> {

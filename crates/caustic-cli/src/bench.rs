@@ -2,7 +2,8 @@
 
 use crate::args::BenchArgs;
 use crate::ray_file::{read_rays, write_hits};
-use caustic_gpu::{BenchResult, ExternalRay, GpuContext, GpuScene, RayBench, RayKind};
+use caustic_bvh::{BuildOptions, SplitMethod};
+use caustic_gpu::{BenchResult, ExternalRay, GpuContext, GpuScene, PathTracer, RayBench, RayKind, RenderSettings};
 use caustic_scene::{SceneSource, load_scene};
 use serde::Serialize;
 use std::time::Instant;
@@ -16,7 +17,11 @@ struct MeshReport {
     bvh_build_ms: f64,
     bvh_nodes: usize,
     bvh_max_depth: usize,
+    bvh_leaves: usize,
     bvh_sah_cost: f32,
+    bvh_split: String,
+    /// One path-traced sample per pixel at the scene's resolution, best of the repeats.
+    render_ms_1spp: f64,
     rays: u64,
     primary_mrays_per_second: f64,
     primary_nodes_per_ray: f64,
@@ -135,7 +140,8 @@ fn bench_mesh(ctx: &GpuContext, name: &str, args: &BenchArgs) -> anyhow::Result<
     let start = Instant::now();
     let scene = load_scene(&SceneSource::parse(name))?;
     let load_ms = start.elapsed().as_secs_f64() * 1e3;
-    let gpu_scene = GpuScene::upload(ctx, &scene)?;
+    let gpu_scene = GpuScene::upload_with(ctx, &scene, &BuildOptions { split: args.split, ..BuildOptions::default() })?;
+    let render_ms_1spp = one_sample_ms(ctx, &scene, &gpu_scene, args.repeats)?;
     let bench = RayBench::new(ctx, &gpu_scene, &scene.camera, args.grid)?;
     let primary: BenchResult = bench.run(RayKind::Primary, args.repeats)?;
     let incoherent: BenchResult = bench.run(RayKind::Incoherent, args.repeats)?;
@@ -147,7 +153,10 @@ fn bench_mesh(ctx: &GpuContext, name: &str, args: &BenchArgs) -> anyhow::Result<
         bvh_build_ms: stats.build_ms,
         bvh_nodes: stats.nodes,
         bvh_max_depth: stats.max_depth,
+        bvh_leaves: stats.leaves,
         bvh_sah_cost: stats.sah_cost,
+        bvh_split: split_name(args.split).to_string(),
+        render_ms_1spp,
         rays: primary.rays,
         primary_mrays_per_second: primary.mrays_per_second,
         primary_nodes_per_ray: primary.mean_nodes_visited,
@@ -158,22 +167,46 @@ fn bench_mesh(ctx: &GpuContext, name: &str, args: &BenchArgs) -> anyhow::Result<
     })
 }
 
+/// Milliseconds of one path-traced sample pass over the whole image, best of `repeats` after
+/// one untimed pass (which pays for pipeline compilation).
+fn one_sample_ms(ctx: &GpuContext, scene: &caustic_scene::Scene, gpu: &GpuScene, repeats: u32) -> anyhow::Result<f64> {
+    let mut tracer = PathTracer::new(ctx, scene, gpu, &RenderSettings::default())?;
+    tracer.render_sample()?;
+    let mut best = f64::INFINITY;
+    for _ in 0..repeats.max(1) {
+        let start = Instant::now();
+        tracer.render_sample()?;
+        best = best.min(start.elapsed().as_secs_f64() * 1e3);
+    }
+    Ok(best)
+}
+
+fn split_name(split: SplitMethod) -> &'static str {
+    match split {
+        SplitMethod::BinnedSah => "sah",
+        SplitMethod::Midpoint => "midpoint",
+    }
+}
+
 fn print_row(r: &MeshReport, header: bool) {
     if header {
         println!(
-            "{:<40} {:>10} {:>10} {:>12} {:>12} {:>12} {:>12}",
-            "mesh", "triangles", "build ms", "SAH cost", "primary", "incoherent", "hit primary"
+            "{:<32} {:>9} {:>9} {:>8} {:>7} {:>8} {:>9} {:>10} {:>10} {:>8}",
+            "mesh", "triangles", "build ms", "split", "levels", "leaves", "SAH cost", "primary", "incoherent", "1 spp"
         );
-        println!("{:<40} {:>10} {:>10} {:>12} {:>12} {:>12} {:>12}", "", "", "", "", "Mrays/s", "Mrays/s", "");
+        println!("{:<32} {:>9} {:>9} {:>8} {:>7} {:>8} {:>9} {:>10} {:>10} {:>8}", "", "", "", "", "", "", "", "Mrays/s", "Mrays/s", "ms");
     }
     println!(
-        "{:<40} {:>10} {:>10.1} {:>12.2} {:>12.2} {:>12.2} {:>11.1}%",
+        "{:<32} {:>9} {:>9.1} {:>8} {:>7} {:>8} {:>9.2} {:>10.2} {:>10.2} {:>8.1}",
         r.mesh,
         r.triangles,
         r.bvh_build_ms,
+        r.bvh_split,
+        r.bvh_max_depth,
+        r.bvh_leaves,
         r.bvh_sah_cost,
         r.primary_mrays_per_second,
         r.incoherent_mrays_per_second,
-        r.primary_hit_fraction * 100.0
+        r.render_ms_1spp
     );
 }

@@ -49,8 +49,13 @@ impl GpuScene {
     /// Builds the BVH on the CPU and uploads everything. Fails with a clear error when a buffer
     /// exceeds the device's storage binding limit or the BVH is deeper than the kernels allow.
     pub fn upload(ctx: &GpuContext, scene: &Scene) -> Result<GpuScene, GpuError> {
+        GpuScene::upload_with(ctx, scene, &BuildOptions::default())
+    }
+
+    /// [`GpuScene::upload`] with a BVH built with `options`, e.g. to compare split methods.
+    pub fn upload_with(ctx: &GpuContext, scene: &Scene, options: &BuildOptions) -> Result<GpuScene, GpuError> {
         let data = SceneData::new(scene);
-        let bvh = caustic_bvh::build_with_shapes(&data.triangles, &data.shapes, &BuildOptions::default());
+        let bvh = caustic_bvh::build_with_shapes(&data.triangles, &data.shapes, options);
         if bvh.stats.max_depth >= MAX_BVH_DEPTH {
             return Err(GpuError::Scene(format!(
                 "the BVH is {} levels deep; the traversal stack holds {MAX_BVH_DEPTH}",

@@ -2,7 +2,7 @@
 //! consistent statistics, and SAH quality against a median-split baseline.
 
 use caustic_bvh::{
-    Aabb, BuildOptions, BuildStats, Bvh, EMPTY_CHILD, GpuBvh, LEAF_BIT, MAX_DEPTH, Node, build,
+    Aabb, BuildOptions, SplitMethod, BuildStats, Bvh, EMPTY_CHILD, GpuBvh, LEAF_BIT, MAX_DEPTH, Node, build,
     decode_leaf, flatten, sah_cost,
 };
 use glam::Vec3;
@@ -163,6 +163,13 @@ fn option_extremes_are_sound() {
             "2 bins",
             BuildOptions {
                 bins: 2,
+                ..Default::default()
+            },
+        ),
+        (
+            "midpoint split",
+            BuildOptions {
+                split: SplitMethod::Midpoint,
                 ..Default::default()
             },
         ),

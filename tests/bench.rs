@@ -1,6 +1,6 @@
-//! `caustic bench MESH --rays FILE --hits OUT` traces an external ray set and writes, per ray,
-//! the closest hit's distance and triangle index in the mesh's face order: the same answers
-//! as a brute-force CPU search over the scene's triangles.
+//! `caustic bench`: the BVH split methods it compares, and external ray sets: `--rays FILE
+//! --hits OUT` traces the file's rays and writes, per ray, the closest hit's distance and
+//! triangle index in the mesh's face order, the same answers as a brute-force CPU search.
 
 mod support;
 
@@ -82,4 +82,23 @@ fn malformed_ray_files_are_errors_naming_the_file() {
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(!output.status.success());
     assert!(stderr.contains("short.rays") && stderr.contains("30 bytes"), "{stderr}");
+}
+
+#[test]
+fn the_sah_tree_is_cheaper_than_the_midpoint_tree() {
+    let bench = |split: &str| {
+        let report = support::caustic_json(&["bench", "--grid", "64", "--repeats", "1", "--split", split, "--json"]);
+        report["meshes"][0].clone()
+    };
+    let (sah, midpoint) = (bench("sah"), bench("midpoint"));
+    for (name, mesh) in [("sah", &sah), ("midpoint", &midpoint)] {
+        println!(
+            "{name}: {} levels, {} leaves, SAH cost {:.2}, build {:.2} ms, 1 spp {:.1} ms",
+            mesh["bvh_max_depth"], mesh["bvh_leaves"], mesh["bvh_sah_cost"], mesh["bvh_build_ms"], mesh["render_ms_1spp"]
+        );
+        assert_eq!(mesh["bvh_split"], name);
+        assert!(mesh["bvh_leaves"].as_u64().unwrap() >= 2);
+        assert!(mesh["render_ms_1spp"].as_f64().unwrap() > 0.0);
+    }
+    assert!(sah["bvh_sah_cost"].as_f64().unwrap() < midpoint["bvh_sah_cost"].as_f64().unwrap());
 }
