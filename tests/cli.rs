@@ -146,3 +146,53 @@ fn bench_reports_throughput() {
     assert!(mesh["incoherent_mrays_per_second"].as_f64().unwrap() > 0.0);
     assert!(mesh["primary_hit_fraction"].as_f64().unwrap() > 0.9, "the Cornell camera sees the box everywhere");
 }
+
+#[test]
+fn scene_language_files_run_their_actions() {
+    let dir = support::scratch("script");
+    let scene = dir.join("actions.scene");
+    let text = "size 24 16\ncamera 0 0 4 0 0 0 0 1 0 30\npoint 0 2 4 1 0.6 0.3\ndiffuse 0.8 0.8 0.8\nsphere 0 0 0 1\ngamma 2.2\n\
+                output first\nrender image\n\
+                output second.png\nrender hdr image\nsave ldr\n\
+                output blurred\npreview quick\nrender hdr image\npostprocess blur 2\nsave hdr\nexit\nrender depth\n";
+    std::fs::write(&scene, text).unwrap();
+    let run = |extra: &[&str]| {
+        let output = std::process::Command::new(env!("CARGO_BIN_EXE_caustic"))
+            .args(["render", scene.to_str().unwrap(), "--spp", "2"])
+            .args(extra)
+            .current_dir(&dir)
+            .output()
+            .expect("run caustic");
+        let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
+        eprintln!("{stderr}");
+        assert!(output.status.success());
+        stderr
+    };
+    let stderr = run(&[]);
+    assert_eq!(stderr.matches(" spp in ").count(), 3, "three renders before exit");
+    let first = image::open(dir.join("first.bmp")).expect("LDR without extension: BMP");
+    assert_eq!(first.color(), image::ColorType::Rgb8, "24-bit BMP");
+    // `render hdr` with `output second.png` writes second.exr; `save ldr` writes second.png
+    // from the same image: clamp, then gamma 2.2, no sRGB curve.
+    let linear = caustic_image::Image::load(&dir.join("second.exr")).expect("HDR render");
+    let ldr = image::open(dir.join("second.png")).expect("LDR save").into_rgb8();
+    let worst = linear
+        .pixels
+        .iter()
+        .zip(ldr.pixels())
+        .flat_map(|(l, p)| (0..3).map(move |c| ((f64::from(l[c]).clamp(0.0, 1.0).powf(1.0 / 2.2) * 255.0) - f64::from(p.0[c])).abs()))
+        .fold(0.0, f64::max);
+    // The same seed renders the same image again; the blur keeps its energy.
+    let blurred = caustic_image::Image::load(&dir.join("blurred.exr")).expect("HDR save after blur");
+    let total = |image: &caustic_image::Image| image.pixels.iter().map(|p| f64::from(p[0] + p[1] + p[2])).sum::<f64>();
+    let energy = (total(&blurred) / total(&linear) - 1.0).abs();
+    println!("clamp + gamma 2.2 encoding: largest difference {worst:.2} levels; blur energy change {energy:.2e}");
+    assert!(worst <= 0.5 + 1e-3, "LDR is not clamp + gamma");
+    assert!(energy < 1e-4, "the blur changed the energy");
+    let preview = image::open(dir.join("quick.jpg")).expect("preview JPEG beside the HDR save");
+    assert_eq!((preview.width(), preview.height()), (24, 16));
+    // -o replaces every output name.
+    let forced = dir.join("forced.png");
+    run(&["-o", forced.to_str().unwrap()]);
+    assert!(forced.exists(), "-o is honoured");
+}

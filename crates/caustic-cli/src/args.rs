@@ -28,6 +28,8 @@ pub enum Command {
     Merge(MergeArgs),
     /// Open a window that renders the scene progressively, with camera controls and settings.
     View(ViewArgs),
+    /// Read scene-language commands at a prompt (or from a pipe); each `render` renders.
+    Shell(ShellArgs),
     /// Render progressively and record the error against a reference over time and samples
     /// (CSV table, SVG plot): the speed/accuracy trade, measured.
     Converge(crate::converge::ConvergeArgs),
@@ -152,15 +154,16 @@ pub struct DisplayArgs {
     /// Exposure in stops for LDR outputs.
     #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
     pub exposure: f32,
-    /// Tone mapper for LDR outputs: aces, reinhard or clamp.
-    #[arg(long, default_value = "aces")]
-    pub tone_map: caustic_image::ToneMap,
+    /// Tone mapper for LDR outputs: aces, reinhard or clamp, then sRGB (default aces; a
+    /// scene-language script's own LDR files default to the classic clamp and `gamma`).
+    #[arg(long)]
+    pub tone_map: Option<caustic_image::ToneMap>,
 }
 
 impl DisplayArgs {
-    /// The options an LDR file is saved with.
+    /// The options an LDR file is saved with (ACES unless --tone-map says otherwise).
     pub fn save_options(&self) -> caustic_image::SaveOptions {
-        caustic_image::SaveOptions { exposure: self.exposure, tone_map: self.tone_map }
+        caustic_image::SaveOptions { exposure: self.exposure, tone_map: self.tone_map.unwrap_or_default() }
     }
 }
 
@@ -249,6 +252,26 @@ pub struct DebugPixelArgs {
     /// Use the Vulkan adapter whose name contains this text (case-insensitive).
     #[arg(long, env = "CAUSTIC_ADAPTER", value_name = "NAME")]
     pub adapter: Option<String>,
+}
+
+/// `caustic shell`.
+#[derive(Debug, Args)]
+pub struct ShellArgs {
+    /// Samples per pixel of each render (default: the scene's `spp`, else 64).
+    #[arg(long, value_name = "N")]
+    pub spp: Option<u32>,
+    /// Stop each render after this many seconds (at a whole sample pass).
+    #[arg(long, value_name = "SECONDS")]
+    pub time: Option<f64>,
+    /// What the command line changes in every scene rendered.
+    #[command(flatten)]
+    pub overrides: SceneOverrides,
+    /// How LDR outputs are exposed and tone mapped.
+    #[command(flatten)]
+    pub display: DisplayArgs,
+    /// Device selection and output format.
+    #[command(flatten)]
+    pub device: DeviceArgs,
 }
 
 /// `caustic merge`.

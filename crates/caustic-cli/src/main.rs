@@ -11,6 +11,8 @@ mod plot;
 mod preset;
 mod ray_file;
 mod render;
+mod script;
+mod shell;
 mod tasks;
 mod view;
 
@@ -24,6 +26,7 @@ fn main() -> ExitCode {
         args::Command::Bench(bench_args) => bench::run(&bench_args),
         args::Command::Merge(merge_args) => merge::run(&merge_args),
         args::Command::View(view_args) => view::run(&view_args),
+        args::Command::Shell(shell_args) => shell::run(&shell_args),
         args::Command::Converge(converge_args) => converge::run(&converge_args),
         args::Command::DebugPixel(debug_args) => debug_pixel::run(&debug_args),
     };

@@ -2,13 +2,15 @@
 
 use crate::args::RenderArgs;
 use crate::fingerprint::{Fingerprint, fingerprint};
+use crate::script;
 use crate::tasks::{TaskIndex, has_placeholder, substitute};
 use anyhow::{Context, bail};
 use caustic_gpu::{GpuContext, GpuScene, PassOutcome, PathTracer, RenderSettings};
-use caustic_image::{PartInfo, PartialImage};
-use caustic_scene::{SceneSource, load_scene};
+use caustic_image::{Image, PartInfo, PartialImage};
+use caustic_scene::{Scene, SceneSource, load_scene};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
+use std::ops::Range;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -18,7 +20,7 @@ const DEFAULT_SPP: u32 = 64;
 
 /// What a render reports with `--json` (one object on stdout).
 #[derive(Debug, Serialize)]
-struct RenderReport {
+pub struct RenderReport {
     adapter: String,
     adapter_type: String,
     scene: String,
@@ -46,8 +48,44 @@ struct RenderReport {
     output: PathBuf,
 }
 
+impl RenderReport {
+    /// The report of `rendered`, a render of `scene` written to `output` (no task index; the
+    /// sample range drawn).
+    pub fn new(
+        ctx: &GpuContext,
+        scene: &Scene,
+        rendered: &Accumulated,
+        interrupted: bool,
+        fingerprint: String,
+        output: PathBuf,
+    ) -> RenderReport {
+        let (width, height) = scene.resolution;
+        RenderReport {
+            adapter: ctx.adapter.name.clone(),
+            adapter_type: ctx.adapter.device_type.clone(),
+            scene: scene.name.clone(),
+            width,
+            height,
+            triangles: rendered.triangles,
+            lights: rendered.lights,
+            bvh_nodes: rendered.bvh_nodes,
+            bvh_build_ms: rendered.bvh_build_ms,
+            spp: rendered.spp,
+            seconds: rendered.seconds,
+            samples_per_second: f64::from(width) * f64::from(height) * f64::from(rendered.spp) / rendered.seconds.max(1e-9),
+            nonfinite_samples: rendered.nonfinite.iter().map(|&c| u64::from(c)).sum(),
+            nonfinite_pixels: worst_pixels(&rendered.nonfinite, width),
+            interrupted,
+            samples: [rendered.drawn.start, rendered.drawn.end],
+            task_index: None,
+            fingerprint,
+            output,
+        }
+    }
+}
+
 /// When to stop accumulating.
-struct Budget {
+pub struct Budget {
     /// Global index of the first sample to draw.
     first_sample: u32,
     /// Samples per pixel to draw; `None`: until the time is spent.
@@ -57,14 +95,7 @@ struct Budget {
 
 impl Budget {
     fn from_args(args: &RenderArgs, task: Option<&TaskIndex>) -> anyhow::Result<Budget> {
-        if args.spp == Some(0) {
-            bail!("--spp 0: at least one sample per pixel is needed");
-        }
-        if let Some(t) = args.time {
-            if !(t.is_finite() && t > 0.0) {
-                bail!("--time {t}: must be a positive number of seconds");
-            }
-        }
+        check_limits(args.spp, args.time)?;
         let range = match (args.samples_from_env, task, &args.samples) {
             (true, Some(task), _) => Some(task.sample_range(args.spp_per_task.unwrap_or(0))?),
             (_, _, Some(range)) => Some(range.clone()),
@@ -74,6 +105,11 @@ impl Budget {
             Some(range) => Budget { first_sample: range.start, spp: Some(range.end - range.start), seconds: args.time },
             None => Budget { first_sample: 0, spp: None, seconds: args.time },
         })
+    }
+
+    /// Samples 0..`spp` (64 when there is neither `spp` nor a time limit), within `seconds`.
+    pub fn from_zero(spp: Option<u32>, seconds: Option<f64>) -> Budget {
+        Budget { first_sample: 0, spp: spp.or(if seconds.is_some() { None } else { Some(DEFAULT_SPP) }), seconds }
     }
 
     /// The end of the sample range, if the budget has one.
@@ -90,12 +126,31 @@ impl Budget {
     }
 }
 
-/// Runs `caustic render`.
+/// Checks --spp and --time: at least one sample, a positive, finite time.
+pub fn check_limits(spp: Option<u32>, time: Option<f64>) -> anyhow::Result<()> {
+    if spp == Some(0) {
+        bail!("--spp 0: at least one sample per pixel is needed");
+    }
+    if let Some(t) = time {
+        if !(t.is_finite() && t > 0.0) {
+            bail!("--time {t}: must be a positive number of seconds");
+        }
+    }
+    Ok(())
+}
+
+/// Runs `caustic render`. A scene-language file runs as a script (every `render`, `save` and
+/// `postprocess`), unless a sample range or task options split it into parts: then, like
+/// every other scene, the scene of its first `render` is rendered once.
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let task = task_index(args)?;
     let mut budget = Budget::from_args(args, task.as_ref())?;
     let scene_arg = scene_argument(args, task.as_ref())?;
     let output_arg = output_argument(args, task.as_ref())?;
+    let split = args.samples.is_some() || args.samples_from_env || args.frame_from_env || args.resume;
+    if !split && script::is_script(Path::new(&scene_arg)) {
+        return script::run_file(Path::new(&scene_arg), args);
+    }
     let mut scene = load_scene(&SceneSource::parse(&scene_arg))?;
     let output = output_arg.unwrap_or_else(|| PathBuf::from(format!("{}.png", scene.name)));
     caustic_image::check_output_path(&output)?;
@@ -122,47 +177,16 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let interrupted = interrupt_flag()?;
     let ctx = GpuContext::new(args.device.adapter.as_deref())?;
     eprintln!("adapter: {}", ctx.adapter);
-    let gpu_scene = GpuScene::upload(&ctx, &scene)?;
-    let mut tracer = PathTracer::new(&ctx, &scene, &gpu_scene, &settings)?;
-    let progress = progress_bar(&budget);
-    let start = Instant::now();
-    let stop = || interrupted.load(Ordering::SeqCst) || budget.time_spent(start.elapsed().as_secs_f64());
-    while !budget.spp_reached(tracer.samples_per_pixel()) {
-        if tracer.render_sample_until(&stop)? == PassOutcome::Stopped {
-            break;
-        }
-        progress.set_position(progress_position(&budget, tracer.samples_per_pixel(), start.elapsed().as_secs_f64()));
-    }
-    let seconds = start.elapsed().as_secs_f64();
-    progress.finish_and_clear();
-    let (image, counts) = tracer.accumulated()?;
-    let nonfinite = tracer.nonfinite_counts()?;
+    let rendered = accumulate(&ctx, &scene, &settings, &budget, &interrupted)?;
     let interrupted = interrupted.load(Ordering::SeqCst);
-    let mut written = tracer.drawn_range();
     if interrupted {
-        eprintln!("interrupted: writing the image accumulated so far ({} complete samples per pixel)", tracer.samples_per_pixel());
+        eprintln!("interrupted: writing the image accumulated so far ({} complete samples per pixel)", rendered.spp);
     }
+    let mut report = RenderReport::new(&ctx, &scene, &rendered, interrupted, print.hash.clone(), output.clone());
+    report.task_index = task.map(|t| t.index);
     if partial {
-        let info = PartInfo {
-            width: image.width,
-            height: image.height,
-            range: written.clone(),
-            fingerprint: print.hash.clone(),
-            settings: print.description.clone(),
-            scene: scene.name.clone(),
-            version: env!("CARGO_PKG_VERSION").to_string(),
-            nonfinite: nonfinite.iter().map(|&c| u64::from(c)).sum(),
-        };
-        let part = PartialImage { info, image, samples: counts };
-        let part = match previous {
-            Some(previous) => {
-                let parts = [(output.clone(), previous), (PathBuf::from("(the resumed samples)"), part)];
-                PartialImage::merge_loaded(&parts, None)?
-            }
-            None => part,
-        };
-        written = part.info.range.clone();
-        part.save(&output)?;
+        let written = write_part(&output, &scene, &print, rendered, previous)?;
+        report.samples = [written.start, written.end];
         if interrupted || written.end < budget.end().unwrap_or(written.end) {
             eprintln!(
                 "{} holds samples {}..{}: re-run the same command with --resume to add the rest",
@@ -172,36 +196,101 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
             );
         }
     } else {
-        image.save(&output, &args.display.save_options())?;
+        rendered.image.save(&output, &args.display.save_options())?;
     }
-    let (width, height) = scene.resolution;
-    let spp = tracer.samples_per_pixel();
-    let report = RenderReport {
-        adapter: ctx.adapter.name.clone(),
-        adapter_type: ctx.adapter.device_type.clone(),
-        scene: scene.name.clone(),
-        width,
-        height,
+    print_report(&report, args.device.json)?;
+    if interrupted {
+        bail!("interrupted (Ctrl-C or SIGTERM) after {} samples per pixel; the partial image was written", report.spp);
+    }
+    Ok(())
+}
+
+/// One render accumulated on the device, and what it measured.
+pub struct Accumulated {
+    /// The per-pixel mean.
+    pub image: Image,
+    /// Samples each pixel received.
+    pub counts: Vec<u32>,
+    /// Non-finite samples each pixel rejected.
+    pub nonfinite: Vec<u32>,
+    /// Complete samples per pixel.
+    pub spp: u32,
+    /// Seconds spent accumulating.
+    pub seconds: f64,
+    /// The global sample range drawn.
+    pub drawn: Range<u32>,
+    triangles: usize,
+    lights: u32,
+    bvh_nodes: usize,
+    bvh_build_ms: f64,
+}
+
+/// Uploads `scene`, accumulates samples with a progress bar until the budget is spent or
+/// `interrupted` is set, and reads the result back.
+pub fn accumulate(
+    ctx: &GpuContext,
+    scene: &Scene,
+    settings: &RenderSettings,
+    budget: &Budget,
+    interrupted: &AtomicBool,
+) -> anyhow::Result<Accumulated> {
+    let gpu_scene = GpuScene::upload(ctx, scene)?;
+    let mut tracer = PathTracer::new(ctx, scene, &gpu_scene, settings)?;
+    let progress = progress_bar(budget);
+    let start = Instant::now();
+    let stop = || interrupted.load(Ordering::SeqCst) || budget.time_spent(start.elapsed().as_secs_f64());
+    while !budget.spp_reached(tracer.samples_per_pixel()) {
+        if tracer.render_sample_until(&stop)? == PassOutcome::Stopped {
+            break;
+        }
+        progress.set_position(progress_position(budget, tracer.samples_per_pixel(), start.elapsed().as_secs_f64()));
+    }
+    let seconds = start.elapsed().as_secs_f64();
+    progress.finish_and_clear();
+    let (image, counts) = tracer.accumulated()?;
+    Ok(Accumulated {
+        image,
+        counts,
+        nonfinite: tracer.nonfinite_counts()?,
+        spp: tracer.samples_per_pixel(),
+        seconds,
+        drawn: tracer.drawn_range(),
         triangles: gpu_scene.triangle_count,
         lights: gpu_scene.light_count,
         bvh_nodes: gpu_scene.bvh_stats.nodes,
         bvh_build_ms: gpu_scene.bvh_stats.build_ms,
-        spp,
-        seconds,
-        samples_per_second: f64::from(width) * f64::from(height) * f64::from(spp) / seconds.max(1e-9),
-        nonfinite_samples: nonfinite.iter().map(|&c| u64::from(c)).sum(),
-        nonfinite_pixels: worst_pixels(&nonfinite, width),
-        interrupted,
-        samples: [written.start, written.end],
-        task_index: task.map(|t| t.index),
-        fingerprint: print.hash,
-        output,
+    })
+}
+
+/// Writes `rendered` as a partial image (merged with the `previous` part of a resumed render)
+/// and returns the sample range the file holds.
+fn write_part(
+    output: &Path,
+    scene: &Scene,
+    print: &Fingerprint,
+    rendered: Accumulated,
+    previous: Option<PartialImage>,
+) -> anyhow::Result<Range<u32>> {
+    let info = PartInfo {
+        width: rendered.image.width,
+        height: rendered.image.height,
+        range: rendered.drawn.clone(),
+        fingerprint: print.hash.clone(),
+        settings: print.description.clone(),
+        scene: scene.name.clone(),
+        version: env!("CARGO_PKG_VERSION").to_string(),
+        nonfinite: rendered.nonfinite.iter().map(|&c| u64::from(c)).sum(),
     };
-    print_report(&report, args.device.json)?;
-    if interrupted {
-        bail!("interrupted (Ctrl-C or SIGTERM) after {spp} samples per pixel; the partial image was written");
-    }
-    Ok(())
+    let part = PartialImage { info, image: rendered.image, samples: rendered.counts };
+    let part = match previous {
+        Some(previous) => {
+            let parts = [(output.to_path_buf(), previous), (PathBuf::from("(the resumed samples)"), part)];
+            PartialImage::merge_loaded(&parts, None)?
+        }
+        None => part,
+    };
+    part.save(output)?;
+    Ok(part.info.range.clone())
 }
 
 /// The scheduler's task index, when --samples-from-env or --frame-from-env asks for it.
@@ -316,7 +405,7 @@ fn report_already_complete(output: &Path, part: &PartialImage, json: bool) -> an
 
 /// A flag that Ctrl-C (SIGINT) or SIGTERM sets, so the render stops at the next tile and writes
 /// what it has.
-fn interrupt_flag() -> anyhow::Result<Arc<AtomicBool>> {
+pub fn interrupt_flag() -> anyhow::Result<Arc<AtomicBool>> {
     let flag = Arc::new(AtomicBool::new(false));
     let handler_flag = flag.clone();
     ctrlc::set_handler(move || handler_flag.store(true, Ordering::SeqCst)).context("cannot install the Ctrl-C handler")?;
@@ -331,7 +420,7 @@ fn worst_pixels(counts: &[u32], width: u32) -> Vec<(u32, u32, u32)> {
         .filter(|(_, c)| **c > 0)
         .map(|(i, &c)| (i as u32 % width, i as u32 / width, c))
         .collect();
-    pixels.sort_by(|a, b| b.2.cmp(&a.2));
+    pixels.sort_by_key(|p| std::cmp::Reverse(p.2));
     pixels.truncate(16);
     pixels
 }
@@ -355,7 +444,8 @@ fn progress_position(budget: &Budget, spp: u32, elapsed: f64) -> u64 {
     }
 }
 
-fn print_report(report: &RenderReport, json: bool) -> anyhow::Result<()> {
+/// Prints the report: one JSON object on stdout with `json`, else one line on stderr.
+pub fn print_report(report: &RenderReport, json: bool) -> anyhow::Result<()> {
     if json {
         println!("{}", serde_json::to_string(report)?);
         return Ok(());

@@ -31,7 +31,7 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
         adapter: args.adapter.clone(),
         seed: args.overrides.seed,
         exposure: args.display.exposure,
-        tone_map: args.display.tone_map,
+        tone_map: args.display.tone_map.unwrap_or_default(),
         script,
     };
     caustic_viewer::run(options)
