@@ -21,6 +21,14 @@ fn offset_ray_origin(p: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
     return select(p_i, p + float_scale * n, abs(p) < vec3<f32>(origin_band));
 }
 
+// Unit normal along cross(e1, e2). The cross product is divided by its largest component
+// before normalising: its squared length overflows f32 once edges pass ~4e9 (a Cornell box
+// scaled by 1e8), and normalize would return zero or NaN, rendering the scene black.
+fn unit_normal(e1: vec3<f32>, e2: vec3<f32>) -> vec3<f32> {
+    let c = cross(e1, e2);
+    return normalize(c / max(abs(c.x), max(abs(c.y), abs(c.z))));
+}
+
 // A shadow ray and the distance it may travel.
 struct ShadowRay {
     ray: Ray,

@@ -19,7 +19,7 @@ fn surface_interaction(ray: Ray, hit: Hit) -> SurfaceInteraction {
     let attributes = shading[hit.triangle];
     let w = 1.0 - hit.u - hit.v;
     let p = w * tri.v0 + hit.u * tri.v1 + hit.v * tri.v2;
-    let face = normalize(cross(tri.v1 - tri.v0, tri.v2 - tri.v0));
+    let face = unit_normal(tri.v1 - tri.v0, tri.v2 - tri.v0);
     let front_face = dot(face, ray.direction) < 0.0;
     let ng = select(-face, face, front_face);
     var ns = ng;

@@ -60,7 +60,7 @@ fn sample_one_light(light: Light, p: vec3<f32>, u: vec2<f32>) -> LightSample {
     let to_light = q - p;
     let distance = length(to_light);
     let wi = to_light / distance;
-    let cos_light = -dot(normalize(cross(light.e1, light.e2)), wi);
+    let cos_light = -dot(unit_normal(light.e1, light.e2), wi);
     if cos_light <= 0.0 || distance <= 0.0 {
         return LightSample(wi, distance, vec3<f32>(0.0), 0.0, false);
     }

@@ -133,7 +133,8 @@ fn mesh_shading(scene: &Scene) -> Vec<TriangleShading> {
 }
 
 fn area_light(kind: u32, v0: Vec3, e1: Vec3, e2: Vec3, radiance: Vec3) -> GpuLight {
-    let parallelogram = e1.cross(e2).length();
+    // In f64: the squared length of the cross product overflows f32 for edges past ~4e9.
+    let parallelogram = e1.as_dvec3().cross(e2.as_dvec3()).length() as f32;
     let area = if kind == LIGHT_TRIANGLE { 0.5 * parallelogram } else { parallelogram };
     GpuLight { v0: v0.to_array(), e1: e1.to_array(), e2: e2.to_array(), area, kind, radiance: radiance.to_array(), ..Default::default() }
 }

@@ -57,8 +57,9 @@ pub struct EmissiveTriangle {
 impl EmissiveTriangle {
     /// Area of the triangle.
     pub fn area(&self) -> f32 {
-        let [a, b, c] = self.vertices;
-        0.5 * (b - a).cross(c - a).length()
+        // In f64: the squared length of the cross product overflows f32 for edges past ~4e9.
+        let [a, b, c] = self.vertices.map(|v| v.as_dvec3());
+        (0.5 * (b - a).cross(c - a).length()) as f32
     }
 
     /// Emitted power up to the constant factor pi: area x luminance of the radiance.
