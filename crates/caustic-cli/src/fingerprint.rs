@@ -30,14 +30,15 @@ pub fn fingerprint(scene: &Scene, settings: &RenderSettings) -> Fingerprint {
         h.text(&program.source());
     }
     // Exhaustive destructuring: a new field that changes the image must be added here.
-    let Scene { name: _, meshes, materials, camera, resolution, environment, shapes, lights, options } = scene;
+    let Scene { name: _, meshes, materials, camera, resolution, environment, shapes, lights, options, textures, cameras: _ } = scene;
     h.u64(meshes.len() as u64);
     for mesh in meshes {
-        let Mesh { name, positions, normals, uvs, indices, material } = mesh;
+        let Mesh { name, positions, normals, uvs, indices, material, uvs1, tangents } = mesh;
         h.text(name);
         h.floats(positions.iter().flat_map(|v| v.to_array()));
         h.floats(normals.iter().flat_map(|v| v.to_array()));
-        h.floats(uvs.iter().flat_map(|v| v.to_array()));
+        h.floats(uvs.iter().chain(uvs1).flat_map(|v| v.to_array()));
+        h.floats(tangents.iter().flat_map(|v| v.to_array()));
         h.u64(indices.len() as u64);
         for index in indices.iter().flatten() {
             h.u64(u64::from(*index));
@@ -45,6 +46,10 @@ pub fn fingerprint(scene: &Scene, settings: &RenderSettings) -> Fingerprint {
         h.u64(u64::from(*material));
     }
     h.debug(materials);
+    for texture in textures {
+        h.debug(&(&texture.name, texture.width, texture.height, texture.color_space));
+        h.bytes(texture.texels.as_flattened());
+    }
     h.debug(shapes);
     h.debug(lights);
     // All of it: what the scene file asks for is the same in every part of one render.

@@ -43,3 +43,15 @@ impl Camera {
         finite && self.fov_y > 0.0 && self.fov_y < std::f32::consts::PI && right.is_finite() && forward.is_finite()
     }
 }
+
+/// One of the cameras a scene file defines (glTF `cameras` on nodes), kept so that another
+/// than the default can be chosen ([`crate::Scene::select_camera`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneCamera {
+    /// Name from the file (the camera's, else its node's), for messages.
+    pub name: String,
+    /// The camera in world space.
+    pub camera: Camera,
+    /// Image size its aspect ratio implies, when it gives one.
+    pub resolution: Option<(u32, u32)>,
+}

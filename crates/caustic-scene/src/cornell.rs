@@ -121,6 +121,7 @@ fn object_mesh(object: &Object) -> Mesh {
         uvs: Vec::new(),
         indices: indices.collect(),
         material: object.material,
+        ..Mesh::default()
     }
 }
 

@@ -32,7 +32,7 @@ pub(crate) fn check_buffer_uris(path: &Path, document: &gltf::Document) -> Resul
 
 /// The file a buffer URI names, resolved as gltf 1.4 does (`file:` URIs as they are, other
 /// URIs with a scheme not at all, the rest percent-decoded relative to `base`).
-fn file_of(base: &Path, uri: &str) -> Result<Option<PathBuf>, String> {
+pub(crate) fn file_of(base: &Path, uri: &str) -> Result<Option<PathBuf>, String> {
     if uri.contains(':') {
         let file = uri.strip_prefix("file://").or_else(|| uri.strip_prefix("file:"));
         return Ok(file.map(PathBuf::from));

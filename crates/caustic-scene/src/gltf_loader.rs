@@ -1,39 +1,49 @@
 //! glTF 2.0 (`.gltf` and `.glb`) loading.
 //!
 //! Every triangle primitive of every node of the default scene (else the first scene) becomes
-//! one world-space [`Mesh`]: node transforms are composed down the hierarchy and applied, and
-//! instanced meshes are expanded. Attributes read: `POSITION`, `NORMAL` and `TEXCOORD_0`;
-//! primitives without indices are read as sequential triangles. Other primitive modes
+//! one world-space [`Mesh`]: node transforms are composed down the hierarchy and applied. A
+//! mesh that several nodes use is read and checked once, then copied to each node's
+//! transform. Primitives are read by [`crate::gltf_primitive`]; other primitive modes
 //! (points, lines, strips, fans) are skipped with a warning.
 //!
-//! Materials use the metallic-roughness factors (no textures yet), emission is
-//! `emissiveFactor x KHR_materials_emissive_strength`, and `KHR_materials_specular`,
-//! `KHR_materials_ior` and `KHR_materials_transmission` supply specular, IOR and transmission
-//! (glTF defaults 1, 1.5 and 0 when absent). A primitive without a material gets the glTF
-//! default material (white, metallic 1, roughness 1), named "default".
+//! Materials and textures are converted by [`crate::gltf_material`] (see `docs/GLTF.md`). A
+//! primitive without a material gets the glTF default material (white, metallic 1,
+//! roughness 1), named "default".
 //!
-//! The camera is the first perspective camera met walking the scene's nodes; its aspect
-//! ratio, if given, sets the image to 512 pixels high. Without one the camera frames the
-//! scene. glTF cannot describe an environment: it is black unless an `env.json` sidecar next
-//! to the file says `{"type": "constant", "radiance": [r, g, b]}`.
+//! Every perspective camera met walking the scene's nodes is kept in [`Scene::cameras`]; the
+//! first one is rendered from unless another is selected, and its aspect ratio, if given,
+//! sets the image to 512 pixels high. Without one the camera frames the scene. Orthographic
+//! cameras are skipped with a warning. `KHR_lights_punctual` lights become [`Light`]s: point
+//! lights keep their intensity with inverse-square falloff, directional lights shine along
+//! their node's -Z, and spot lights, which the renderer does not have, become point lights
+//! with a warning (their cones are ignored); `range` is ignored.
+//!
+//! glTF cannot describe an environment: it is black unless an `env.json` sidecar next to the
+//! file says `{"type": "constant", "radiance": [r, g, b]}`.
 //!
 //! A file that requires an extension not listed in [`SUPPORTED_EXTENSIONS`] is refused; other
 //! unsupported extensions it merely uses are named in a warning on stderr.
 
 use crate::mesh_scene::{framing_camera, scene_name, warn, DEFAULT_RESOLUTION};
-use crate::{Camera, Environment, Material, Mesh, Scene, SceneError};
-use glam::{Mat4, Vec2, Vec3};
-use gltf::accessor::{DataType, Dimensions};
+use crate::gltf_material::{default_material, MaterialReader};
+use crate::gltf_primitive::read_primitive;
+use crate::{Attenuation, Camera, Environment, Light, Material, Mesh, Scene, SceneCamera, SceneError};
+use glam::{Mat4, Vec3};
 use gltf::json::validation::Validate;
+use gltf::khr_lights_punctual::Kind;
+use std::collections::HashMap;
 use std::path::Path;
 
 /// Extensions whose data this loader uses.
-const SUPPORTED_EXTENSIONS: [&str; 4] =
-    ["KHR_materials_emissive_strength", "KHR_materials_specular", "KHR_materials_ior", "KHR_materials_transmission"];
-
-/// The most elements one accessor may have: three vertices for each of the renderer's
-/// 2^27 triangles. Larger counts are refused before anything is allocated for them.
-const MAX_ELEMENTS: usize = 3 << 27;
+pub const SUPPORTED_EXTENSIONS: [&str; 7] = [
+    "KHR_materials_emissive_strength",
+    "KHR_materials_specular",
+    "KHR_materials_ior",
+    "KHR_materials_transmission",
+    "KHR_materials_volume",
+    "KHR_texture_transform",
+    "KHR_lights_punctual",
+];
 
 /// Loads a `.gltf` or `.glb` file as the module documentation describes.
 pub(crate) fn load(path: &Path) -> Result<Scene, SceneError> {
@@ -41,25 +51,31 @@ pub(crate) fn load(path: &Path) -> Result<Scene, SceneError> {
     let scene = document.default_scene().or_else(|| document.scenes().next());
     let scene = scene.ok_or_else(|| SceneError::file(path, "defines no scene"))?;
     check_hierarchy(path, &document, &scene)?;
-    let mut walk = Walk {
-        path,
-        buffers: &buffers,
-        materials: document.materials().map(|m| material(&m)).collect(),
-        default_material: None,
-        meshes: Vec::new(),
-        camera: None,
-    };
+    let mut reader = MaterialReader::new(path, &buffers);
+    let materials = document.materials().map(|m| reader.material(&m)).collect();
+    let mut walk = Walk { path, buffers: &buffers, materials, default_material: None, meshes: Vec::new(), read: HashMap::new(), cameras: Vec::new(), lights: Vec::new() };
     walk.walk(scene.nodes().collect())?;
-    let (camera, resolution) = match walk.camera {
-        Some(found) => found,
+    let (camera, resolution) = match walk.cameras.first() {
+        Some(first) => (first.camera.clone(), first.resolution.unwrap_or(DEFAULT_RESOLUTION)),
         None => (framing_camera(path, &walk.meshes)?, DEFAULT_RESOLUTION),
     };
     let environment = sidecar_environment(path)?;
-    Ok(Scene { name: scene_name(path), meshes: walk.meshes, materials: walk.materials, camera, resolution, environment, ..Scene::default() })
+    Ok(Scene {
+        name: scene_name(path),
+        meshes: walk.meshes,
+        materials: walk.materials,
+        camera,
+        resolution,
+        environment,
+        lights: walk.lights,
+        textures: reader.textures,
+        cameras: walk.cameras,
+        ..Scene::default()
+    })
 }
 
-/// Parses and validates the file and loads its buffers. Images are not decoded: this part of
-/// glTF support uses no textures, and a broken image should not stop the geometry loading.
+/// Parses and validates the file and loads its buffers. Images are decoded later, each on its
+/// own, so that a broken image only costs its texture.
 fn read_document(path: &Path) -> Result<(gltf::Document, Vec<gltf::buffer::Data>), SceneError> {
     let bytes = std::fs::read(path).map_err(|e| SceneError::file(path, format!("cannot read: {e}")))?;
     let gltf::Gltf { document, blob } = gltf::Gltf::from_slice_without_validation(&bytes)
@@ -144,29 +160,6 @@ fn check_hierarchy(path: &Path, document: &gltf::Document, scene: &gltf::Scene) 
     Ok(())
 }
 
-/// A glTF material as a [`Material`].
-fn material(m: &gltf::Material) -> Material {
-    let pbr = m.pbr_metallic_roughness();
-    let [r, g, b, _] = pbr.base_color_factor();
-    let strength = m.emissive_strength().unwrap_or(1.0);
-    Material {
-        name: m.name().map_or_else(|| format!("material {}", m.index().unwrap_or_default()), str::to_string),
-        base_color: Vec3::new(r, g, b),
-        emission: Vec3::from(m.emissive_factor()) * strength,
-        metallic: pbr.metallic_factor(),
-        roughness: pbr.roughness_factor(),
-        specular: m.specular().map_or(1.0, |s| s.specular_factor()),
-        ior: m.ior().unwrap_or(1.5),
-        transmission: m.transmission().map_or(0.0, |t| t.transmission_factor()),
-        ..Material::default()
-    }
-}
-
-/// The glTF default material, for primitives that name none.
-fn default_gltf_material() -> Material {
-    Material { name: "default".to_string(), base_color: Vec3::ONE, metallic: 1.0, roughness: 1.0, specular: 1.0, ..Material::default() }
-}
-
 /// State of the walk over the scene's node hierarchy.
 struct Walk<'a> {
     path: &'a Path,
@@ -175,12 +168,15 @@ struct Walk<'a> {
     /// Index of the default material in `materials`, once added.
     default_material: Option<u32>,
     meshes: Vec<Mesh>,
-    camera: Option<(Camera, (u32, u32))>,
+    /// The primitives of each glTF mesh read so far, in mesh space, by mesh index.
+    read: HashMap<usize, Vec<Mesh>>,
+    cameras: Vec<SceneCamera>,
+    lights: Vec<Light>,
 }
 
 impl Walk<'_> {
-    /// Adds the meshes and camera of the `roots` and their descendants, depth first in
-    /// document order (iteratively: hierarchies may be deeper than the call stack allows).
+    /// Adds the meshes, cameras and lights of the `roots` and their descendants, depth first
+    /// in document order (iteratively: hierarchies may be deeper than the call stack allows).
     fn walk(&mut self, roots: Vec<gltf::Node>) -> Result<(), SceneError> {
         let mut stack: Vec<(gltf::Node, Mat4)> = roots.into_iter().rev().map(|node| (node, Mat4::IDENTITY)).collect();
         while let Some((node, parent)) = stack.pop() {
@@ -188,8 +184,11 @@ impl Walk<'_> {
             if let Some(mesh) = node.mesh() {
                 self.add_mesh(&mesh, world)?;
             }
-            if let (None, Some(camera)) = (&self.camera, node.camera()) {
-                self.camera = perspective_camera(&camera, world);
+            if let Some(camera) = node.camera() {
+                self.add_camera(&node, &camera, world);
+            }
+            if let Some(light) = node.light() {
+                self.lights.push(punctual_light(self.path, &light, world));
             }
             let children: Vec<gltf::Node> = node.children().collect();
             stack.extend(children.into_iter().rev().map(|child| (child, world)));
@@ -197,10 +196,26 @@ impl Walk<'_> {
         Ok(())
     }
 
-    /// Adds every triangle primitive of `mesh`, transformed to world space.
+    /// Adds every triangle primitive of `mesh`, transformed to world space; the primitives
+    /// are read on the mesh's first use only.
     fn add_mesh(&mut self, mesh: &gltf::Mesh, world: Mat4) -> Result<(), SceneError> {
+        if !self.read.contains_key(&mesh.index()) {
+            let primitives = self.read_mesh(mesh)?;
+            self.read.insert(mesh.index(), primitives);
+        }
+        for primitive in &self.read[&mesh.index()] {
+            let mut instance = primitive.clone();
+            instance.transform(world);
+            self.meshes.push(instance);
+        }
+        Ok(())
+    }
+
+    /// The triangle primitives of `mesh` in mesh space, with their materials.
+    fn read_mesh(&mut self, mesh: &gltf::Mesh) -> Result<Vec<Mesh>, SceneError> {
         let mesh_name = mesh.name().map_or_else(|| format!("mesh {}", mesh.index()), str::to_string);
         let primitive_count = mesh.primitives().len();
+        let mut out = Vec::new();
         for primitive in mesh.primitives() {
             let name = match primitive_count {
                 1 => mesh_name.clone(),
@@ -210,22 +225,32 @@ impl Walk<'_> {
                 warn(self.path, &format!("skipping {name}: mode {:?} is not supported (only Triangles)", primitive.mode()));
                 continue;
             }
-            let mut out = read_primitive(&primitive, self.buffers, &name)
-                .map_err(|message| SceneError::file(self.path, format!("mesh '{name}': {message}")))?;
-            out.material = match primitive.material().index() {
+            let material = match primitive.material().index() {
                 Some(index) => index as u32,
                 None => self.default_material(),
             };
-            out.transform(world);
-            self.meshes.push(out);
+            let normal_map_set = self.materials[material as usize].normal_texture.map(|slot| slot.tex_coord);
+            let mut read = read_primitive(&primitive, self.buffers, &name, normal_map_set)
+                .map_err(|message| SceneError::file(self.path, format!("mesh '{name}': {message}")))?;
+            read.material = material;
+            out.push(read);
         }
-        Ok(())
+        Ok(out)
+    }
+
+    /// Keeps the camera at `node` (perspective cameras only; others are skipped with a warning).
+    fn add_camera(&mut self, node: &gltf::Node, camera: &gltf::Camera, world: Mat4) {
+        let name = camera.name().or(node.name()).map_or_else(|| format!("camera {}", camera.index()), str::to_string);
+        match perspective_camera(camera, world) {
+            Some((camera, resolution)) => self.cameras.push(SceneCamera { name, camera, resolution }),
+            None => warn(self.path, &format!("skipping {name}: orthographic cameras are not supported")),
+        }
     }
 
     /// Index of the glTF default material, added on first use.
     fn default_material(&mut self) -> u32 {
         *self.default_material.get_or_insert_with(|| {
-            self.materials.push(default_gltf_material());
+            self.materials.push(default_material());
             self.materials.len() as u32 - 1
         })
     }
@@ -233,7 +258,7 @@ impl Walk<'_> {
 
 /// The camera at a node with world transform `world`, and the image size its aspect ratio
 /// implies; `None` for orthographic cameras.
-fn perspective_camera(camera: &gltf::Camera, world: Mat4) -> Option<(Camera, (u32, u32))> {
+fn perspective_camera(camera: &gltf::Camera, world: Mat4) -> Option<(Camera, Option<(u32, u32)>)> {
     let gltf::camera::Projection::Perspective(perspective) = camera.projection() else {
         return None;
     };
@@ -242,72 +267,27 @@ fn perspective_camera(camera: &gltf::Camera, world: Mat4) -> Option<(Camera, (u3
     let up = world.transform_vector3(Vec3::Y).normalize();
     // Far enough along the view direction that rounding eye + forward keeps the direction.
     let target = eye + forward * eye.length().max(1.0);
-    let (width, height) = DEFAULT_RESOLUTION;
-    let resolution = perspective.aspect_ratio().map_or((width, height), |aspect| ((height as f32 * aspect).round() as u32, height));
+    let height = DEFAULT_RESOLUTION.1;
+    let resolution = perspective.aspect_ratio().map(|aspect| (((height as f32 * aspect).round() as u32).max(1), height));
     Some((Camera { eye, target, up, fov_y: perspective.yfov() }, resolution))
 }
 
-/// Reads one triangle primitive in its mesh's local space (material not set).
-fn read_primitive(primitive: &gltf::Primitive, buffers: &[gltf::buffer::Data], name: &str) -> Result<Mesh, String> {
-    let positions_accessor = primitive.get(&gltf::Semantic::Positions).ok_or("the primitive has no POSITION attribute")?;
-    check_accessor(&positions_accessor, Dimensions::Vec3, &[DataType::F32])?;
-    if let Some(accessor) = primitive.get(&gltf::Semantic::Normals) {
-        check_accessor(&accessor, Dimensions::Vec3, &[DataType::F32])?;
-    }
-    if let Some(accessor) = primitive.get(&gltf::Semantic::TexCoords(0)) {
-        check_accessor(&accessor, Dimensions::Vec2, &[DataType::F32, DataType::U8, DataType::U16])?;
-    }
-    if let Some(accessor) = primitive.indices() {
-        check_accessor(&accessor, Dimensions::Scalar, &[DataType::U8, DataType::U16, DataType::U32])?;
-    }
-    let reader = primitive.reader(|buffer| buffers.get(buffer.index()).map(|data| &data.0[..]));
-    let outside = |what: &str| format!("{what} data lies outside its buffer");
-    let positions: Vec<Vec3> = reader.read_positions().ok_or_else(|| outside("POSITION"))?.map(Vec3::from).collect();
-    let normals = match primitive.get(&gltf::Semantic::Normals) {
-        Some(_) => reader.read_normals().ok_or_else(|| outside("NORMAL"))?.map(Vec3::from).collect(),
-        None => Vec::new(),
-    };
-    let uvs = match primitive.get(&gltf::Semantic::TexCoords(0)) {
-        Some(_) => reader.read_tex_coords(0).ok_or_else(|| outside("TEXCOORD_0"))?.into_f32().map(Vec2::from).collect(),
-        None => Vec::new(),
-    };
-    let flat: Vec<u32> = match primitive.indices() {
-        Some(_) => reader.read_indices().ok_or_else(|| outside("index"))?.into_u32().collect(),
-        None => (0..positions.len() as u32).collect(),
-    };
-    if !flat.len().is_multiple_of(3) {
-        return Err(format!("{} indices do not make whole triangles", flat.len()));
-    }
-    let indices = flat.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect();
-    Ok(Mesh { name: name.to_string(), positions, normals, uvs, indices, material: 0 })
-}
-
-/// Checks what the glTF crate's readers assume but do not check (element type, a stride at
-/// least one element wide, data inside the buffer view) so that a malformed accessor is an
-/// error instead of a panic or garbage.
-fn check_accessor(accessor: &gltf::Accessor, dimensions: Dimensions, types: &[DataType]) -> Result<(), String> {
-    let index = accessor.index();
-    if accessor.dimensions() != dimensions || !types.contains(&accessor.data_type()) {
-        let found = (accessor.dimensions(), accessor.data_type());
-        return Err(format!("accessor {index} holds {found:?}, expected {dimensions:?} of one of {types:?}"));
-    }
-    if accessor.count() == 0 || accessor.count() > MAX_ELEMENTS {
-        return Err(format!("accessor {index} has {} elements (allowed: 1 to {MAX_ELEMENTS})", accessor.count()));
-    }
-    let size = accessor.size();
-    let dense = accessor.view().map(|view| (view, accessor.offset(), accessor.count(), size));
-    let sparse = accessor.sparse().map(|sparse| {
-        let (indices, values) = (sparse.indices(), sparse.values());
-        [(indices.view(), indices.offset(), sparse.count(), indices.index_type().size()), (values.view(), values.offset(), sparse.count(), size)]
-    });
-    for (view, offset, count, element) in dense.into_iter().chain(sparse.into_iter().flatten()) {
-        let stride = view.stride().unwrap_or(element);
-        let end = count.checked_sub(1).and_then(|n| n.checked_mul(stride)).and_then(|n| n.checked_add(offset)).and_then(|n| n.checked_add(element));
-        if stride < element || end.is_none_or(|end| end > view.length()) {
-            return Err(format!("accessor {index} does not fit in buffer view {}", view.index()));
+/// A `KHR_lights_punctual` light at a node with world transform `world` (see the module
+/// documentation); a spot light becomes a point light, with a warning.
+fn punctual_light(path: &Path, light: &gltf::khr_lights_punctual::Light, world: Mat4) -> Light {
+    let color = Vec3::from(light.color()) * light.intensity();
+    let position = world.transform_point3(Vec3::ZERO);
+    let inverse_square = Attenuation { constant: 0.0, linear: 0.0, quadratic: 1.0 };
+    match light.kind() {
+        Kind::Directional => Light::Directional { direction: world.transform_vector3(Vec3::Z).normalize_or_zero(), color },
+        Kind::Point => Light::Point { position, color, attenuation: inverse_square },
+        Kind::Spot { inner_cone_angle, outer_cone_angle } => {
+            let name = light.name().map_or_else(|| format!("light {}", light.index()), str::to_string);
+            let cone = format!("cone {inner_cone_angle}..{outer_cone_angle} rad");
+            warn(path, &format!("spot {name} is rendered as a point light (its {cone} is ignored)"));
+            Light::Point { position, color, attenuation: inverse_square }
         }
     }
-    Ok(())
 }
 
 /// The environment given by an `env.json` next to the glTF file, or black when there is none.

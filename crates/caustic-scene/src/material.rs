@@ -1,5 +1,6 @@
 //! Surface materials.
 
+use crate::TextureSlot;
 use glam::Vec3;
 
 /// A surface material in the metallic-roughness vocabulary of glTF, which every loader maps
@@ -38,6 +39,46 @@ pub struct Material {
     pub gloss: f32,
     /// Angular blur of refractions (scene language `frost`; 0 = clear).
     pub frost: f32,
+    /// Base colour texture (sRGB), multiplied with `base_color` and `alpha`.
+    pub base_color_texture: Option<TextureSlot>,
+    /// glTF metallic-roughness texture (linear): blue scales `metallic`, green `roughness`.
+    pub metallic_roughness_texture: Option<TextureSlot>,
+    /// Tangent-space normal map (linear), its xy scaled by `normal_scale`.
+    pub normal_texture: Option<TextureSlot>,
+    /// Scale of the normal map's x and y.
+    pub normal_scale: f32,
+    /// Emissive texture (sRGB), multiplied with `emission`.
+    pub emissive_texture: Option<TextureSlot>,
+    /// Opacity in [0, 1] (glTF base colour alpha), read according to `alpha_mode`.
+    pub alpha: f32,
+    /// How opacity is used.
+    pub alpha_mode: AlphaMode,
+    /// Whether back faces are seen (glTF `doubleSided`); other formats' surfaces are.
+    pub double_sided: bool,
+    /// `KHR_materials_volume`: colour that light inside turns to at `attenuation_distance`.
+    pub attenuation_color: Vec3,
+    /// `KHR_materials_volume`: distance over which light inside decays to
+    /// `attenuation_color` (infinite: no absorption).
+    pub attenuation_distance: f32,
+    /// `KHR_materials_volume`: thickness of the volume beneath the surface (0: thin-walled).
+    pub thickness: f32,
+    /// `KHR_materials_specular` colour factor: tints the dielectric specular reflection.
+    pub specular_tint: Vec3,
+}
+
+/// How a material's opacity is used (glTF `alphaMode`).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum AlphaMode {
+    /// Alpha is ignored: fully opaque.
+    #[default]
+    Opaque,
+    /// Opaque where alpha >= `cutoff`, fully transparent elsewhere.
+    Mask {
+        /// glTF `alphaCutoff` (default 0.5).
+        cutoff: f32,
+    },
+    /// Alpha is the fraction of light the surface stops; the rest passes straight through.
+    Blend,
 }
 
 /// Reflection models a material can select.
@@ -114,7 +155,44 @@ impl Material {
         if !self.ior.is_finite() || self.ior <= 0.0 {
             return bad("ior");
         }
+        self.validate_gltf_fields()
+    }
+
+    /// Checks the fields only glTF sets (alpha, normal scale, volume, specular tint).
+    fn validate_gltf_fields(&self) -> Result<(), crate::SceneError> {
+        let bad = |field: &str| Err(crate::SceneError::invalid(format!("material '{}'", self.name), format!("{field} is out of range or not finite")));
+        let cutoff = match self.alpha_mode {
+            AlphaMode::Mask { cutoff } => cutoff,
+            _ => 0.0,
+        };
+        if !(0.0..=1.0).contains(&self.alpha) || !cutoff.is_finite() || cutoff < 0.0 {
+            return bad("alpha");
+        }
+        if !self.normal_scale.is_finite() {
+            return bad("normal scale");
+        }
+        let unit = |c: Vec3| c.is_finite() && c.min_element() >= 0.0 && c.max_element() <= 1.0;
+        if !unit(self.attenuation_color) || self.attenuation_distance.is_nan() || self.attenuation_distance <= 0.0 {
+            return bad("volume attenuation");
+        }
+        if !self.thickness.is_finite() || self.thickness < 0.0 {
+            return bad("thickness");
+        }
+        if !self.specular_tint.is_finite() || self.specular_tint.min_element() < 0.0 {
+            return bad("specular colour factor");
+        }
         Ok(())
+    }
+
+    /// The textures the material uses, with what each is for.
+    pub fn texture_slots(&self) -> impl Iterator<Item = (&'static str, TextureSlot)> + '_ {
+        let slots = [
+            ("base colour", self.base_color_texture),
+            ("metallic-roughness", self.metallic_roughness_texture),
+            ("normal", self.normal_texture),
+            ("emissive", self.emissive_texture),
+        ];
+        slots.into_iter().filter_map(|(what, slot)| slot.map(|slot| (what, slot)))
     }
 }
 
@@ -137,6 +215,18 @@ impl Default for Material {
             transparency: 0.0,
             gloss: 0.0,
             frost: 0.0,
+            base_color_texture: None,
+            metallic_roughness_texture: None,
+            normal_texture: None,
+            normal_scale: 1.0,
+            emissive_texture: None,
+            alpha: 1.0,
+            alpha_mode: AlphaMode::Opaque,
+            double_sided: true,
+            attenuation_color: Vec3::ONE,
+            attenuation_distance: f32::INFINITY,
+            thickness: 0.0,
+            specular_tint: Vec3::ONE,
         }
     }
 }

@@ -1,6 +1,6 @@
 //! Triangle meshes.
 
-use glam::{Vec2, Vec3};
+use glam::{Vec2, Vec3, Vec4};
 
 /// A world-space triangle mesh with one material.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -18,6 +18,11 @@ pub struct Mesh {
     pub indices: Vec<[u32; 3]>,
     /// Index into [`crate::Scene::materials`].
     pub material: u32,
+    /// Second texture coordinate set (glTF `TEXCOORD_1`), same convention; may be empty.
+    pub uvs1: Vec<Vec2>,
+    /// Per-vertex tangents for normal mapping: xyz along +u, w = +-1 the handedness
+    /// (bitangent = w normal x tangent); may be empty.
+    pub tangents: Vec<Vec4>,
 }
 
 impl Mesh {
@@ -41,7 +46,12 @@ impl Mesh {
         for n in &mut self.normals {
             *n = (normal_matrix * *n).normalize_or_zero();
         }
-        if glam::Mat3::from_mat4(matrix).determinant() < 0.0 {
+        let mirror = glam::Mat3::from_mat4(matrix).determinant() < 0.0;
+        for t in &mut self.tangents {
+            let xyz = matrix.transform_vector3(t.truncate()).normalize_or_zero();
+            *t = xyz.extend(if mirror { -t.w } else { t.w });
+        }
+        if mirror {
             for tri in &mut self.indices {
                 tri.swap(1, 2);
             }
@@ -57,10 +67,19 @@ impl Mesh {
         if let Some(i) = self.normals.iter().position(|n| !n.is_finite()) {
             return Err(crate::SceneError::invalid(object(), format!("normal {i} is not finite")));
         }
-        if let Some(i) = self.uvs.iter().position(|uv| !uv.is_finite()) {
+        if let Some(i) = self.uvs.iter().chain(&self.uvs1).position(|uv| !uv.is_finite()) {
             return Err(crate::SceneError::invalid(object(), format!("texture coordinate {i} is not finite")));
         }
-        for (name, len) in [("normals", self.normals.len()), ("texture coordinates", self.uvs.len())] {
+        if let Some(i) = self.tangents.iter().position(|t| !t.is_finite()) {
+            return Err(crate::SceneError::invalid(object(), format!("tangent {i} is not finite")));
+        }
+        let counts = [
+            ("normals", self.normals.len()),
+            ("texture coordinates", self.uvs.len()),
+            ("second texture coordinates", self.uvs1.len()),
+            ("tangents", self.tangents.len()),
+        ];
+        for (name, len) in counts {
             if len != 0 && len != self.positions.len() {
                 return Err(crate::SceneError::invalid(object(), format!("{len} {name} for {} vertices", self.positions.len())));
             }

@@ -120,7 +120,7 @@ fn mesh(path: &Path, model: tobj::Model, material: u32) -> Mesh {
     let normals = all_or_none(path, &name, "normals", normals, positions.len());
     let uvs = all_or_none(path, &name, "texture coordinates", uvs, positions.len());
     let indices = mesh.indices.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect();
-    Mesh { name, positions, normals, uvs, indices, material }
+    Mesh { name, positions, normals, uvs, indices, material, ..Mesh::default() }
 }
 
 /// `values` if every vertex has one, else none (with a warning): faces that mix vertices

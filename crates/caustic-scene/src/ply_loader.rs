@@ -134,7 +134,7 @@ fn build_mesh(path: &Path, layout: &Layout, vertices: Vec<PlyVertex>, faces: Vec
     };
     let indices = triangulate(path, &faces, positions.len())?;
     let name = crate::mesh_scene::scene_name(path);
-    Ok(Mesh { name, positions, normals, uvs, indices, material: 0 })
+    Ok(Mesh { name, positions, normals, uvs, indices, material: 0, ..Mesh::default() })
 }
 
 /// Fan-triangulates the faces, checking every index against `vertex_count`.

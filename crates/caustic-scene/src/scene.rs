@@ -1,6 +1,6 @@
 //! The scene: everything a render needs, as plain data.
 
-use crate::{Camera, Environment, Light, Material, Mesh, RenderOptions, SceneError, Shape};
+use crate::{Camera, Environment, Light, Material, Mesh, RenderOptions, SceneCamera, SceneError, Shape, Texture};
 use glam::Vec3;
 
 /// A complete scene. Meshes are in world space; instanced meshes are expanded by the loaders.
@@ -24,6 +24,11 @@ pub struct Scene {
     pub lights: Vec<Light>,
     /// What the scene asks of the renderer.
     pub options: RenderOptions,
+    /// Decoded images, each kept once, referred to by [`crate::TextureSlot::texture`].
+    pub textures: Vec<Texture>,
+    /// Every camera the file defines, in document order; `camera` is the first (or frames
+    /// the scene when there is none) until [`Scene::select_camera`] picks another.
+    pub cameras: Vec<SceneCamera>,
 }
 
 impl Default for Scene {
@@ -39,6 +44,8 @@ impl Default for Scene {
             shapes: Vec::new(),
             lights: Vec::new(),
             options: RenderOptions::default(),
+            textures: Vec::new(),
+            cameras: Vec::new(),
         }
     }
 }
@@ -110,10 +117,36 @@ impl Scene {
         Some(boxes.fold(first, |(lo, hi), (a, b)| (lo.min(a), hi.max(b))))
     }
 
+    /// Renders from the file's camera `index` (its image size too, when it implies one).
+    pub fn select_camera(&mut self, index: usize) -> Result<(), SceneError> {
+        let Some(chosen) = self.cameras.get(index) else {
+            let message = format!("camera {index} does not exist: the scene defines {} (numbered from 0)", self.cameras.len());
+            return Err(SceneError::invalid(format!("scene '{}'", self.name), message));
+        };
+        self.camera = chosen.camera.clone();
+        self.resolution = chosen.resolution.unwrap_or(self.resolution);
+        Ok(())
+    }
+
+    /// Bytes held by the meshes' vertex and index arrays and the textures' texels.
+    pub fn memory_bytes(&self) -> usize {
+        let mesh = |m: &Mesh| {
+            12 * (m.positions.len() + m.normals.len() + m.indices.len()) + 8 * (m.uvs.len() + m.uvs1.len()) + 16 * m.tangents.len()
+        };
+        self.meshes.iter().map(mesh).sum::<usize>() + self.textures.iter().map(Texture::memory_bytes).sum::<usize>()
+    }
+
     /// Checks every mesh, material, the camera and the resolution; the first fault is returned.
     pub fn validate(&self) -> Result<(), SceneError> {
+        for (index, texture) in self.textures.iter().enumerate() {
+            texture.validate(index)?;
+        }
         for material in &self.materials {
             material.validate()?;
+            if let Some((what, slot)) = material.texture_slots().find(|(_, slot)| slot.texture as usize >= self.textures.len()) {
+                let message = format!("{what} texture {} does not exist ({} textures)", slot.texture, self.textures.len());
+                return Err(SceneError::invalid(format!("material '{}'", material.name), message));
+            }
         }
         for mesh in &self.meshes {
             mesh.validate(self.materials.len())?;

@@ -1,0 +1,146 @@
+//! Decoded textures and the way materials refer to them.
+//!
+//! A [`Scene`](crate::Scene) keeps each decoded image once in `Scene::textures`; materials
+//! refer to one by index through a [`TextureSlot`], which adds the texture coordinate set, the
+//! `KHR_texture_transform` and the sampler's wrap modes. An image that cannot be used (missing
+//! file, undecodable, 0x0, too large) becomes [`Texture::missing`], a magenta texel, and the
+//! loader prints a warning naming the file and the texture: the scene still loads.
+
+use glam::{Affine2, Mat2, Vec2};
+
+/// The largest texture side accepted, in texels (the renderer's image limit).
+pub const MAX_TEXTURE_SIZE: u32 = 16384;
+
+/// How a texture's 8-bit values map to numbers.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum ColorSpace {
+    /// sRGB-encoded colour (base colour, emissive): decoded to linear when sampled.
+    #[default]
+    Srgb,
+    /// Linear data (metallic-roughness, normal maps): value / 255.
+    Linear,
+}
+
+/// A decoded RGBA8 image.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Texture {
+    /// Name for messages: the image's name or URI, or "image N".
+    pub name: String,
+    /// Width in texels (at least 1).
+    pub width: u32,
+    /// Height in texels (at least 1).
+    pub height: u32,
+    /// How the texels are to be read.
+    pub color_space: ColorSpace,
+    /// Row-major RGBA8 texels, row 0 at the top (uv v = 0), `width * height` entries.
+    pub texels: Vec<[u8; 4]>,
+}
+
+impl Texture {
+    /// Decodes an encoded image (PNG, JPEG, ...) into RGBA8; the error says why it cannot be
+    /// used (undecodable, 0x0, larger than [`MAX_TEXTURE_SIZE`]).
+    pub fn decode(name: &str, bytes: &[u8], color_space: ColorSpace) -> Result<Texture, String> {
+        let reader = image::ImageReader::new(std::io::Cursor::new(bytes)).with_guessed_format().map_err(|e| e.to_string())?;
+        let (width, height) = reader.into_dimensions().map_err(|e| format!("does not decode: {e}"))?;
+        check_size(width, height)?;
+        let decoded = image::load_from_memory(bytes).map_err(|e| format!("does not decode: {e}"))?.into_rgba8();
+        let texels = decoded.pixels().map(|p| p.0).collect();
+        Ok(Texture { name: name.to_string(), width, height, color_space, texels })
+    }
+
+    /// The stand-in for an image that cannot be used: one magenta texel, loud on purpose.
+    pub fn missing(name: &str, color_space: ColorSpace) -> Texture {
+        Texture { name: format!("{name} (missing)"), width: 1, height: 1, color_space, texels: vec![[255, 0, 255, 255]] }
+    }
+
+    /// The texel at (x, y), clamped to the image.
+    pub fn texel(&self, x: u32, y: u32) -> [u8; 4] {
+        let (x, y) = (x.min(self.width - 1), y.min(self.height - 1));
+        self.texels[(y * self.width + x) as usize]
+    }
+
+    /// Bytes held by the texels.
+    pub fn memory_bytes(&self) -> usize {
+        self.texels.len() * 4
+    }
+
+    /// Checks the size against the texel count, naming the texture by its index.
+    pub fn validate(&self, index: usize) -> Result<(), crate::SceneError> {
+        let object = || format!("texture {index} '{}'", self.name);
+        check_size(self.width, self.height).map_err(|message| crate::SceneError::invalid(object(), message))?;
+        if self.texels.len() != (self.width * self.height) as usize {
+            let message = format!("{} texels for {}x{}", self.texels.len(), self.width, self.height);
+            return Err(crate::SceneError::invalid(object(), message));
+        }
+        Ok(())
+    }
+}
+
+/// Refuses empty images and images beyond [`MAX_TEXTURE_SIZE`].
+fn check_size(width: u32, height: u32) -> Result<(), String> {
+    match (width, height) {
+        (0, _) | (_, 0) => Err(format!("is {width}x{height}: a texture needs at least one texel")),
+        _ if width > MAX_TEXTURE_SIZE || height > MAX_TEXTURE_SIZE => {
+            Err(format!("is {width}x{height}: larger than {MAX_TEXTURE_SIZE} texels a side"))
+        }
+        _ => Ok(()),
+    }
+}
+
+/// What happens to texture coordinates outside [0, 1] (the glTF sampler's wrap modes).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum WrapMode {
+    /// Tile the image.
+    #[default]
+    Repeat,
+    /// Tile the image, mirrored every other time.
+    MirroredRepeat,
+    /// Use the edge texel.
+    ClampToEdge,
+}
+
+/// A material's use of a texture.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TextureSlot {
+    /// Index into [`crate::Scene::textures`].
+    pub texture: u32,
+    /// Texture coordinate set: 0 = [`crate::Mesh::uvs`], 1 = [`crate::Mesh::uvs1`].
+    pub tex_coord: u32,
+    /// `KHR_texture_transform` applied to the coordinates before sampling (identity without it).
+    pub transform: Affine2,
+    /// Wrap modes along u and v.
+    pub wrap: [WrapMode; 2],
+}
+
+impl TextureSlot {
+    /// A slot reading `texture` through set 0, untransformed, repeating.
+    pub fn new(texture: u32) -> TextureSlot {
+        TextureSlot { texture, tex_coord: 0, transform: Affine2::IDENTITY, wrap: [WrapMode::Repeat; 2] }
+    }
+
+    /// Where `uv` reads the image: transformed, then wrapped into [0, 1].
+    pub fn lookup(&self, uv: Vec2) -> Vec2 {
+        let t = self.transform.transform_point2(uv);
+        Vec2::new(wrap(t.x, self.wrap[0]), wrap(t.y, self.wrap[1]))
+    }
+}
+
+/// The `KHR_texture_transform` matrix: translation x rotation x scale, the rotation turning
+/// the coordinates counter-clockwise by `rotation` radians (the image clockwise).
+pub fn texture_transform(offset: Vec2, rotation: f32, scale: Vec2) -> Affine2 {
+    let (sin, cos) = rotation.sin_cos();
+    let rotate = Mat2::from_cols(Vec2::new(cos, -sin), Vec2::new(sin, cos));
+    Affine2::from_mat2_translation(rotate * Mat2::from_diagonal(scale), offset)
+}
+
+/// One coordinate wrapped into [0, 1] by `mode`.
+fn wrap(x: f32, mode: WrapMode) -> f32 {
+    match mode {
+        WrapMode::Repeat => x - x.floor(),
+        WrapMode::MirroredRepeat => {
+            let period = x.rem_euclid(2.0);
+            if period > 1.0 { 2.0 - period } else { period }
+        }
+        WrapMode::ClampToEdge => x.clamp(0.0, 1.0),
+    }
+}
