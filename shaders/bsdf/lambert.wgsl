@@ -1,21 +1,44 @@
-// Lambertian (ideal diffuse) reflection in the local shading frame (+z = normal).
+// Ideal diffuse reflection and diffuse transmission (the thin translucent sheet's second
+// lobe), with unit albedo: bsdf.wgsl applies the weights. Twins of
+// crates/caustic-bsdf/src/{lambert,translucent}.rs.
 
-struct BsdfSample {
-    wi: vec3<f32>,
-    pdf: f32,
-    // f * cos / pdf.
-    weight: vec3<f32>,
+fn lambert_eval(wo: vec3<f32>, wi: vec3<f32>) -> f32 {
+    if wo.z <= 0.0 || wi.z <= 0.0 {
+        return 0.0;
+    }
+    return wi.z * INV_PI;
 }
 
-fn lambert_eval(albedo: vec3<f32>, wi: vec3<f32>) -> vec3<f32> {
-    return albedo * (INV_PI * max(wi.z, 0.0));
+fn lambert_pdf(wo: vec3<f32>, wi: vec3<f32>) -> f32 {
+    return lambert_eval(wo, wi);
 }
 
-fn lambert_pdf(wi: vec3<f32>) -> f32 {
-    return max(wi.z, 0.0) * INV_PI;
-}
-
-fn lambert_sample(albedo: vec3<f32>, u: vec2<f32>) -> BsdfSample {
+fn lambert_sample(wo: vec3<f32>, u: vec2<f32>) -> BsdfSample {
     let wi = square_to_cosine_hemisphere(u);
-    return BsdfSample(wi, lambert_pdf(wi), albedo);
+    let pdf = lambert_pdf(wo, wi);
+    if pdf <= 0.0 {
+        return no_sample();
+    }
+    return BsdfSample(wi, pdf, vec3<f32>(1.0), 1.0, false);
+}
+
+fn diffuse_transmission_eval(wo: vec3<f32>, wi: vec3<f32>) -> f32 {
+    if wo.z <= 0.0 || wi.z >= 0.0 {
+        return 0.0;
+    }
+    return -wi.z * INV_PI;
+}
+
+fn diffuse_transmission_pdf(wo: vec3<f32>, wi: vec3<f32>) -> f32 {
+    return diffuse_transmission_eval(wo, wi);
+}
+
+fn diffuse_transmission_sample(wo: vec3<f32>, u: vec2<f32>) -> BsdfSample {
+    let up = square_to_cosine_hemisphere(u);
+    let wi = vec3<f32>(up.xy, -up.z);
+    let pdf = diffuse_transmission_pdf(wo, wi);
+    if pdf <= 0.0 {
+        return no_sample();
+    }
+    return BsdfSample(wi, pdf, vec3<f32>(1.0), 1.0, false);
 }

@@ -36,7 +36,9 @@ struct Frame {
     // The pixel (row-major index) whose path the inspector records (integrator/inspect.wgsl);
     // 0xffffffff = none.
     inspect_pixel: u32,
-    _pad1: u32,
+    // The path tracer's CSE168 switches: bits 0-1 next-event estimation (0 off, 1 on, 2 MIS),
+    // bits 2-3 sampling of reflection lobes (0 hemisphere, 1 cosine, 2 BSDF).
+    transport: u32,
 }
 
 // Binary BVH node holding both children's bounds (64 bytes).
@@ -89,8 +91,10 @@ struct TriangleShading {
     _pad1: vec2<f32>,
 }
 
-// A material: diffuse albedo, emitted radiance (front face), and the classic ray tracer's
-// ambient term, specular colour (highlight and mirror weight) and Phong exponent.
+// A material: diffuse albedo, emitted radiance (front face), the classic ray tracer's
+// ambient term, specular colour (highlight and mirror weight) and Phong exponent, then the
+// path tracer's BSDF (bsdf/bsdf.wgsl): the weight and parameters of each lobe, as
+// caustic_bsdf::BsdfParams (docs/MATERIALS.md).
 struct Material {
     base_color: vec3<f32>,
     flags: u32,
@@ -100,6 +104,26 @@ struct Material {
     _pad0: u32,
     specular: vec3<f32>,
     _pad1: u32,
+    // Lambertian albedo, under a coat of Schlick F0 coat_f0 and strength coat_weight.
+    diffuse: vec3<f32>,
+    coat_f0: f32,
+    // Diffuse transmission albedo.
+    translucent: vec3<f32>,
+    coat_weight: f32,
+    // Modified Phong lobe albedo and exponent.
+    phong: vec3<f32>,
+    phong_exponent: f32,
+    // GGX reflection: Schlick F0, weight, alpha.
+    specular_f0: vec3<f32>,
+    specular_weight: f32,
+    // Dielectric interface tint.
+    dielectric: vec3<f32>,
+    specular_alpha: f32,
+    // Glossy mirror (F = 1) weight and alpha; dielectric alpha and index of the inside.
+    mirror: f32,
+    mirror_alpha: f32,
+    dielectric_alpha: f32,
+    ior: f32,
 }
 
 // One light; `cdf` is the inclusive upper end of its share of total power. By kind:

@@ -1,11 +1,35 @@
 // The unidirectional path tracer: one sample of every pixel of a tile per dispatch.
-// Lambertian surfaces; next-event estimation over all lights, MIS (power heuristic) with BSDF
-// sampling for area lights; Russian roulette. The pixel's running sum is updated with Kahan summation.
+// Every material's BSDF (bsdf/bsdf.wgsl); next-event estimation over all lights, MIS (power
+// heuristic) with BSDF sampling for area lights, delta lobes skipping NEE; Russian roulette.
+// Frame.transport carries the CSE168 switches (NEE off|on|mis, reflection sampling
+// hemisphere|cosine|brdf). The pixel's running sum is updated with Kahan summation.
 
 const SAFETY_MAX_BOUNCES: u32 = 1024u;
+const NEE_OFF: u32 = 0u;
+const NEE_ON: u32 = 1u;
+const NEE_MIS: u32 = 2u;
 
-// Direct light at a diffuse surface from one light sample, MIS-weighted against BSDF sampling.
-fn next_event(si: SurfaceInteraction, local: Frame3, rng: ptr<function, Rng>) -> vec3<f32> {
+fn next_event_mode() -> u32 {
+    return frame.transport & 3u;
+}
+
+fn sampling_mode() -> u32 {
+    return (frame.transport >> 2u) & 3u;
+}
+
+// Index of refraction beyond the surface over the ray's side.
+fn relative_ior(si: SurfaceInteraction) -> f32 {
+    return select(1.0 / si.material.ior, si.material.ior, si.front_face);
+}
+
+// Whether a world direction leaves on the side its local z says (shading and geometric
+// normals agree), so light cannot leak through the surface.
+fn same_side(si: SurfaceInteraction, world: vec3<f32>, local_z: f32) -> bool {
+    return (dot(world, si.ng) > 0.0) == (local_z > 0.0);
+}
+
+// Direct light at a surface from one light sample, MIS-weighted against BSDF sampling.
+fn next_event(si: SurfaceInteraction, local: Frame3, wo: vec3<f32>, rng: ptr<function, Rng>) -> vec3<f32> {
     let u_select = next_f32(rng);
     let u_point = next_2d(rng);
     if frame.light_count == 0u {
@@ -13,8 +37,13 @@ fn next_event(si: SurfaceInteraction, local: Frame3, rng: ptr<function, Rng>) ->
     }
     let ls = sample_light(si.p, u_select, u_point);
     inspect_light(u_select, ls);
-    let cos_surface = dot(ls.wi, si.ns);
-    if ls.pdf <= 0.0 || cos_surface <= 0.0 || dot(ls.wi, si.ng) <= 0.0 {
+    let wi_local = vec3<f32>(dot(ls.wi, local.t), dot(ls.wi, local.b), dot(ls.wi, si.ns));
+    if ls.pdf <= 0.0 || next_event_mode() == NEE_OFF || !same_side(si, ls.wi, wi_local.z) {
+        return vec3<f32>(0.0);
+    }
+    let eta = relative_ior(si);
+    let f = eval_bsdf(si.material, eta, wo, wi_local);
+    if all(f == vec3<f32>(0.0)) {
         return vec3<f32>(0.0);
     }
     let shadow = shadow_ray(si.p, spawn_ray(si, ls.wi).origin, ls.wi, ls.distance);
@@ -22,9 +51,8 @@ fn next_event(si: SurfaceInteraction, local: Frame3, rng: ptr<function, Rng>) ->
         inspect_light_occluded();
         return vec3<f32>(0.0);
     }
-    let wi_local = vec3<f32>(dot(ls.wi, local.t), dot(ls.wi, local.b), cos_surface);
-    let f = lambert_eval(si.material.base_color, wi_local);
-    let weight = select(power_heuristic(ls.pdf, lambert_pdf(wi_local)), 1.0, ls.is_delta);
+    let mis = power_heuristic(ls.pdf, pdf_bsdf(si.material, eta, wo, wi_local, sampling_mode()));
+    let weight = select(mis, 1.0, ls.is_delta || next_event_mode() == NEE_ON);
     return inspect_light_result(weight, f * ls.radiance * (weight / ls.pdf));
 }
 
@@ -33,6 +61,7 @@ fn trace_path(primary: Ray, rng: ptr<function, Rng>) -> vec3<f32> {
     var radiance = vec3<f32>(0.0);
     var throughput = vec3<f32>(1.0);
     var bsdf_pdf = 0.0;
+    var after_delta = false;
     let max_bounces = min(frame.max_depth, SAFETY_MAX_BOUNCES);
     path_vertices = 0u;
     for (var bounce = 0u; ; bounce++) {
@@ -47,10 +76,12 @@ fn trace_path(primary: Ray, rng: ptr<function, Rng>) -> vec3<f32> {
         let si = surface_interaction(ray, hit);
         if si.front_face && any(si.material.emission > vec3<f32>(0.0)) {
             // Emissive shapes are not in the light list: BSDF sampling alone finds them.
+            // NEE found this emitter already unless the bounce was delta or NEE is off.
             var weight = 1.0;
-            if bounce > 0u && (hit.triangle & SHAPE_BIT) == 0u {
+            if bounce > 0u && !after_delta && (hit.triangle & SHAPE_BIT) == 0u && next_event_mode() != NEE_OFF {
                 let cos_light = dot(si.ng, -ray.direction);
-                weight = power_heuristic(bsdf_pdf, light_pdf(si.material.emission, hit.t, cos_light));
+                let mis = power_heuristic(bsdf_pdf, light_pdf(si.material.emission, hit.t, cos_light));
+                weight = select(0.0, mis, next_event_mode() == NEE_MIS);
             }
             radiance += throughput * si.material.emission * weight;
         }
@@ -59,16 +90,19 @@ fn trace_path(primary: Ray, rng: ptr<function, Rng>) -> vec3<f32> {
             break;
         }
         let local = frame_from_normal(si.ns);
-        radiance += throughput * next_event(si, local, rng);
-        let bs = lambert_sample(si.material.base_color, next_2d(rng));
+        let wo = vec3<f32>(dot(-ray.direction, local.t), dot(-ray.direction, local.b), dot(-ray.direction, si.ns));
+        radiance += throughput * next_event(si, local, wo, rng);
+        let u_lobe = next_f32(rng);
+        let bs = sample_bsdf(si.material, relative_ior(si), wo, u_lobe, next_2d(rng), sampling_mode());
         let wi = frame_to_world(local, bs.wi);
         inspect_bsdf(wi, bs.pdf, bs.weight);
-        if bs.pdf <= 0.0 || dot(wi, si.ng) <= 0.0 {
+        if bs.pdf <= 0.0 || !same_side(si, wi, bs.wi.z) {
             inspect_end(END_ABSORBED, radiance);
             break;
         }
         throughput *= bs.weight;
         bsdf_pdf = bs.pdf;
+        after_delta = bs.delta;
         if bounce + 1u >= frame.rr_start {
             let survive = min(max(throughput.x, max(throughput.y, throughput.z)), 0.95);
             if next_f32(rng) >= survive {

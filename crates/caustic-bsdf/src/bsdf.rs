@@ -24,6 +24,9 @@ pub enum Sampling {
     Bsdf,
 }
 
+/// The largest f32 below 1 (as `0.99999994` in WGSL), where a rescaled `u_lobe` is clamped.
+const ONE_MINUS_EPSILON: f32 = 1.0 - f32::EPSILON / 2.0;
+
 /// Number of lobe slots (diffuse, translucent, Phong, GGX specular, mirror, dielectric).
 pub const LOBE_SLOTS: usize = 6;
 
@@ -161,10 +164,10 @@ fn choose(selection: &[f32; LOBE_SLOTS], u: f32) -> Option<(usize, f32)> {
             continue;
         }
         if u < start + p {
-            return Some((slot, ((u - start) / p).min(1.0 - f32::EPSILON)));
+            return Some((slot, ((u - start) / p).min(ONE_MINUS_EPSILON)));
         }
         start += p;
-        last = Some((slot, 1.0 - f32::EPSILON));
+        last = Some((slot, ONE_MINUS_EPSILON));
     }
     last
 }

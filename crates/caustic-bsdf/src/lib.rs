@@ -12,6 +12,7 @@
 //! sampler draws what its pdf says.
 
 pub mod bsdf;
+pub mod catalog;
 pub mod chi_square;
 pub mod conductor;
 pub mod dielectric;

@@ -3,6 +3,7 @@
 //! lossless interfaces), reciprocity, pdf consistency, and finite values on bad input.
 
 use caustic_bsdf::bsdf::{Bsdf, Sampling};
+use caustic_bsdf::catalog::{TEST_ANGLES, outgoing, reference_cases};
 use caustic_bsdf::chi_square::{ChiSquareTest, corrected_level};
 use caustic_bsdf::conductor::Conductor;
 use caustic_bsdf::params::BsdfParams;
@@ -35,42 +36,14 @@ impl Pcg {
 }
 
 fn wo_at(theta_degrees: f32) -> Vec3 {
-    let t = theta_degrees.to_radians();
-    Vec3::new(t.sin() * 0.3f32.cos(), t.sin() * 0.3f32.sin(), t.cos())
+    outgoing(theta_degrees)
 }
 
-/// The named non-delta models and settings the sampler tests cover.
 fn cases() -> Vec<(String, Bsdf, Sampling)> {
-    let mut out = Vec::new();
-    let mut add = |name: String, params: BsdfParams, eta: f32, sampling: Sampling| out.push((name, Bsdf::new(params, eta), sampling));
-    add("lambert".into(), BsdfParams::lambert(Vec3::splat(0.8)), 1.5, Sampling::Bsdf);
-    for n in [0.0, 1.0, 10.0, 60.0] {
-        add(format!("phong n={n}"), BsdfParams::phong(Vec3::splat(0.3), Vec3::splat(0.6), n), 1.5, Sampling::Bsdf);
-    }
-    for (mode, sampling) in [("hemisphere", Sampling::Hemisphere), ("cosine", Sampling::Cosine)] {
-        add(format!("phong n=10 {mode}"), BsdfParams::phong(Vec3::splat(0.3), Vec3::splat(0.6), 10.0), 1.5, sampling);
-    }
-    for alpha in [0.1, 0.3, 0.6, 1.0] {
-        add(format!("ggx conductor a={alpha}"), BsdfParams::diffuse_ggx(Vec3::ZERO, Vec3::new(0.9, 0.6, 0.3), alpha), 1.5, Sampling::Bsdf);
-    }
-    add("cse168 ggx a=0.3".into(), BsdfParams::diffuse_ggx(Vec3::splat(0.4), Vec3::splat(0.5), 0.3), 1.5, Sampling::Bsdf);
-    for (alpha, eta) in [(0.2, 1.5), (0.5, 1.5), (0.3, 1.0 / 1.5)] {
-        let glass = BsdfParams { dielectric: Vec3::ONE, dielectric_alpha: alpha, ..BsdfParams::default() };
-        add(format!("rough dielectric a={alpha} eta={eta:.3}"), glass, eta, Sampling::Bsdf);
-    }
-    add("translucent".into(), BsdfParams::translucent(Vec3::splat(0.4), Vec3::splat(0.5)), 1.5, Sampling::Bsdf);
-    for (m, r, tr) in [(0.0, 0.5, 0.0), (1.0, 0.4, 0.0), (0.5, 0.7, 0.0), (0.0, 0.5, 1.0)] {
-        let p = BsdfParams::metallic_roughness(Vec3::new(0.9, 0.5, 0.2), m, r, 1.0, 1.5, tr);
-        add(format!("metallic-roughness m={m} r={r} t={tr}"), p, 1.5, Sampling::Bsdf);
-    }
-    for r in [0.3, 0.6, 1.0] {
-        let white = BsdfParams::metallic_roughness(Vec3::ONE, 0.0, r, 1.0, 1.5, 0.0);
-        add(format!("white plastic r={r}"), white, 1.5, Sampling::Bsdf);
-    }
-    out
+    reference_cases().into_iter().map(|c| (c.name.clone(), c.bsdf(), c.sampling)).collect()
 }
 
-const ANGLES: [f32; 3] = [10.0, 45.0, 80.0];
+const ANGLES: [f32; 3] = TEST_ANGLES;
 
 #[test]
 fn samplers_match_their_pdfs_chi_square() {

@@ -50,8 +50,26 @@ pub struct Frame {
     pub debug_view: u32,
     /// The pixel (row-major index) whose path the inspector records; [`NO_PIXEL`] = none.
     pub inspect_pixel: u32,
-    /// Padding to 16 bytes.
-    pub _pad: u32,
+    /// The path tracer's switches: bits 0-1 next-event estimation, bits 2-3 reflection-lobe
+    /// sampling ([`transport_flags`]).
+    pub transport: u32,
+}
+
+/// [`Frame::transport`] for the scene options' next-event estimation mode and importance
+/// sampling (`NEE_*` and `SAMPLING_*` in WGSL).
+pub fn transport_flags(next_event: caustic_scene::NextEvent, sampling: caustic_scene::ImportanceSampling) -> u32 {
+    use caustic_scene::{ImportanceSampling, NextEvent};
+    let nee = match next_event {
+        NextEvent::Off => 0,
+        NextEvent::On => 1,
+        NextEvent::Mis => 2,
+    };
+    let sampling = match sampling {
+        ImportanceSampling::Hemisphere => 0,
+        ImportanceSampling::Cosine => 1,
+        ImportanceSampling::Brdf => 2,
+    };
+    nee | sampling << 2
 }
 
 /// [`Frame::inspect_pixel`] when no pixel is inspected.
@@ -102,6 +120,34 @@ pub struct GpuMaterial {
     pub specular: [f32; 3],
     /// Padding.
     pub _pad1: u32,
+    /// Path tracer: Lambertian albedo ([`caustic_bsdf::params::BsdfParams`] has every lobe field).
+    pub diffuse: [f32; 3],
+    /// Schlick F0 of the coat over the diffuse lobe.
+    pub coat_f0: f32,
+    /// Diffuse transmission albedo.
+    pub translucent: [f32; 3],
+    /// Strength of the coat.
+    pub coat_weight: f32,
+    /// Modified Phong lobe albedo.
+    pub phong: [f32; 3],
+    /// Modified Phong exponent.
+    pub phong_exponent: f32,
+    /// GGX reflection Schlick F0.
+    pub specular_f0: [f32; 3],
+    /// GGX reflection weight.
+    pub specular_weight: f32,
+    /// Dielectric interface tint.
+    pub dielectric: [f32; 3],
+    /// GGX reflection alpha.
+    pub specular_alpha: f32,
+    /// Glossy mirror weight.
+    pub mirror: f32,
+    /// Glossy mirror alpha.
+    pub mirror_alpha: f32,
+    /// Dielectric alpha.
+    pub dielectric_alpha: f32,
+    /// Index of refraction of the inside.
+    pub ior: f32,
 }
 
 /// One light for next-event estimation (`Light` in WGSL); fields by kind are documented there.

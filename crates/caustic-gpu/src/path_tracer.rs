@@ -1,6 +1,6 @@
 //! The accumulating path tracer: one bounded dispatch per tile and sample pass.
 
-use crate::gpu_types::{AccumTexel, Frame, InspectRecord, NO_PIXEL};
+use crate::gpu_types::{transport_flags, AccumTexel, Frame, InspectRecord, NO_PIXEL};
 use crate::inspector::PathRecord;
 use crate::readback::read_buffer;
 use crate::shaders::Program;
@@ -429,12 +429,13 @@ fn frame_constants(scene: &Scene, gpu: &GpuScene, settings: &RenderSettings) -> 
         },
         light_count: gpu.light_count,
         total_light_power: gpu.total_light_power,
-        rr_start: settings.rr_start,
+        rr_start: if scene.options.russian_roulette { settings.rr_start } else { u32::MAX },
         first_plane: gpu.first_plane,
         shape_count: gpu.shape_count,
         triangle_count: gpu.triangle_count as u32,
         debug_view: settings.debug.map_or(0, |view| view as u32),
         inspect_pixel: NO_PIXEL,
+        transport: transport_flags(scene.options.next_event, scene.options.importance_sampling),
         ..Default::default()
     }
 }

@@ -5,7 +5,8 @@
 
 use crate::gpu_types::{FLAG_VERTEX_NORMALS, GpuLight, GpuMaterial, TriangleShading};
 use caustic_bvh::ShapeInput;
-use caustic_scene::{Light, Scene, Shape, ShapeKind, luminance};
+use caustic_bsdf::params::BsdfParams;
+use caustic_scene::{Light, Scene, Shape, ShadingModel, ShapeKind, luminance};
 use glam::Vec3;
 
 /// Light kinds, as `GpuLight::kind` and `LIGHT_*` in `shaders/common/types.wgsl`.
@@ -106,6 +107,46 @@ fn gpu_material(m: &caustic_scene::Material) -> GpuMaterial {
         shininess: m.shininess,
         ambient: m.ambient.to_array(),
         specular: m.specular_color.to_array(),
+        ..material_with_bsdf(&bsdf_params(m))
+    }
+}
+
+/// The path tracer's BSDF for a scene material (`docs/MATERIALS.md`): the shading model picks
+/// the base lobes (glTF metallic-roughness for `Lambert`, which is pure diffuse with the
+/// default fields; modified Phong; CSE168's diffuse + GGX; thin translucent with the specular
+/// colour as transmittance; `Flat` and `Checkers` diffuse), then the scene language's
+/// `reflectance` (glossy mirror, `gloss` as alpha) and `transparency` (dielectric, `frost` as
+/// alpha) layers take their share. Roughness is perceptual: alpha = roughness^2.
+pub fn bsdf_params(m: &caustic_scene::Material) -> BsdfParams {
+    let alpha = m.roughness * m.roughness;
+    let base = match m.model {
+        ShadingModel::Lambert => BsdfParams::metallic_roughness(m.base_color, m.metallic, m.roughness, m.specular, m.ior, m.transmission),
+        ShadingModel::Phong | ShadingModel::BlinnPhong => BsdfParams::phong(m.base_color, m.specular_color, m.shininess),
+        ShadingModel::Ggx => BsdfParams::diffuse_ggx(m.base_color, m.specular_color, alpha),
+        ShadingModel::Translucent => BsdfParams::translucent(m.base_color, m.specular_color),
+        ShadingModel::Flat | ShadingModel::Checkers => BsdfParams::lambert(m.base_color),
+    };
+    base.with_layers(m.reflectance, m.gloss, m.transparency, m.frost, m.ior)
+}
+
+/// A material that only carries `params`' lobes (black and non-emissive for the classic
+/// integrators), for kernels that evaluate the BSDF alone.
+pub fn material_with_bsdf(p: &BsdfParams) -> GpuMaterial {
+    GpuMaterial {
+        diffuse: p.diffuse.to_array(),
+        coat_f0: p.coat_f0,
+        translucent: p.translucent.to_array(),
+        coat_weight: p.coat_weight,
+        phong: p.phong.to_array(),
+        phong_exponent: p.phong_exponent,
+        specular_f0: p.specular_f0.to_array(),
+        specular_weight: p.specular_weight,
+        dielectric: p.dielectric.to_array(),
+        specular_alpha: p.specular_alpha,
+        mirror: p.mirror,
+        mirror_alpha: p.mirror_alpha,
+        dielectric_alpha: p.dielectric_alpha,
+        ior: p.ior,
         ..Default::default()
     }
 }

@@ -25,13 +25,19 @@ const COMMON: [ShaderFile; 5] = [
 const TRAVERSAL: [ShaderFile; 3] =
     [shader_file!("bvh/bindings.wgsl"), shader_file!("bvh/shapes.wgsl"), shader_file!("bvh/traverse.wgsl")];
 
-const PATH_TRACER: [ShaderFile; 12] = [
+const PATH_TRACER: [ShaderFile; 18] = [
     shader_file!("integrator/bindings.wgsl"),
     shader_file!("integrator/camera.wgsl"),
     shader_file!("integrator/environment.wgsl"),
     shader_file!("integrator/surface.wgsl"),
     shader_file!("integrator/film.wgsl"),
+    shader_file!("bsdf/common.wgsl"),
     shader_file!("bsdf/lambert.wgsl"),
+    shader_file!("bsdf/phong.wgsl"),
+    shader_file!("bsdf/microfacet.wgsl"),
+    shader_file!("bsdf/ggx.wgsl"),
+    shader_file!("bsdf/dielectric.wgsl"),
+    shader_file!("bsdf/bsdf.wgsl"),
     shader_file!("lights/sample.wgsl"),
     shader_file!("integrator/path.wgsl"),
     shader_file!("integrator/whitted.wgsl"),
@@ -41,6 +47,13 @@ const PATH_TRACER: [ShaderFile; 12] = [
 ];
 
 const RAY_BENCH: [ShaderFile; 1] = [shader_file!("bench/rays.wgsl")];
+
+/// The shader library of the BSDFs with what it needs (types, random numbers, sampling warps):
+/// no bindings, so kernel tests ([`crate::kernel_test`]) can run its functions alone.
+pub fn bsdf_library() -> Vec<&'static ShaderFile> {
+    let common = COMMON.iter().filter(|f| matches!(f.name, "common/types.wgsl" | "common/rng.wgsl" | "common/sampling.wgsl"));
+    common.chain(PATH_TRACER.iter().filter(|f| f.name.starts_with("bsdf/"))).collect()
+}
 
 /// The files of one program, in order.
 pub fn program_files(program: Program) -> Vec<&'static ShaderFile> {

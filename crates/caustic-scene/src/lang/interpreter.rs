@@ -302,6 +302,7 @@ impl Interpreter {
     fn dispatch(&mut self, a: &Args, at: Location<'_>, actions: &mut Vec<Action>) -> Res<()> {
         let handled = self.action_command(a, at, actions)?
             || self.setting_command(a, at)?
+            || self.sampling_command(a)?
             || self.geometry_command(a, at)?
             || self.transform_command(a, at)?
             || self.material_command(a, at)?

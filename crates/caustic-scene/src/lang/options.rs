@@ -32,7 +32,7 @@ fn on_off(a: &Args, i: usize) -> Res<bool> {
 }
 
 impl Interpreter {
-    /// Executes the global settings (`size`, `camera`, `integrator`, `spp`, ...).
+    /// Executes the global settings (`size`, `maxdepth`, `camera`, `output`, `environment`, ...).
     /// Returns whether `a` is one of them.
     pub(super) fn setting_command(&mut self, a: &Args, at: Location<'_>) -> Res<bool> {
         let w = &mut self.world;
@@ -78,6 +78,45 @@ impl Interpreter {
                 a.expect(&[1])?;
                 w.settings.dof = a.f32_in(0, |v| v >= 0.0, ">= 0")?;
             }
+            "environment" => {
+                a.expect(&[1, 3])?;
+                w.scene.environment = if a.len() == 3 {
+                    Environment::Constant(a.color(0)?)
+                } else if a.text(0)?.parse::<f64>().is_ok() {
+                    let grey = a.f32_in(0, |v| v >= 0.0, ">= 0")?;
+                    Environment::Constant(Vec3::splat(grey))
+                } else if !self.file_access {
+                    return a.fail_at(0, "reading files is disabled in this session");
+                } else {
+                    let path = resolve(at.file, a.text(0)?);
+                    match EnvironmentMap::load(&path) {
+                        Ok(map) => Environment::Map(map),
+                        Err(e) => return a.fail_at(0, e),
+                    }
+                };
+            }
+            "maxverts" | "maxvertnorms" => {
+                a.expect(&[1])?;
+                let count = a.int_in(0, 1, i64::MAX)?;
+                let reserve = usize::try_from(count).unwrap_or(usize::MAX).min(RESERVE_CAP);
+                if a.name == "maxverts" {
+                    w.settings.max_verts = Some(count as u64);
+                    w.vertices.reserve(reserve.saturating_sub(w.vertices.len()));
+                } else {
+                    w.settings.max_vert_norms = Some(count as u64);
+                    w.normal_vertices.reserve(reserve.saturating_sub(w.normal_vertices.len()));
+                }
+            }
+            _ => return Ok(false),
+        }
+        Ok(true)
+    }
+
+    /// Executes the sampling and integrator settings (`spp`, `supersample`, `integrator`,
+    /// `nexteventestimation`, `gamma`, ...). Returns whether `a` is one of them.
+    pub(super) fn sampling_command(&mut self, a: &Args) -> Res<bool> {
+        let w = &mut self.world;
+        match a.name {
             "supersample" => {
                 a.expect(&[1])?;
                 let n = a.int_in(0, 1, 65535)? as u32;
@@ -123,38 +162,8 @@ impl Interpreter {
                 a.expect(&[1])?;
                 w.scene.options.gamma = a.f32_in(0, |g| g > 0.0, "> 0")?;
             }
-            "environment" => {
-                a.expect(&[1, 3])?;
-                w.scene.environment = if a.len() == 3 {
-                    Environment::Constant(a.color(0)?)
-                } else if a.text(0)?.parse::<f64>().is_ok() {
-                    let grey = a.f32_in(0, |v| v >= 0.0, ">= 0")?;
-                    Environment::Constant(Vec3::splat(grey))
-                } else if !self.file_access {
-                    return a.fail_at(0, "reading files is disabled in this session");
-                } else {
-                    let path = resolve(at.file, a.text(0)?);
-                    match EnvironmentMap::load(&path) {
-                        Ok(map) => Environment::Map(map),
-                        Err(e) => return a.fail_at(0, e),
-                    }
-                };
-            }
-            "maxverts" | "maxvertnorms" => {
-                a.expect(&[1])?;
-                let count = a.int_in(0, 1, i64::MAX)?;
-                let reserve = usize::try_from(count).unwrap_or(usize::MAX).min(RESERVE_CAP);
-                if a.name == "maxverts" {
-                    w.settings.max_verts = Some(count as u64);
-                    w.vertices.reserve(reserve.saturating_sub(w.vertices.len()));
-                } else {
-                    w.settings.max_vert_norms = Some(count as u64);
-                    w.normal_vertices.reserve(reserve.saturating_sub(w.normal_vertices.len()));
-                }
-            }
             _ => return Ok(false),
         }
         Ok(true)
     }
 }
-
