@@ -108,7 +108,7 @@ impl<'a> MaterialReader<'a> {
         let name = image_name(&image);
         let decoded = image_bytes(self.path, self.buffers, &image).and_then(|bytes| Texture::decode(&name, &bytes, color_space));
         decoded.unwrap_or_else(|message| {
-            warn(self.path, &format!("texture {} (image {name}) {message}: using a magenta texture", texture.index()));
+            warn(self.path, &format!("texture {} ('{name}') {message}: using a magenta texture", texture.index()));
             Texture::missing(&name, color_space)
         })
     }
@@ -145,12 +145,12 @@ fn wrap_mode(mode: WrappingMode) -> WrapMode {
     }
 }
 
-/// How messages name an image: its name, its URI (not a data URI) or its index.
+/// How messages name an image: its name, its URI (not a data URI) or "image N".
 fn image_name(image: &gltf::Image) -> String {
     match (image.name(), image.source()) {
-        (Some(name), _) => format!("'{name}'"),
-        (None, gltf::image::Source::Uri { uri, .. }) if !uri.starts_with("data:") => format!("'{uri}'"),
-        _ => format!("{}", image.index()),
+        (Some(name), _) => name.to_string(),
+        (None, gltf::image::Source::Uri { uri, .. }) if !uri.starts_with("data:") => uri.to_string(),
+        _ => format!("image {}", image.index()),
     }
 }
 
