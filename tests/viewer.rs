@@ -275,3 +275,31 @@ fn the_window_stays_responsive_while_a_pass_takes_longer_than_a_frame() {
     assert!(report["spp"].as_u64().unwrap() >= 1, "no pass completed in 40 frames");
     assert!(median < pass_ms, "a frame takes as long as a whole sample pass: the work per frame is not bounded");
 }
+
+#[test]
+fn the_inspected_path_is_drawn_over_the_image() {
+    let Some(xvfb) = Xvfb::start() else { return };
+    let shot_path = support::scratch("viewer-inspect").join("window.png");
+    let output = Command::new(env!("CARGO_BIN_EXE_caustic"))
+        .args(["view", "cornell", "--size", "96x96", "--spp", "2", "--frames", "4", "--inspect", "48,60"])
+        .args(["--screenshot", shot_path.to_str().unwrap()])
+        .env("DISPLAY", &xvfb.display)
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .expect("run caustic view");
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "caustic view --inspect failed:\n{stderr}");
+    let shot = Image::load(&shot_path).expect("the screenshot loads");
+    // The overlay draws the path's rays in cyan (sRGB 80, 220, 255), a colour the Cornell box
+    // does not have.
+    let image_area = shot.width * 2 / 3;
+    let cyan = (0..shot.height)
+        .flat_map(|y| (0..image_area).map(move |x| (x, y)))
+        .filter(|&(x, y)| {
+            let [r, g, b] = shot.get(x, y);
+            b > 0.5 && g > 0.4 && r < 0.2 * b
+        })
+        .count();
+    println!("inspected path: {cyan} cyan pixels over the image");
+    assert!(cyan > 30, "the inspected path is not drawn");
+}

@@ -1,6 +1,7 @@
 //! The command-line contract. Later features add options; existing ones keep their meaning.
 
 use anyhow::{Context, bail};
+use caustic_gpu::DebugView;
 use caustic_scene::{Camera, Environment, EnvironmentMap, Integrator, Scene};
 use caustic_viewer::command::integrator_name;
 use clap::{Args, Parser, Subcommand};
@@ -91,6 +92,12 @@ pub struct RenderArgs {
     /// Stop after this many seconds of rendering (at a whole sample pass).
     #[arg(long, value_name = "SECONDS")]
     pub time: Option<f64>,
+    /// Render a debug view instead of the image (docs/DEBUGGING.md): node-visits,
+    /// primitive-tests, uv, albedo, material-id, bounces or nonfinite. Image files show it as a
+    /// picture (heat map with a legend, id colours, non-finite pixels in red); .exr parts hold
+    /// the raw values.
+    #[arg(long, value_name = "VIEW", value_parser = parse_debug_view)]
+    pub debug: Option<DebugView>,
     /// What the command line changes in the scene.
     #[command(flatten)]
     pub overrides: SceneOverrides,
@@ -224,6 +231,12 @@ pub struct ViewArgs {
     /// (--save), take a screenshot (--screenshot), print what was measured as JSON and exit.
     #[arg(long, value_name = "N")]
     pub frames: Option<u32>,
+    /// Start with a debug view shown instead of the image (the names of `render --debug`).
+    #[arg(long, value_name = "VIEW", value_parser = parse_debug_view)]
+    pub debug: Option<DebugView>,
+    /// Start with the path of pixel X,Y recorded by the pixel inspector (as ctrl + click does).
+    #[arg(long, value_name = "X,Y", value_parser = parse_pixel)]
+    pub inspect: Option<(u32, u32)>,
     /// With --frames: write a PNG screenshot of the whole window.
     #[arg(long, value_name = "FILE.png", requires = "frames")]
     pub screenshot: Option<PathBuf>,
@@ -356,6 +369,20 @@ fn parse_vector(text: &str) -> Result<Vec3, String> {
         Ok([x, y, z]) if [x, y, z].iter().all(|c| c.is_finite()) => Ok(Vec3::new(*x, *y, *z)),
         _ => Err(format!("'{text}' is not three finite numbers x,y,z")),
     }
+}
+
+fn parse_pixel(text: &str) -> Result<(u32, u32), String> {
+    let (x, y) = text.split_once(',').ok_or_else(|| format!("'{text}' is not X,Y"))?;
+    let parse = |s: &str| s.trim().parse::<u32>().map_err(|_| format!("'{s}' in '{text}' is not a pixel coordinate"));
+    Ok((parse(x)?, parse(y)?))
+}
+
+fn parse_debug_view(text: &str) -> Result<DebugView, String> {
+    let name = text.trim().to_lowercase();
+    DebugView::ALL.iter().find(|(n, _)| *n == name).map(|(_, view)| *view).ok_or_else(|| {
+        let names: Vec<&str> = DebugView::ALL.iter().map(|(n, _)| *n).collect();
+        format!("unknown debug view '{text}'; expected one of: {}", names.join(", "))
+    })
 }
 
 fn parse_integrator(text: &str) -> Result<Integrator, String> {

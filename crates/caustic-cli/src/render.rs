@@ -5,7 +5,8 @@ use crate::fingerprint::{Fingerprint, fingerprint};
 use crate::script;
 use crate::tasks::{TaskIndex, has_placeholder, substitute};
 use anyhow::{Context, bail};
-use caustic_gpu::{GpuContext, GpuScene, PassOutcome, PathTracer, RenderSettings};
+use caustic_gpu::debug_image::{DEBUG_SAVE_OPTIONS, debug_picture};
+use caustic_gpu::{DebugView, GpuContext, GpuScene, PassOutcome, PathTracer, RenderSettings};
 use caustic_image::{Image, PartInfo, PartialImage};
 use caustic_scene::{Scene, SceneSource, load_scene};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -147,7 +148,8 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let mut budget = Budget::from_args(args, task.as_ref())?;
     let scene_arg = scene_argument(args, task.as_ref())?;
     let output_arg = output_argument(args, task.as_ref())?;
-    let split = args.samples.is_some() || args.samples_from_env || args.frame_from_env || args.resume;
+    // A debug view renders the scene once too: it shows what the kernels do, not the script.
+    let split = args.samples.is_some() || args.samples_from_env || args.frame_from_env || args.resume || args.debug.is_some();
     if !split && script::is_script(Path::new(&scene_arg)) {
         return script::run_file(Path::new(&scene_arg), args);
     }
@@ -162,6 +164,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let (integrator, max_depth) = args.overrides.apply(&mut scene)?;
     let mut settings =
         RenderSettings { integrator, pass: scene.options.pass, max_depth, seed: args.overrides.seed, ..RenderSettings::default() };
+    settings.debug = args.debug;
     // The fingerprint must see the final scene and settings (all but the first sample): parts
     // with equal fingerprints are merged as one render.
     let print = fingerprint(&scene, &settings);
@@ -195,12 +198,27 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
                 written.end
             );
         }
+    } else if let Some(view) = args.debug {
+        save_debug_picture(view, &rendered, &output)?;
     } else {
         rendered.image.save(&output, &args.display.save_options())?;
     }
     print_report(&report, args.device.json)?;
     if interrupted {
         bail!("interrupted (Ctrl-C or SIGTERM) after {} samples per pixel; the partial image was written", report.spp);
+    }
+    Ok(())
+}
+
+/// Saves debug view `view`'s picture (`caustic_gpu::debug_image`) and says what its colours mean.
+fn save_debug_picture(view: DebugView, rendered: &Accumulated, output: &Path) -> anyhow::Result<()> {
+    let picture = debug_picture(view, &rendered.image, &rendered.nonfinite);
+    picture.image.save(output, &DEBUG_SAVE_OPTIONS)?;
+    if let Some(max) = picture.legend_max {
+        eprintln!("{}: heat map from 0 (black) to {max} (light yellow), legend under the image", view.name());
+    }
+    if let Some(marked) = picture.marked {
+        eprintln!("{}: {marked} pixels with non-finite samples marked red", view.name());
     }
     Ok(())
 }

@@ -32,6 +32,8 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
         seed: args.overrides.seed,
         exposure: args.display.exposure,
         tone_map: args.display.tone_map.unwrap_or_default(),
+        debug: args.debug,
+        inspect: args.inspect,
         script,
     };
     caustic_viewer::run(options)

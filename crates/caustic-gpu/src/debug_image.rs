@@ -96,7 +96,7 @@ pub fn id_color(id: f32) -> [f32; 3] {
     if !(id >= 0.0) {
         return [0.0; 3];
     }
-    let hue = (id.round() * 0.618_034).fract() * 6.0;
+    let hue = (id.round() * 0.618_034 + 0.55).fract() * 6.0;
     let f = hue.fract();
     let (v, s) = (0.9, 0.65);
     let (p, q, t) = (v * (1.0 - s), v * (1.0 - s * f), v * (1.0 - s * (1.0 - f)));

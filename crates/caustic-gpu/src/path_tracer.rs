@@ -64,10 +64,10 @@ pub enum DebugView {
     /// Material index of the first hit (-1 where the camera ray escapes).
     MaterialId = 5,
     /// Surface hits of one path-traced path.
+    Bounces = 6,
     /// The NaN/Inf finder: the path-traced image, whose non-finite samples the film counts
     /// per pixel ([`PathTracer::nonfinite_counts`]); [`crate::debug_image`] marks those pixels.
     NonFinite = 7,
-    Bounces = 6,
 }
 
 impl DebugView {
@@ -78,8 +78,8 @@ impl DebugView {
         ("uv", DebugView::Uv),
         ("albedo", DebugView::Albedo),
         ("material-id", DebugView::MaterialId),
-        ("nonfinite", DebugView::NonFinite),
         ("bounces", DebugView::Bounces),
+        ("nonfinite", DebugView::NonFinite),
     ];
 
     /// Whether the view is a count, shown as a heat map.

@@ -3,11 +3,12 @@
 
 use crate::camera;
 use crate::command::{self, Reproduction};
+use crate::inspector_panel::{self, Inspection};
 use crate::picking::{Pick, Picker};
 use crate::progressive::{FrameBudget, Progressive, Uploads};
 use crate::{Script, ViewerOptions};
 use anyhow::Context as _;
-use caustic_gpu::{GpuContext, RenderSettings};
+use caustic_gpu::{DebugView, GpuContext, RenderSettings};
 use caustic_image::ToneMap;
 use caustic_scene::{Camera, Environment, Integrator};
 use eframe::egui_wgpu;
@@ -38,6 +39,8 @@ pub(crate) struct Controls {
     pub camera: usize,
     /// Where "Save" writes (extension replaced by the format).
     pub save_path: String,
+    /// The debug view shown instead of the image, if any.
+    pub debug: Option<DebugView>,
 }
 
 /// Edits collected during a frame and applied once, before rendering.
@@ -76,6 +79,10 @@ pub(crate) struct ViewerApp {
     pub scene_arg: String,
     pub environment_arg: Option<String>,
     pub pick: Option<Pick>,
+    /// The pixel inspector's last path.
+    pub inspection: Option<Inspection>,
+    /// Whether a plain click inspects (else ctrl + click does).
+    pub inspect_mode: bool,
     /// Materials edited in the inspector (indices), which no command line reproduces.
     pub edited_materials: std::collections::BTreeSet<usize>,
     /// The last save's command line (or error), shown under the save buttons.
@@ -123,6 +130,7 @@ impl ViewerApp {
             environment: None,
             camera: 0,
             save_path: format!("{}-view.png", options.scene.name),
+            debug: options.debug,
         };
         let cameras = vec![("scene camera".to_string(), options.scene.camera.clone())];
         let scene_resolution = options.scene.resolution;
@@ -139,7 +147,7 @@ impl ViewerApp {
         );
         let renderer = state.renderer.clone();
         let texture = renderer.write().register_native_texture(&ctx.device, view.display().view(), wgpu::FilterMode::Linear);
-        Ok(ViewerApp {
+        let mut app = ViewerApp {
             view,
             controls,
             pending: Pending { redisplay: true, ..Pending::default() },
@@ -149,6 +157,8 @@ impl ViewerApp {
             scene_arg: options.scene_arg,
             environment_arg: options.environment_arg,
             pick: None,
+            inspection: None,
+            inspect_mode: false,
             edited_materials: Default::default(),
             save_status: None,
             error: None,
@@ -165,7 +175,17 @@ impl ViewerApp {
             script: options.script.map(|s| (s, ScriptPhase::Rendering)),
             screenshot: Arc::default(),
             outcome,
-        })
+        };
+        if let Some(pixel) = options.inspect {
+            app.inspect(pixel);
+        }
+        Ok(app)
+    }
+
+    /// Records the path of `pixel` with the pixel inspector.
+    pub fn inspect(&mut self, pixel: (u32, u32)) {
+        let path = self.view.inspect(pixel.0, pixel.1).map_err(|e| e.to_string());
+        self.inspection = Some(Inspection { pixel, path });
     }
 
     /// The picker, once its BVH is built in the background.
@@ -206,6 +226,14 @@ impl ViewerApp {
 
     /// Finishes the pass in progress and saves the image and its command line to `path`.
     pub fn save(&mut self, path: &Path) -> anyhow::Result<String> {
+        if let Some(view) = self.controls.debug {
+            anyhow::bail!(
+                "the {} debug view is shown: switch it off to save the image, or write the view headlessly with `caustic render {} --debug {}`",
+                view.name(),
+                self.scene_arg,
+                view.name()
+            );
+        }
         let image = self.view.finished_image()?;
         let command = command::save(&image, path, &self.reproduction(self.view.stats().spp))?;
         print!("{command}");
@@ -226,7 +254,8 @@ impl ViewerApp {
     /// The image area: draws the display texture fitted to the space and turns pointer and
     /// keyboard input into camera moves and picks.
     fn image_area(&mut self, ui: &mut egui::Ui) {
-        let (width, height) = self.view.scene().resolution;
+        // The display texture: the render, or a debug picture with its legend under it.
+        let wgpu::Extent3d { width, height, .. } = self.view.display().texture().size();
         let available = ui.available_size();
         let scale = (available.x / width as f32).min(available.y / height as f32).max(1e-3);
         let size = Vec2::new(width as f32, height as f32) * scale;
@@ -234,6 +263,10 @@ impl ViewerApp {
         let response = ui.allocate_rect(rect, Sense::click_and_drag());
         let uv = Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0));
         ui.painter().image(self.texture, rect, uv, Color32::WHITE);
+        if let Some(Ok(path)) = self.inspection.as_ref().map(|i| &i.path) {
+            let (min, max) = self.view.gpu().bounds;
+            inspector_panel::draw_path(ui.painter(), rect, scale, self.view.scene(), path, 0.5 * (max - min).length());
+        }
         let mut camera = self.view.scene().camera.clone();
         let delta = response.drag_delta();
         let shift = ui.input(|i| i.modifiers.shift);
@@ -256,10 +289,14 @@ impl ViewerApp {
         if response.clicked() {
             if let Some(pos) = response.interact_pointer_pos() {
                 let pixel = ((pos.x - rect.min.x) / scale, (pos.y - rect.min.y) / scale);
-                self.picker();
-                if let Some(PickerState::Ready(picker)) = &self.picker {
-                    let scene = self.view.scene();
-                    self.pick = picker.pick(scene, &scene.camera, scene.resolution, pixel);
+                if self.inspect_mode || ui.input(|i| i.modifiers.command) {
+                    self.inspect((pixel.0 as u32, pixel.1 as u32));
+                } else {
+                    self.picker();
+                    if let Some(PickerState::Ready(picker)) = &self.picker {
+                        let scene = self.view.scene();
+                        self.pick = picker.pick(scene, &scene.camera, scene.resolution, pixel);
+                    }
                 }
             }
         }
@@ -481,6 +518,7 @@ fn render_settings(controls: &Controls) -> RenderSettings {
         integrator: controls.integrator,
         max_depth: controls.max_depth,
         seed: controls.seed,
+        debug: controls.debug,
         // A few submits per frame: stopping overshoots the budget by at most one of them.
         target_submit: Duration::from_secs_f32(controls.frame_ms / 4e3),
         ..RenderSettings::default()

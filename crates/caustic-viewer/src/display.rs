@@ -5,7 +5,8 @@
 
 use bytemuck::{Pod, Zeroable};
 use caustic_gpu::{GpuContext, GpuError};
-use caustic_image::ToneMap;
+use caustic_gpu::debug_image::DEBUG_SAVE_OPTIONS;
+use caustic_image::{Image, ToneMap, to_srgb8};
 use wgpu::util::DeviceExt;
 
 /// The shader's uniform (`DisplayParams` in `display.wgsl`).
@@ -107,6 +108,26 @@ impl Display {
     }
 }
 
+impl Display {
+    /// Shows a finished picture (a debug view's, [`caustic_gpu::debug_image`]) instead of the
+    /// film: written to the texture as 8-bit sRGB with [`DEBUG_SAVE_OPTIONS`]. Returns `true`
+    /// when the texture was re-created for a new size.
+    pub fn upload(&mut self, ctx: &GpuContext, picture: &Image) -> bool {
+        let resized = self.texture.width() != picture.width || self.texture.height() != picture.height;
+        if resized {
+            (self.texture, self.view) = target(&ctx.device, picture.width, picture.height);
+        }
+        let bytes: Vec<u8> = to_srgb8(picture, &DEBUG_SAVE_OPTIONS).into_iter().flatten().collect();
+        ctx.queue.write_texture(
+            self.texture.as_image_copy(),
+            &bytes,
+            wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(4 * picture.width), rows_per_image: None },
+            self.texture.size(),
+        );
+        resized
+    }
+}
+
 /// The tone map as the shader's number.
 fn tone_map_code(tone_map: ToneMap) -> u32 {
     match tone_map {
@@ -125,7 +146,10 @@ fn target(device: &wgpu::Device, width: u32, height: u32) -> (wgpu::Texture, wgp
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
         format: DISPLAY_FORMAT,
-        usage: wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC,
+        usage: wgpu::TextureUsages::STORAGE_BINDING
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_SRC
+            | wgpu::TextureUsages::COPY_DST,
         view_formats: &[],
     });
     let view = texture.create_view(&Default::default());

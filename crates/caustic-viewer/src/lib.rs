@@ -10,10 +10,12 @@
 //! buffer straight into the texture the window draws ([`Display`]).
 //!
 //! Modules: `app` (the frame loop, input and the scripted mode), `panel` (the settings panel),
+//! `inspector_panel` (the pixel inspector's table and the path drawn over the image),
 //! [`camera`] (camera moves), [`picking`], [`progressive`] (render state and frame budget),
 //! [`display`], [`command`] (saving an image with the command line that reproduces it).
 
 mod app;
+mod inspector_panel;
 pub mod camera;
 pub mod command;
 pub mod display;
@@ -25,7 +27,7 @@ pub use display::Display;
 pub use progressive::{FrameBudget, Progressive, RenderStats, Uploads};
 
 use anyhow::anyhow;
-use caustic_gpu::GpuContext;
+use caustic_gpu::{DebugView, GpuContext};
 use caustic_image::ToneMap;
 use caustic_scene::{Integrator, Scene};
 use eframe::egui_wgpu::{self, WgpuSetupCreateNew};
@@ -56,6 +58,10 @@ pub struct ViewerOptions {
     pub exposure: f32,
     /// Tone map.
     pub tone_map: ToneMap,
+    /// The debug view to start with, if any (the panel switches it).
+    pub debug: Option<DebugView>,
+    /// A pixel to inspect at the start, as a click with the pixel inspector would.
+    pub inspect: Option<(u32, u32)>,
     /// A scripted run instead of an interactive one.
     pub script: Option<Script>,
 }

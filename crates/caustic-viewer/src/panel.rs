@@ -4,6 +4,7 @@
 
 use crate::app::ViewerApp;
 use crate::picking;
+use caustic_gpu::DebugView;
 use caustic_image::ToneMap;
 use caustic_scene::Integrator;
 use egui::{CollapsingHeader, Color32, ComboBox, DragValue, RichText, Slider, Ui};
@@ -31,6 +32,7 @@ impl ViewerApp {
         CollapsingHeader::new("Camera").default_open(true).show(ui, |ui| self.camera_section(ui));
         CollapsingHeader::new("Environment").default_open(true).show(ui, |ui| self.environment_section(ui));
         CollapsingHeader::new("Material inspector").default_open(true).show(ui, |ui| self.inspector_section(ui));
+        CollapsingHeader::new("Pixel inspector").default_open(true).show(ui, |ui| self.pixel_inspector_section(ui));
         CollapsingHeader::new("Statistics").default_open(true).show(ui, |ui| self.stats_section(ui));
         CollapsingHeader::new("Save").default_open(true).show(ui, |ui| self.save_section(ui));
     }
@@ -75,7 +77,16 @@ impl ViewerApp {
                 ui.selectable_value(&mut c.tone_map, tone_map, tone_map.name());
             }
         });
-        let restart = (c.integrator, c.max_depth, c.seed, c.divisor) != (before.integrator, before.max_depth, before.seed, before.divisor);
+        ComboBox::from_label("debug view").selected_text(c.debug.map_or("none", DebugView::name)).show_ui(ui, |ui| {
+            ui.selectable_value(&mut c.debug, None, "none");
+            for (name, view) in DebugView::ALL {
+                ui.selectable_value(&mut c.debug, Some(view), name);
+            }
+        });
+        if let Some(max) = self.view.legend_max() {
+            ui.label(RichText::new(format!("heat map: black 0 … light yellow {max} (legend under the image)")).small());
+        }
+        let restart = (c.integrator, c.max_depth, c.seed, c.divisor, c.debug) != (before.integrator, before.max_depth, before.seed, before.divisor, before.debug);
         self.pending.restart |= restart;
         self.budget.target = std::time::Duration::from_secs_f32(c.frame_ms / 1e3);
         self.pending.redisplay |= (c.exposure, c.tone_map) != (before.exposure, before.tone_map);
@@ -111,7 +122,7 @@ impl ViewerApp {
         ui.label(
             RichText::new(concat!(
                 "drag: orbit · shift/middle drag: pan · right drag: look · wheel: zoom · ",
-                "WASD, Q/E: fly (shift: faster) · click: pick"
+                "WASD, Q/E: fly (shift: faster) · click: pick · ctrl + click: inspect the pixel's path"
             ))
                 .small()
                 .weak(),

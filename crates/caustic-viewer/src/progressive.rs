@@ -4,6 +4,8 @@
 //! without recompiling the kernel unless the integrator changed.
 
 use crate::display::Display;
+use caustic_gpu::debug_image::debug_picture;
+use caustic_gpu::inspector::PathRecord;
 use caustic_gpu::{GpuContext, GpuError, GpuScene, PassOutcome, PathTracer, RenderSettings};
 use caustic_image::{Image, ToneMap};
 use caustic_scene::Scene;
@@ -47,6 +49,8 @@ pub struct Progressive {
     rendered: Duration,
     /// Whether samples were added since the display pass last ran.
     undisplayed: bool,
+    /// For a heat-map debug view, the value of its hottest colour as last shown.
+    legend_max: Option<f32>,
 }
 
 impl Progressive {
@@ -58,7 +62,7 @@ impl Progressive {
         let tracer = PathTracer::new(ctx, &scene, &gpu, &settings)?;
         let stats = RenderStats { kernel_ms: began.elapsed().as_secs_f64() * 1e3, ..RenderStats::default() };
         let display = Display::new(ctx, scene.resolution);
-        Ok(Progressive { ctx, scene, gpu, tracer, settings, display, stats, rendered: Duration::ZERO, undisplayed: false })
+        Ok(Progressive { ctx, scene, gpu, tracer, settings, display, stats, rendered: Duration::ZERO, undisplayed: false, legend_max: None })
     }
 
     /// The device context.
@@ -156,14 +160,33 @@ impl Progressive {
     }
 
     /// Runs the display pass if samples were added since it last ran or `force` is set
-    /// (exposure or tone map changed). Returns whether the texture was re-created.
+    /// (exposure or tone map changed). Returns whether the texture was re-created. A debug
+    /// view is read back and shown as its picture ([`caustic_gpu::debug_image`]) instead.
     pub fn show(&mut self, exposure: f32, tone_map: ToneMap, force: bool) -> Result<bool, GpuError> {
         if !(self.undisplayed || force) {
             return Ok(false);
         }
         self.undisplayed = false;
+        if let Some(view) = self.settings.debug {
+            let (image, _) = self.tracer.accumulated()?;
+            let picture = debug_picture(view, &image, &self.tracer.nonfinite_counts()?);
+            self.legend_max = picture.legend_max;
+            return Ok(self.display.upload(self.ctx, &picture.image));
+        }
         let film = self.tracer.accumulation_buffer();
         self.display.run(self.ctx, film, self.scene.resolution, exposure, tone_map)
+    }
+
+    /// For a heat-map debug view, the value its hottest colour stands for.
+    pub fn legend_max(&self) -> Option<f32> {
+        self.legend_max.filter(|_| self.settings.debug.is_some_and(|v| v.is_count()))
+    }
+
+    /// Records the path of pixel (`x`, `y`) in the latest complete sample (sample 0 before
+    /// the first): [`PathTracer::inspect`], leaving the image as it is.
+    pub fn inspect(&mut self, x: u32, y: u32) -> Result<PathRecord, GpuError> {
+        let sample = self.tracer.sample_range().end.max(1) - 1;
+        self.tracer.inspect(x, y, sample)
     }
 
     /// Finishes the sample pass in progress, if any, so every pixel holds exactly
