@@ -129,6 +129,10 @@ pub struct SceneOverrides {
     /// pathtracer for glTF and mesh files).
     #[arg(long, value_name = "NAME", value_parser = parse_integrator)]
     pub integrator: Option<Integrator>,
+    /// Which of the scene file's cameras to render from (glTF cameras, numbered from 0 in
+    /// the order the scene's nodes are walked); the overrides below then apply to it.
+    #[arg(long = "camera", value_name = "N")]
+    pub camera_index: Option<usize>,
     /// Camera overrides.
     #[command(flatten)]
     pub camera: CameraArgs,
@@ -138,6 +142,9 @@ impl SceneOverrides {
     /// Applies size, environment and camera to `scene`, and returns the integrator and max
     /// depth to render with (the command line's, else the scene's).
     pub fn apply(&self, scene: &mut Scene) -> anyhow::Result<(Integrator, Option<u32>)> {
+        if let Some(index) = self.camera_index {
+            scene.select_camera(index)?;
+        }
         if let Some(size) = self.size {
             scene.resolution = size;
         }
