@@ -332,6 +332,10 @@ pub struct BenchArgs {
     /// i32 triangle indices in the mesh's face order (-1 on a miss).
     #[arg(long, value_name = "FILE", requires = "rays")]
     pub hits: Option<PathBuf>,
+    /// How the 1-spp render's kernel finds hits: auto (small scenes' primitives compiled into
+    /// the kernel) or buffers (always the BVH in storage buffers, the general kernel).
+    #[arg(long, default_value = "auto", value_parser = parse_data_path)]
+    pub data_path: caustic_gpu::DataPath,
     /// BVH split method: sah (binned surface area heuristic) or midpoint (the classic
     /// builder, for comparison).
     #[arg(long, default_value = "sah", value_parser = parse_split)]
@@ -342,6 +346,15 @@ pub struct BenchArgs {
     /// Device selection and output format.
     #[command(flatten)]
     pub device: DeviceArgs,
+}
+
+/// Parses `auto` or `buffers` (see [`caustic_gpu::DataPath`]).
+pub fn parse_data_path(text: &str) -> Result<caustic_gpu::DataPath, String> {
+    match text {
+        "auto" => Ok(caustic_gpu::DataPath::Auto),
+        "buffers" => Ok(caustic_gpu::DataPath::Buffers),
+        _ => Err(format!("'{text}': use auto or buffers")),
+    }
 }
 
 fn parse_split(text: &str) -> Result<caustic_bvh::SplitMethod, String> {

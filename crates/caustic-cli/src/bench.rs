@@ -141,7 +141,7 @@ fn bench_mesh(ctx: &GpuContext, name: &str, args: &BenchArgs) -> anyhow::Result<
     let scene = load_scene(&SceneSource::parse(name))?;
     let load_ms = start.elapsed().as_secs_f64() * 1e3;
     let gpu_scene = GpuScene::upload_with(ctx, &scene, &BuildOptions { split: args.split, ..BuildOptions::default() })?;
-    let render_ms_1spp = one_sample_ms(ctx, &scene, &gpu_scene, args.repeats)?;
+    let render_ms_1spp = one_sample_ms(ctx, &scene, &gpu_scene, args)?;
     let bench = RayBench::new(ctx, &gpu_scene, &scene.camera, args.grid)?;
     let primary: BenchResult = bench.run(RayKind::Primary, args.repeats)?;
     let incoherent: BenchResult = bench.run(RayKind::Incoherent, args.repeats)?;
@@ -169,11 +169,12 @@ fn bench_mesh(ctx: &GpuContext, name: &str, args: &BenchArgs) -> anyhow::Result<
 
 /// Milliseconds of one path-traced sample pass over the whole image, best of `repeats` after
 /// one untimed pass (which pays for pipeline compilation).
-fn one_sample_ms(ctx: &GpuContext, scene: &caustic_scene::Scene, gpu: &GpuScene, repeats: u32) -> anyhow::Result<f64> {
-    let mut tracer = PathTracer::new(ctx, scene, gpu, &RenderSettings::default())?;
+fn one_sample_ms(ctx: &GpuContext, scene: &caustic_scene::Scene, gpu: &GpuScene, args: &BenchArgs) -> anyhow::Result<f64> {
+    let settings = RenderSettings { data_path: args.data_path, ..RenderSettings::default() };
+    let mut tracer = PathTracer::new(ctx, scene, gpu, &settings)?;
     tracer.render_sample()?;
     let mut best = f64::INFINITY;
-    for _ in 0..repeats.max(1) {
+    for _ in 0..args.repeats.max(1) {
         let start = Instant::now();
         tracer.render_sample()?;
         best = best.min(start.elapsed().as_secs_f64() * 1e3);

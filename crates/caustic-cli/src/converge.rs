@@ -44,6 +44,10 @@ pub struct ConvergeArgs {
     /// SVG plot of the errors against time (log-log).
     #[arg(long, value_name = "FILE")]
     pub plot: Option<PathBuf>,
+    /// How the kernel finds hits: auto (small scenes' primitives compiled into the kernel) or
+    /// buffers (always the BVH in storage buffers, the general kernel).
+    #[arg(long, default_value = "auto", value_parser = crate::args::parse_data_path)]
+    pub data_path: caustic_gpu::DataPath,
     /// Scene settings that replace the scene's.
     #[command(flatten)]
     pub overrides: SceneOverrides,
@@ -110,7 +114,7 @@ pub fn run(args: &ConvergeArgs) -> anyhow::Result<()> {
     let ctx = GpuContext::new(args.device.adapter.as_deref())?;
     eprintln!("adapter: {}", ctx.adapter);
     let gpu_scene = GpuScene::upload(&ctx, &scene)?;
-    let settings = RenderSettings { integrator, pass: scene.options.pass, max_depth, seed: args.overrides.seed, ..RenderSettings::default() };
+    let settings = RenderSettings { integrator, pass: scene.options.pass, max_depth, seed: args.overrides.seed, data_path: args.data_path, ..RenderSettings::default() };
     let mut tracer = PathTracer::new(&ctx, &scene, &gpu_scene, &settings)?;
     let points = measure(&mut tracer, &reference, spp, args)?;
     write_outputs(&points, args)?;

@@ -18,10 +18,11 @@ mod readback;
 mod scene_buffers;
 mod scene_data;
 pub mod shaders;
+pub mod specialize;
 
 pub use bench::{BenchResult, ExternalRay, RayBench, RayKind, TracedRay};
 pub use context::{AdapterSummary, GpuContext};
 pub use error::GpuError;
-pub use path_tracer::{DebugView, PassOutcome, PathTracer, RenderSettings};
+pub use path_tracer::{DataPath, DebugView, PassOutcome, PathTracer, RenderSettings};
 pub use scene_buffers::GpuScene;
 pub use scene_data::{SceneData, bsdf_params, material_with_bsdf};

@@ -4,6 +4,7 @@ use crate::gpu_types::{transport_flags, AccumTexel, Frame, InspectRecord, NO_PIX
 use crate::inspector::PathRecord;
 use crate::readback::read_buffer;
 use crate::shaders::Program;
+use crate::specialize::TRAVERSAL_FILE;
 use crate::{GpuContext, GpuError, GpuScene};
 use caustic_image::Image;
 use caustic_scene::{Integrator, RenderPass, Scene};
@@ -32,6 +33,19 @@ pub struct RenderSettings {
     /// Target duration of one submit; the tile size adapts to it so that no submit runs long
     /// and a stop request is honoured within about this time.
     pub target_submit: Duration,
+    /// How the kernels find the primitives a ray hits.
+    pub data_path: DataPath,
+}
+
+/// How the kernels find the primitives a ray hits.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum DataPath {
+    /// Small scenes' primitives compiled into the kernel and tested in turn
+    /// ([`GpuScene::traversal`]), larger scenes' BVH walked in storage buffers.
+    #[default]
+    Auto,
+    /// Always the BVH in storage buffers: the general kernel, for comparison.
+    Buffers,
 }
 
 impl Default for RenderSettings {
@@ -45,6 +59,7 @@ impl Default for RenderSettings {
             rr_start: 3,
             first_sample: 0,
             target_submit: Duration::from_millis(100),
+            data_path: DataPath::Auto,
         }
     }
 }
@@ -115,6 +130,8 @@ pub struct PathTracer<'a> {
     layout: wgpu::BindGroupLayout,
     /// The kernel `pipeline` runs.
     entry_point: &'static str,
+    /// The scene-specialised traversal compiled into the kernel, if any (see [`DataPath`]).
+    traversal: Option<String>,
     bind_group: wgpu::BindGroup,
     frame_buffer: wgpu::Buffer,
     accumulation: wgpu::Buffer,
@@ -144,10 +161,19 @@ impl<'a> PathTracer<'a> {
             immediate_size: 0,
         });
         let entry_point = entry_point(settings);
+        let traversal = kernel_traversal(gpu, settings);
+        let source = match &traversal {
+            Some(t) => Program::PathTracer.source_replacing(TRAVERSAL_FILE, t),
+            None => Program::PathTracer.source(),
+        };
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(Program::PathTracer.label()),
+            source: wgpu::ShaderSource::Wgsl(source.into()),
+        });
         let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some(entry_point),
             layout: Some(&pipeline_layout),
-            module: &Program::PathTracer.module(device),
+            module: &module,
             entry_point: Some(entry_point),
             compilation_options: Default::default(),
             cache: None,
@@ -166,6 +192,7 @@ impl<'a> PathTracer<'a> {
             pipeline,
             layout,
             entry_point,
+            traversal,
             bind_group,
             frame_buffer,
             accumulation,
@@ -190,6 +217,9 @@ impl<'a> PathTracer<'a> {
         let wanted = entry_point(settings);
         if wanted != self.entry_point {
             return Err(GpuError::Scene(format!("restart cannot switch the kernel from {} to {wanted}; create a new PathTracer", self.entry_point)));
+        }
+        if kernel_traversal(gpu, settings) != self.traversal {
+            return Err(GpuError::Scene("the scene's data is compiled into the kernel and changed; create a new PathTracer".into()));
         }
         if scene.resolution == (self.frame.width, self.frame.height) {
             let mut encoder = self.ctx.device.create_command_encoder(&Default::default());
@@ -441,6 +471,14 @@ fn frame_constants(scene: &Scene, gpu: &GpuScene, settings: &RenderSettings) -> 
 }
 
 /// The kernel that accumulates the pass and integrator `settings` ask for.
+/// The scene-specialised traversal the kernel is compiled with, if any.
+fn kernel_traversal(gpu: &GpuScene, settings: &RenderSettings) -> Option<String> {
+    match settings.data_path {
+        DataPath::Auto => gpu.traversal.clone(),
+        DataPath::Buffers => None,
+    }
+}
+
 fn entry_point(settings: &RenderSettings) -> &'static str {
     if settings.debug.is_some() {
         return "render_debug";

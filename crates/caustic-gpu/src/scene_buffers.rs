@@ -1,6 +1,7 @@
 //! Building the BVH and uploading a scene into the buffers the kernels read.
 
 use crate::scene_data::{SceneData, device_lights, device_materials};
+use crate::specialize;
 use crate::{GpuContext, GpuError};
 use caustic_bvh::{BuildOptions, BuildStats, GpuBvh};
 use caustic_scene::{Environment, Scene};
@@ -43,6 +44,10 @@ pub struct GpuScene {
     pub bvh_stats: BuildStats,
     /// World bounds of the scene (zero box when empty).
     pub bounds: (Vec3, Vec3),
+    /// For scenes of at most [`specialize::BAKE_MAX_PRIMITIVES`] primitives: a traversal
+    /// with the primitives compiled in (replacing `bvh/traverse.wgsl`), which kernels may use
+    /// instead of walking the BVH buffers.
+    pub traversal: Option<String>,
 }
 
 impl GpuScene {
@@ -63,6 +68,7 @@ impl GpuScene {
             )));
         }
         let gpu_bvh: GpuBvh = caustic_bvh::flatten_with_shapes(&bvh, &data.triangles, &data.shapes);
+        let traversal = specialize::unrolled_traversal(&gpu_bvh);
         let uploader = Uploader { ctx };
         let (environment_view, environment_color) = upload_environment(ctx, &scene.environment)?;
         let uploaded = GpuScene {
@@ -81,6 +87,7 @@ impl GpuScene {
             triangle_count: data.triangles.len(),
             bvh_stats: bvh.stats,
             bounds: scene.bounds().unwrap_or((Vec3::ZERO, Vec3::ZERO)),
+            traversal,
         };
         ctx.check()?;
         Ok(uploaded)
@@ -156,3 +163,4 @@ fn upload_environment(ctx: &GpuContext, environment: &Environment) -> Result<(wg
     );
     Ok((texture.create_view(&Default::default()), color))
 }
+

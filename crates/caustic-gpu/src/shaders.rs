@@ -22,8 +22,12 @@ const COMMON: [ShaderFile; 5] = [
     shader_file!("bvh/intersect.wgsl"),
 ];
 
-const TRAVERSAL: [ShaderFile; 3] =
-    [shader_file!("bvh/bindings.wgsl"), shader_file!("bvh/shapes.wgsl"), shader_file!("bvh/traverse.wgsl")];
+const TRAVERSAL: [ShaderFile; 4] = [
+    shader_file!("bvh/bindings.wgsl"),
+    shader_file!("bvh/shapes.wgsl"),
+    shader_file!("bvh/hit.wgsl"),
+    shader_file!("bvh/traverse.wgsl"),
+];
 
 const PATH_TRACER: [ShaderFile; 18] = [
     shader_file!("integrator/bindings.wgsl"),
@@ -83,6 +87,18 @@ impl Program {
     /// The assembled WGSL source, each file introduced by a comment naming it.
     pub fn source(self) -> String {
         program_files(self).iter().map(|f| format!("// ---- shaders/{} ----\n{}\n", f.name, f.source)).collect()
+    }
+
+    /// The program with one of its files (`name`, relative to `shaders/`) replaced by
+    /// `replacement`, e.g. the scene-specialised traversal of [`crate::specialize`].
+    pub fn source_replacing(self, name: &str, replacement: &str) -> String {
+        program_files(self)
+            .iter()
+            .map(|f| {
+                let text = if f.name == name { replacement } else { f.source };
+                format!("// ---- shaders/{} ----\n{text}\n", f.name)
+            })
+            .collect()
     }
 
     /// Compiles the program into a shader module.

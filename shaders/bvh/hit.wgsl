@@ -1,0 +1,48 @@
+// What tracing a ray returns, and the queries built on `trace` (bvh/traverse.wgsl, or the
+// generated version for small scenes).
+
+struct Hit {
+    t: f32,
+    u: f32,
+    v: f32,
+    // Scene triangle index, or NO_HIT.
+    triangle: u32,
+    // Gathered triangle index (for fetching its corners again), or the shape's slot in
+    // bvh_shapes for shape hits.
+    slot: u32,
+}
+
+// Counters for the BVH-cost debug views and the benchmark.
+struct TraversalCost {
+    nodes: u32,
+    triangles: u32,
+}
+
+// The planes, which the tree cannot bound, after the tree.
+fn intersect_planes(ray: Ray, closest: Hit, any_hit: bool) -> Hit {
+    var hit = closest;
+    if any_hit && hit.triangle != NO_HIT {
+        return hit;
+    }
+    for (var i = plane_range.x; i < plane_range.y; i++) {
+        let shape = bvh_shapes[i];
+        let t = intersect_shape(ray, shape, hit.t);
+        if t > 0.0 {
+            hit = Hit(t, 0.0, 0.0, SHAPE_BIT | shape.id, i);
+            if any_hit {
+                return hit;
+            }
+        }
+    }
+    return hit;
+}
+
+fn closest_hit(ray: Ray, t_max: f32) -> Hit {
+    var cost = TraversalCost(0u, 0u);
+    return trace(ray, t_max, false, &cost);
+}
+
+fn occluded(ray: Ray, t_max: f32) -> bool {
+    var cost = TraversalCost(0u, 0u);
+    return trace(ray, t_max, true, &cost).triangle != NO_HIT;
+}
