@@ -1,9 +1,10 @@
 //! glTF materials and their textures as [`Material`]s and [`Texture`]s.
 //!
-//! Each field's source is listed in `docs/GLTF.md`. Images are decoded once per colour space
-//! they are used in (sRGB for base colour and emissive, linear for data); an image that cannot
-//! be read or decoded becomes [`Texture::missing`] with a warning naming the file and the
-//! texture, so a broken texture never stops the geometry from loading.
+//! What each field comes from is listed in `docs/MATERIALS.md` (section "glTF"). Images are
+//! decoded once per colour space they are used in (sRGB for base colour and emissive, linear
+//! for data); an image that cannot be read or decoded becomes [`Texture::missing`] with a
+//! warning naming the file and the texture, so a broken texture never stops the geometry
+//! from loading.
 
 use crate::mesh_scene::warn;
 use crate::{AlphaMode, ColorSpace, Material, Texture, TextureSlot, WrapMode};
@@ -28,7 +29,7 @@ impl<'a> MaterialReader<'a> {
         MaterialReader { path, buffers, decoded: HashMap::new(), textures: Vec::new() }
     }
 
-    /// A glTF material as a [`Material`] (see `docs/GLTF.md`).
+    /// A glTF material as a [`Material`] (see `docs/MATERIALS.md`, section "glTF").
     pub fn material(&mut self, m: &gltf::Material) -> Material {
         let pbr = m.pbr_metallic_roughness();
         let [r, g, b, a] = pbr.base_color_factor();
