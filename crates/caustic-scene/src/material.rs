@@ -84,7 +84,8 @@ pub enum AlphaMode {
 /// Reflection models a material can select.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum ShadingModel {
-    /// Ideal diffuse.
+    /// The glTF metallic-roughness model in the path tracer (ideal diffuse with the default
+    /// metallic 0, specular 0 and transmission 0); Lambertian in the classic ray tracer.
     #[default]
     Lambert,
     /// Lambert plus a Phong highlight (classic ray tracer; modified Phong in the path tracer).
@@ -95,7 +96,8 @@ pub enum ShadingModel {
     Ggx,
     /// Cartoon shading: lit colour without gradation.
     Flat,
-    /// Thin translucent surface that scatters light through.
+    /// Thin translucent surface that scatters light through: diffuse reflection with the base
+    /// colour, diffuse transmission with the specular colour (path tracer).
     Translucent,
     /// A 3D checker pattern for debugging.
     Checkers,

@@ -22,7 +22,8 @@ pub enum Integrator {
 pub enum NextEvent {
     /// Only BSDF sampling finds lights.
     Off,
-    /// Light sampling only (emitters hit by BSDF samples after the first bounce are ignored).
+    /// Light sampling only (emitters hit by BSDF samples after the first bounce are ignored,
+    /// except after a delta bounce, which light sampling cannot reach).
     On,
     /// Light and BSDF sampling combined with multiple importance sampling.
     #[default]
@@ -36,7 +37,8 @@ pub enum ImportanceSampling {
     Hemisphere,
     /// Proportional to the cosine.
     Cosine,
-    /// Proportional to the BSDF.
+    /// Proportional to the BSDF. (Transmissive and delta lobes sample themselves in every
+    /// mode; the modes differ only for reflection lobes.)
     #[default]
     Brdf,
 }
