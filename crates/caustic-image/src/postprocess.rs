@@ -84,7 +84,7 @@ mod tests {
         for (i, p) in image.pixels.iter_mut().enumerate() {
             let x = (i as u32 % width) as f32;
             let y = (i as u32 / width) as f32;
-            *p = [(x * 0.37 + y * 1.3).sin().abs() * 4.0, (x * y * 0.01).fract(), if (x + y) as u32 % 7 == 0 { 20.0 } else { 0.1 }];
+            *p = [(x * 0.37 + y * 1.3).sin().abs() * 4.0, (x * y * 0.01).fract(), if ((x + y) as u32).is_multiple_of(7) { 20.0 } else { 0.1 }];
         }
         image
     }
