@@ -5,8 +5,10 @@
 //! positions, normals and texture coordinates share one index. Texture coordinates are
 //! flipped to the glTF convention (`v` down, (0, 0) at the top-left of the image).
 //!
-//! Materials come from the `mtllib` files: `Kd` is the base colour (default 0.8 grey) and `Ke`
-//! the emitted radiance; every other MTL field is ignored. Faces without a known material, or
+//! Materials come from the `mtllib` files: `Kd` is the base colour (default 0.8 grey), `map_Kd`
+//! a base colour texture (sRGB, multiplied with `Kd`; a file that cannot be used becomes a
+//! magenta texture with a warning) and `Ke` the emitted radiance; every other MTL field is
+//! ignored. Faces without a known material, or
 //! all faces when there is no MTL, use a diffuse 0.8 grey material named "default". A missing
 //! MTL file is a warning, a malformed one an error.
 //!
@@ -18,7 +20,7 @@
 //! that ends its object or group.
 
 use crate::mesh_scene::{assemble, default_material, warn};
-use crate::{Material, Mesh, Scene, SceneError};
+use crate::{ColorSpace, Material, Mesh, Scene, SceneError, Texture, TextureSlot};
 use glam::{Vec2, Vec3};
 use std::cell::RefCell;
 use std::io::{BufRead, BufReader, Read};
@@ -36,7 +38,9 @@ pub(crate) fn load(path: &Path) -> Result<Scene, SceneError> {
         return Err(error);
     }
     let (models, mtl_materials) = loaded.map_err(|e| obj_error(path, e, reader.line()))?;
-    let mut materials: Vec<Material> = mtl_materials.unwrap_or_default().iter().map(material).collect();
+    let mtl_materials = mtl_materials.unwrap_or_default();
+    let mut materials: Vec<Material> = mtl_materials.iter().map(material).collect();
+    let textures = diffuse_textures(path, &mtl_materials, &mut materials);
     let known = materials.len();
     let mut default_index = None;
     let mut meshes = Vec::new();
@@ -50,7 +54,27 @@ pub(crate) fn load(path: &Path) -> Result<Scene, SceneError> {
         };
         meshes.push(mesh(path, model, index));
     }
-    assemble(path, meshes, materials)
+    Ok(Scene { textures, ..assemble(path, meshes, materials)? })
+}
+
+/// Decodes each distinct `map_Kd` file (relative to the OBJ's folder) once and points the
+/// materials that name it at it; an unusable file becomes a magenta texture and a warning.
+fn diffuse_textures(path: &Path, mtl: &[tobj::Material], materials: &mut [Material]) -> Vec<Texture> {
+    let mut textures = Vec::new();
+    let mut decoded: std::collections::HashMap<PathBuf, u32> = std::collections::HashMap::new();
+    for (material, m) in materials.iter_mut().zip(mtl) {
+        let Some(name) = m.diffuse_texture.as_deref() else { continue };
+        let file = path.parent().unwrap_or(Path::new(".")).join(name.replace('\\', "/"));
+        let index = *decoded.entry(file.clone()).or_insert_with(|| {
+            textures.push(Texture::read_file(&file, ColorSpace::Srgb).unwrap_or_else(|message| {
+                warn(path, &format!("material '{}': map_Kd {message}: using a magenta texture", m.name));
+                Texture::missing(name, ColorSpace::Srgb)
+            }));
+            textures.len() as u32 - 1
+        });
+        material.base_color_texture = Some(TextureSlot::new(index));
+    }
+    textures
 }
 
 /// A tobj error as a [`SceneError`] at the line the reader had reached.

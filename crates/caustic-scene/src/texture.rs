@@ -6,7 +6,7 @@
 //! file, undecodable, 0x0, too large) becomes [`Texture::missing`], a magenta texel, and the
 //! loader prints a warning naming the file and the texture: the scene still loads.
 
-use glam::{Affine2, Mat2, Vec2};
+use glam::{Affine2, Mat2, Vec2, Vec4};
 
 /// The largest texture side accepted, in texels (the renderer's image limit).
 pub const MAX_TEXTURE_SIZE: u32 = 16384;
@@ -48,6 +48,17 @@ impl Texture {
         Ok(Texture { name: name.to_string(), width, height, color_space, texels })
     }
 
+    /// Reads and decodes an image file; the error says why it cannot be used (missing, not
+    /// a regular file, unreadable, or as [`Texture::decode`]).
+    pub fn read_file(file: &std::path::Path, color_space: ColorSpace) -> Result<Texture, String> {
+        if !file.is_file() {
+            let what = if file.exists() { "is not a regular file" } else { "does not exist" };
+            return Err(format!("file '{}' {what}", file.display()));
+        }
+        let bytes = std::fs::read(file).map_err(|e| format!("file '{}' cannot be read: {e}", file.display()))?;
+        Texture::decode(&file.display().to_string(), &bytes, color_space)
+    }
+
     /// The stand-in for an image that cannot be used: one magenta texel, loud on purpose.
     pub fn missing(name: &str, color_space: ColorSpace) -> Texture {
         Texture { name: format!("{name} (missing)"), width: 1, height: 1, color_space, texels: vec![[255, 0, 255, 255]] }
@@ -57,6 +68,36 @@ impl Texture {
     pub fn texel(&self, x: u32, y: u32) -> [u8; 4] {
         let (x, y) = (x.min(self.width - 1), y.min(self.height - 1));
         self.texels[(y * self.width + x) as usize]
+    }
+
+    /// The texture's linear RGBA at `uv` in [0, 1]^2 (as [`TextureSlot::lookup`] returns),
+    /// sRGB texels decoded before filtering; bilinear filtering clamps at the edges. The CPU
+    /// reference for texture sampling.
+    pub fn sample(&self, uv: Vec2, filter: TextureFilter) -> Vec4 {
+        let size = Vec2::new(self.width as f32, self.height as f32);
+        match filter {
+            TextureFilter::Nearest => {
+                let at = (uv * size).floor().max(Vec2::ZERO);
+                self.linear(at.x as u32, at.y as u32)
+            }
+            TextureFilter::Bilinear => {
+                let at = (uv * size - 0.5).max(Vec2::ZERO);
+                let (base, f) = (at.floor(), at - at.floor());
+                let (x, y) = (base.x as u32, base.y as u32);
+                let top = self.linear(x, y).lerp(self.linear(x + 1, y), f.x);
+                let bottom = self.linear(x, y + 1).lerp(self.linear(x + 1, y + 1), f.x);
+                top.lerp(bottom, f.y)
+            }
+        }
+    }
+
+    /// The texel at (x, y), clamped to the image, as linear RGBA.
+    fn linear(&self, x: u32, y: u32) -> Vec4 {
+        let [r, g, b, a] = self.texel(x, y).map(|c| f32::from(c) / 255.0);
+        match self.color_space {
+            ColorSpace::Srgb => Vec4::new(srgb_to_linear(r), srgb_to_linear(g), srgb_to_linear(b), a),
+            ColorSpace::Linear => Vec4::new(r, g, b, a),
+        }
     }
 
     /// Bytes held by the texels.
@@ -74,6 +115,21 @@ impl Texture {
         }
         Ok(())
     }
+}
+
+/// How a texture is filtered when sampled.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum TextureFilter {
+    /// The texel the point falls in.
+    Nearest,
+    /// The four nearest texels, weighted by distance.
+    #[default]
+    Bilinear,
+}
+
+/// The sRGB transfer function inverted: an encoded value in [0, 1] to linear.
+pub fn srgb_to_linear(c: f32) -> f32 {
+    if c <= 0.04045 { c / 12.92 } else { ((c + 0.055) / 1.055).powf(2.4) }
 }
 
 /// Refuses empty images and images beyond [`MAX_TEXTURE_SIZE`].
