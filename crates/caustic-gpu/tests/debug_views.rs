@@ -181,6 +181,7 @@ fn heat_map_has_a_legend_and_material_ids_distinct_colours() {
     let heat = &pictures[0];
     let max = heat.legend_max.expect("a legend");
     println!("node visits: legend 0..{max}, picture {}x{}", heat.image.width, heat.image.height);
+    assert!(max >= 4.0, "camera rays into the Cornell box visit several BVH nodes, the hottest {max}");
     assert_eq!(heat.image.height, 64 + caustic_gpu::debug_image::LEGEND_ROWS);
     assert_eq!(
         heat.image.get(63, 64 + 2),

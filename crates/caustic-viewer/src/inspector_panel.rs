@@ -149,7 +149,11 @@ fn row(index: usize, bounce: &BounceRecord, scene: &Scene) -> [String; 8] {
         }
     };
     let light = bounce.light.as_ref().map_or("-".to_string(), |l| {
-        let state = if l.occluded { "blocked" } else { "" };
+        let state = match (l.occluded, l.contribution == Vec3::ZERO && l.mis_weight == 0.0) {
+            (true, _) => "blocked",
+            (false, true) => "rejected",
+            (false, false) => "",
+        };
         format!("#{} {:.3} {:.3} {state}", l.light, l.pdf, l.mis_weight)
     });
     let bsdf = bounce.bsdf.as_ref().map_or("-".to_string(), |b| format!("{:.3}", b.pdf));
