@@ -302,3 +302,65 @@ fn device_rng_matches_its_twin_and_is_uniform() {
     println!("2D uniformity over {bins}x{bins} bins: chi2 {statistic:.1}, dof {}, p {p:.3}", bins * bins - 1);
     assert!(p > 0.001, "successive pairs are not uniform: p = {p}");
 }
+
+/// Every material model on a sphere in a white furnace (environment radiance 1), rendered by
+/// the path tracer end to end: lossless surfaces (albedo-1 diffuse, smooth glass, a perfect
+/// mirror, a translucent sheet, the scene language's glass layer) must return the
+/// environment's radiance within 1%; lossy ones (rough GGX loses multiple scattering) must
+/// not exceed it.
+#[test]
+fn path_traced_white_furnace_per_material() {
+    use caustic_gpu::{GpuScene, PathTracer, RenderSettings};
+    use caustic_scene::{Camera, Environment, Material, Scene, ShadingModel, Shape};
+    let ctx = context();
+    let white = Material::diffuse("white", Vec3::ONE);
+    let cases: Vec<(&str, Material, bool)> = vec![
+        ("white lambert", white.clone(), true),
+        ("smooth glass ior 1.5", Material { transmission: 1.0, roughness: 0.0, ..white.clone() }, true),
+        ("perfect mirror", Material { metallic: 1.0, roughness: 0.0, ..white.clone() }, true),
+        ("translucent 0.5 / 0.5", Material { model: ShadingModel::Translucent, base_color: Vec3::splat(0.5), specular_color: Vec3::splat(0.5), ..white.clone() }, true),
+        ("language glass layer ior 1.33", Material { model: ShadingModel::Phong, transparency: 1.0, ior: 1.33, ..white.clone() }, true),
+        ("rough glass roughness 0.5", Material { transmission: 1.0, roughness: 0.5, ..white.clone() }, false),
+        ("rough metal roughness 0.5", Material { metallic: 1.0, roughness: 0.5, ..white.clone() }, false),
+        ("white plastic roughness 0.4", Material { specular: 1.0, roughness: 0.4, ..white.clone() }, false),
+        ("phong kd 0.5 ks 0.5 n 20", Material { model: ShadingModel::Phong, base_color: Vec3::splat(0.5), specular_color: Vec3::splat(0.5), shininess: 20.0, ..white.clone() }, false),
+        ("cse168 ggx kd 0.5 ks 0.5 alpha 0.1", Material { model: ShadingModel::Ggx, base_color: Vec3::splat(0.5), specular_color: Vec3::splat(0.5), roughness: 0.1f32.sqrt(), ..white.clone() }, false),
+    ];
+    let (size, distance, radius, fov) = (48u32, 6.0f32, 1.5f32, 40f32.to_radians());
+    // Pixels whose centre ray hits the sphere at least 1.5 pixels inside its silhouette.
+    let pixel_angle = fov / size as f32;
+    let inside: Vec<usize> = (0..size * size)
+        .filter(|i| {
+            let (x, y) = ((i % size) as f32 + 0.5, (i / size) as f32 + 0.5);
+            let t = (fov * 0.5).tan();
+            let d = Vec3::new((2.0 * x / size as f32 - 1.0) * t, (1.0 - 2.0 * y / size as f32) * t, -1.0).normalize();
+            d.angle_between(-Vec3::Z) < (radius / distance).asin() - 1.5 * pixel_angle
+        })
+        .map(|i| i as usize)
+        .collect();
+    let mut failures = Vec::new();
+    for (name, material, lossless) in cases {
+        let scene = Scene {
+            name: "furnace".into(),
+            materials: vec![material],
+            shapes: vec![Shape::sphere(glam::Mat4::IDENTITY, Vec3::ZERO, radius, 0)],
+            camera: Camera { eye: Vec3::new(0.0, 0.0, distance), target: Vec3::ZERO, up: Vec3::Y, fov_y: fov },
+            resolution: (size, size),
+            environment: Environment::Constant(Vec3::ONE),
+            ..Scene::default()
+        };
+        let gpu = GpuScene::upload(&ctx, &scene).expect("upload");
+        let mut tracer = PathTracer::new(&ctx, &scene, &gpu, &RenderSettings::default()).expect("tracer");
+        for _ in 0..64 {
+            tracer.render_sample().expect("pass");
+        }
+        assert_eq!(tracer.nonfinite_samples().expect("counter"), 0, "{name}: non-finite samples");
+        let image = tracer.image().expect("image");
+        let mean = inside.iter().map(|&i| f64::from(image.pixels[i].iter().sum::<f32>()) / 3.0).sum::<f64>() / inside.len() as f64;
+        println!("furnace {name:36}: sphere mean {mean:.4} over {} pixels ({})", inside.len(), if lossless { "lossless: 1 within 1%" } else { "lossy: at most 1" });
+        if (lossless && (mean - 1.0).abs() > 0.01) || mean > 1.005 {
+            failures.push(format!("{name}: {mean:.4}"));
+        }
+    }
+    assert!(failures.is_empty(), "furnace failures: {failures:?}");
+}
