@@ -1,5 +1,6 @@
 //! `caustic debug-pixel`: the JSON path of one pixel's sample is complete, consistent with
-//! itself, reproducible, and carries exactly the radiance that sample adds in `caustic render`.
+//! itself, reproducible, and carries exactly the radiance that sample adds in `caustic render`;
+//! `caustic render --debug VIEW` writes every debug view as a picture.
 
 mod support;
 
@@ -96,4 +97,48 @@ fn debug_pixel_refuses_a_pixel_outside_the_image_and_other_integrators() {
         let stderr = String::from_utf8_lossy(&output.stderr);
         assert!(!output.status.success() && stderr.contains(expect), "{args:?}: {stderr}");
     }
+}
+
+#[test]
+fn render_writes_every_debug_view_as_a_picture() {
+    let dir = support::scratch("render-debug");
+    let views = [
+        "node-visits",
+        "primitive-tests",
+        "uv",
+        "albedo",
+        "material-id",
+        "bounces",
+        "nonfinite",
+    ];
+    for view in views {
+        let out = dir.join(format!("{view}.png"));
+        support::caustic_json(&[
+            "render",
+            "--size",
+            "32x32",
+            "--spp",
+            "1",
+            "--debug",
+            view,
+            "-o",
+            out.to_str().unwrap(),
+            "--json",
+        ]);
+        let picture = caustic_image::Image::load(&out).expect("the picture loads");
+        let heat_map = ["node-visits", "primitive-tests", "bounces"].contains(&view);
+        let lit = picture.pixels.iter().filter(|p| p.iter().any(|&c| c > 0.01)).count();
+        println!("{view}: {}x{}, {lit} pixels not black", picture.width, picture.height);
+        assert_eq!(
+            (picture.width, picture.height),
+            (32, if heat_map { 42 } else { 32 }),
+            "heat maps carry a 10-row legend"
+        );
+        if view != "uv" {
+            assert!(lit > 32 * 16, "{view}: the picture is mostly black");
+        }
+    }
+    let bad = support::caustic(&["render", "--debug", "heat", "-o", dir.join("x.png").to_str().unwrap()]);
+    let message = String::from_utf8_lossy(&bad.stderr);
+    assert!(!bad.status.success() && message.contains(&views.join(", ")), "{message}");
 }
