@@ -4,13 +4,13 @@
 //! scenes exceed it.
 
 use caustic_gpu::{GpuContext, GpuError, GpuScene, PathTracer, RenderSettings};
-use caustic_scene::{Mesh, Scene};
+use caustic_scene::{Environment, EnvironmentMap, Mesh, Scene};
 use glam::Vec3;
 
 const SMALL_BINDING: u64 = 64 * 1024;
 
-/// A device on the chosen adapter whose storage bindings hold at most [`SMALL_BINDING`] bytes.
-fn small_device() -> GpuContext {
+/// A device on the chosen adapter with the adapter's limits as `lower` changes them.
+fn device_with(lower: impl FnOnce(&mut wgpu::Limits)) -> GpuContext {
     let instance = wgpu::Instance::new(wgpu::InstanceDescriptor {
         backends: wgpu::Backends::VULKAN,
         ..wgpu::InstanceDescriptor::new_without_display_handle()
@@ -18,9 +18,14 @@ fn small_device() -> GpuContext {
     let adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::VULKAN));
     let adapter = GpuContext::choose_adapter(adapters, std::env::var("CAUSTIC_ADAPTER").ok().as_deref()).expect("adapter");
     let mut descriptor = GpuContext::device_descriptor(&adapter);
-    descriptor.required_limits.max_storage_buffer_binding_size = SMALL_BINDING;
-    let (device, queue) = pollster::block_on(adapter.request_device(&descriptor)).expect("device with small bindings");
-    let ctx = GpuContext::from_parts(device, queue, &adapter.get_info());
+    lower(&mut descriptor.required_limits);
+    let (device, queue) = pollster::block_on(adapter.request_device(&descriptor)).expect("device with lowered limits");
+    GpuContext::from_parts(device, queue, &adapter.get_info())
+}
+
+/// A device whose storage bindings hold at most [`SMALL_BINDING`] bytes.
+fn small_device() -> GpuContext {
+    let ctx = device_with(|limits| limits.max_storage_buffer_binding_size = SMALL_BINDING);
     println!("adapter: {}, storage bindings limited to {} bytes", ctx.adapter, ctx.max_storage_binding());
     ctx
 }
@@ -85,4 +90,22 @@ fn an_image_beyond_the_storage_binding_limit_is_refused_by_name() {
     scene.resolution = (32, 32);
     let mut tracer = PathTracer::new(&ctx, &scene, &gpu, &RenderSettings::default()).expect("32x32 fits in 32 KiB");
     tracer.render_sample().expect("a pass on the small device");
+}
+
+/// An environment map wider than the device's largest 2D texture (lowered to 64 texels) is
+/// refused at upload with its size and the limit.
+#[test]
+fn an_environment_map_beyond_the_texture_limit_is_refused() {
+    let ctx = device_with(|limits| limits.max_texture_dimension_2d = 64);
+    let mut scene = caustic_scene::cornell_box();
+    scene.environment = Environment::Map(EnvironmentMap { width: 128, height: 64, texels: vec![[1.0; 3]; 128 * 64] });
+    match GpuScene::upload(&ctx, &scene) {
+        Err(GpuError::Scene(message)) => {
+            println!("environment: {message}");
+            assert!(message.contains("128x64") && message.contains("64 texels"), "size and limit: {message}");
+        }
+        Err(other) => panic!("unexpected error {other}"),
+        Ok(_) => panic!("a 128x64 map was uploaded to a device limited to 64 texels"),
+    }
+    assert!(ctx.check().is_ok(), "nothing reached the device: {:?}", ctx.check());
 }
