@@ -179,3 +179,31 @@ fn draw_text(pixels: &mut [[f32; 3]], width: u32, x: u32, y: u32, text: &str) {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_heat_scale_runs_from_black_to_light_yellow_and_ids_differ() {
+        assert_eq!(heat_color(0.0), [0.0; 3]);
+        assert_eq!(heat_color(1.0), heat_color(f32::INFINITY));
+        let luminance = |c: [f32; 3]| 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
+        let ramp: Vec<f32> = (0..=20).map(|i| luminance(heat_color(i as f32 / 20.0))).collect();
+        assert!(ramp.windows(2).all(|w| w[1] > w[0]), "the heat scale gets brighter: {ramp:?}");
+        let ids: Vec<[u32; 3]> = (0..12).map(|i| id_color(i as f32).map(f32::to_bits)).collect();
+        let distinct: std::collections::BTreeSet<_> = ids.iter().collect();
+        assert_eq!(distinct.len(), ids.len());
+        assert_eq!(id_color(-1.0), [0.0; 3]);
+    }
+
+    #[test]
+    fn the_legend_writes_zero_and_the_largest_count() {
+        let rows = legend(64, 13.0);
+        let white = |x: u32, y: u32| rows[(y * 64 + x) as usize] == [1.0; 3];
+        // "0" at x 1..4: its top row is three white pixels; "13" ends at the right edge.
+        assert!((1..4).all(|x| white(x, 5)));
+        assert!(white(56 + 1, 5) && white(60, 5) && white(62, 5), "the digits 1 and 3 at the right end");
+        assert!((0..64).all(|x| !white(x, 0)), "a black row above the bar");
+    }
+}
