@@ -62,6 +62,10 @@ fn trace_path(primary: Ray, rng: ptr<function, Rng>) -> vec3<f32> {
     var throughput = vec3<f32>(1.0);
     var bsdf_pdf = 0.0;
     var after_delta = false;
+    // Product of eta^2 over the refractions so far: Russian roulette judges the throughput
+    // without the radiance scaling, which cancels when the path leaves the medium (pbrt's
+    // etaScale), so paths inside glass are not cut for carrying 1 / eta^2.
+    var eta_scale = 1.0;
     let max_bounces = min(frame.max_depth, SAFETY_MAX_BOUNCES);
     path_vertices = 0u;
     for (var bounce = 0u; ; bounce++) {
@@ -103,8 +107,9 @@ fn trace_path(primary: Ray, rng: ptr<function, Rng>) -> vec3<f32> {
         throughput *= bs.weight;
         bsdf_pdf = bs.pdf;
         after_delta = bs.delta;
+        eta_scale *= bs.eta * bs.eta;
         if bounce + 1u >= frame.rr_start {
-            let survive = min(max(throughput.x, max(throughput.y, throughput.z)), 0.95);
+            let survive = min(max(throughput.x, max(throughput.y, throughput.z)) * eta_scale, 0.95);
             if next_f32(rng) >= survive {
                 inspect_end(END_ROULETTE, radiance);
                 break;
