@@ -127,6 +127,7 @@ fn inspected_paths_match_cpu_traces_of_the_same_rays() {
     let mut tracer = PathTracer::new(&ctx, &scene, &gpu, &settings).expect("tracer");
     let mut worst = Worst::default();
     let mut endings = std::collections::BTreeMap::new();
+    let began = std::time::Instant::now();
     for sample in SAMPLES {
         for (x, y) in PIXELS {
             let path = tracer.inspect(x, y, sample).expect("inspect");
@@ -135,6 +136,8 @@ fn inspected_paths_match_cpu_traces_of_the_same_rays() {
             *endings.entry(path.termination.name()).or_insert(0) += 1;
         }
     }
+    let paths = PIXELS.len() * SAMPLES.len();
+    println!("{:.1} ms per inspection (dispatch, read-back, checks)", began.elapsed().as_secs_f64() * 1e3 / paths as f64);
     println!(
         "{} rays of {} paths: worst relative t error {:.2e}, throughput {:.2e}; endings {endings:?}",
         worst.rays,
