@@ -129,6 +129,8 @@ struct Material {
 // One light; `cdf` is the inclusive upper end of its share of total power. By kind:
 // triangle / quad: corner v0 and edges e1, e2 (emitting towards cross(e1, e2)), area;
 // point: position v0, attenuation (constant, linear, quadratic) in e1;
+// spot: as point, plus the cone: axis (the way it shines) x cone scale in e2, cone offset in
+// area (caustic_scene::spot_scale_offset);
 // directional: unit direction towards the light in v0. `radiance` is the emitted radiance
 // (area lights) or the colour (point, directional).
 struct Light {
@@ -146,6 +148,7 @@ const LIGHT_TRIANGLE: u32 = 0u;
 const LIGHT_QUAD: u32 = 1u;
 const LIGHT_POINT: u32 = 2u;
 const LIGHT_DIRECTIONAL: u32 = 3u;
+const LIGHT_SPOT: u32 = 4u;
 
 // Running sum of one pixel's samples with Kahan compensation; w counts samples.
 struct AccumTexel {

@@ -1,5 +1,5 @@
 // Lights chosen in proportion to their power: emissive triangles and quads (area lights),
-// point and directional lights (delta lights, which BSDF sampling can never hit).
+// point, spot and directional lights (delta lights, which BSDF sampling can never hit).
 
 struct LightSample {
     // Unit direction from the shading point to the light point.
@@ -46,11 +46,12 @@ fn sample_light(p: vec3<f32>, u_select: f32, u_point: vec2<f32>) -> LightSample 
 
 // A sample of one given light, with the density of the point on it (not of selecting it).
 fn sample_one_light(light: Light, p: vec3<f32>, u: vec2<f32>) -> LightSample {
-    if light.kind == LIGHT_POINT {
+    if light.kind == LIGHT_POINT || light.kind == LIGHT_SPOT {
         let to_light = light.v0 - p;
         let distance = length(to_light);
+        let wi = to_light / distance;
         let falloff = light.e1.x + distance * (light.e1.y + distance * light.e1.z);
-        return LightSample(to_light / distance, distance, light.radiance / falloff, 1.0, true);
+        return LightSample(wi, distance, light.radiance * spot_cone(light, wi) / falloff, 1.0, true);
     }
     if light.kind == LIGHT_DIRECTIONAL {
         return LightSample(light.v0, FAR_AWAY, light.radiance, 1.0, true);
@@ -65,6 +66,17 @@ fn sample_one_light(light: Light, p: vec3<f32>, u: vec2<f32>) -> LightSample {
         return LightSample(wi, distance, vec3<f32>(0.0), 0.0, false);
     }
     return LightSample(wi, distance, light.radiance, area_to_solid_angle(1.0 / light.area, distance, cos_light), false);
+}
+
+// The share of a spot light's colour sent towards -wi (glTF's smooth cone falloff; the CPU
+// twin is caustic_scene::spot_cone); 1 for every other light.
+fn spot_cone(light: Light, wi: vec3<f32>) -> f32 {
+    if light.kind != LIGHT_SPOT {
+        return 1.0;
+    }
+    let scale = length(light.e2);
+    let t = clamp(dot(-wi, light.e2 / scale) * scale + light.area, 0.0, 1.0);
+    return t * t;
 }
 
 // Solid-angle density with which sample_light would have produced a hit on an emissive

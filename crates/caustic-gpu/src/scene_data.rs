@@ -17,6 +17,8 @@ pub const LIGHT_QUAD: u32 = 1;
 pub const LIGHT_POINT: u32 = 2;
 /// A directional light.
 pub const LIGHT_DIRECTIONAL: u32 = 3;
+/// A spot light.
+pub const LIGHT_SPOT: u32 = 4;
 
 /// Device-ready scene data.
 pub struct SceneData {
@@ -190,6 +192,18 @@ fn light(light: &Light) -> GpuLight {
             radiance: color.to_array(),
             ..Default::default()
         },
+        Light::Spot { position, direction, color, attenuation: a, inner_cone, outer_cone } => {
+            let (scale, offset) = caustic_scene::spot_scale_offset(inner_cone, outer_cone);
+            GpuLight {
+                v0: position.to_array(),
+                e1: [a.constant, a.linear, a.quadratic],
+                e2: (direction.normalize() * scale).to_array(),
+                area: offset,
+                kind: LIGHT_SPOT,
+                radiance: color.to_array(),
+                ..Default::default()
+            }
+        }
         Light::Directional { direction, color } => GpuLight {
             v0: direction.normalize().to_array(),
             kind: LIGHT_DIRECTIONAL,
@@ -200,12 +214,13 @@ fn light(light: &Light) -> GpuLight {
 }
 
 /// Power of a light up to the common factor pi: area x luminance for area lights, 4 x
-/// luminance for a point light (flux 4 pi I), radius^2 x luminance for a directional light
-/// (the flux through a disk the size of the scene).
+/// luminance for a point light (flux 4 pi I) and for a spot light (an upper bound: the cone
+/// sends less), radius^2 x luminance for a directional light (the flux through a disk the
+/// size of the scene).
 fn power(light: &GpuLight, scene_radius: f32) -> f32 {
     let lum = luminance(Vec3::from(light.radiance));
     match light.kind {
-        LIGHT_POINT => 4.0 * lum,
+        LIGHT_POINT | LIGHT_SPOT => 4.0 * lum,
         LIGHT_DIRECTIONAL => scene_radius * scene_radius * lum,
         _ => light.area * lum,
     }

@@ -14,9 +14,8 @@
 //! first one is rendered from unless another is selected, and its aspect ratio, if given,
 //! sets the image to 512 pixels high. Without one the camera frames the scene. Orthographic
 //! cameras are skipped with a warning. `KHR_lights_punctual` lights become [`Light`]s: point
-//! lights keep their intensity with inverse-square falloff, directional lights shine along
-//! their node's -Z, and spot lights, which the renderer does not have, become point lights
-//! with a warning (their cones are ignored); `range` is ignored.
+//! and spot lights keep their intensity with inverse-square falloff, spot and directional
+//! lights shine along their node's -Z; `range` is ignored.
 //!
 //! glTF cannot describe an environment: it is black unless an `env.json` sidecar next to the
 //! file says `{"type": "constant", "radiance": [r, g, b]}`.
@@ -188,7 +187,7 @@ impl Walk<'_> {
                 self.add_camera(&node, &camera, world);
             }
             if let Some(light) = node.light() {
-                self.lights.push(punctual_light(self.path, &light, world));
+                self.lights.push(punctual_light(&light, world));
             }
             let children: Vec<gltf::Node> = node.children().collect();
             stack.extend(children.into_iter().rev().map(|child| (child, world)));
@@ -273,19 +272,17 @@ fn perspective_camera(camera: &gltf::Camera, world: Mat4) -> Option<(Camera, Opt
 }
 
 /// A `KHR_lights_punctual` light at a node with world transform `world` (see the module
-/// documentation); a spot light becomes a point light, with a warning.
-fn punctual_light(path: &Path, light: &gltf::khr_lights_punctual::Light, world: Mat4) -> Light {
+/// documentation).
+fn punctual_light(light: &gltf::khr_lights_punctual::Light, world: Mat4) -> Light {
     let color = Vec3::from(light.color()) * light.intensity();
     let position = world.transform_point3(Vec3::ZERO);
-    let inverse_square = Attenuation { constant: 0.0, linear: 0.0, quadratic: 1.0 };
+    let attenuation = Attenuation { constant: 0.0, linear: 0.0, quadratic: 1.0 };
+    let forward = world.transform_vector3(Vec3::NEG_Z).normalize_or_zero();
     match light.kind() {
-        Kind::Directional => Light::Directional { direction: world.transform_vector3(Vec3::Z).normalize_or_zero(), color },
-        Kind::Point => Light::Point { position, color, attenuation: inverse_square },
+        Kind::Directional => Light::Directional { direction: -forward, color },
+        Kind::Point => Light::Point { position, color, attenuation },
         Kind::Spot { inner_cone_angle, outer_cone_angle } => {
-            let name = light.name().map_or_else(|| format!("light {}", light.index()), str::to_string);
-            let cone = format!("cone {inner_cone_angle}..{outer_cone_angle} rad");
-            warn(path, &format!("spot {name} is rendered as a point light (its {cone} is ignored)"));
-            Light::Point { position, color, attenuation: inverse_square }
+            Light::Spot { position, direction: forward, color, attenuation, inner_cone: inner_cone_angle, outer_cone: outer_cone_angle }
         }
     }
 }

@@ -32,7 +32,7 @@ pub use cornell::cornell_box;
 pub use environment::{Environment, EnvironmentMap};
 pub use error::SceneError;
 pub use load::{load_scene, SceneSource};
-pub use light::{Attenuation, Light};
+pub use light::{spot_cone, spot_scale_offset, Attenuation, Light};
 pub use material::{AlphaMode, Material, ShadingModel};
 pub use mesh::Mesh;
 pub use options::{ImportanceSampling, Integrator, NextEvent, RenderOptions, RenderPass};

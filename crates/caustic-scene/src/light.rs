@@ -1,4 +1,4 @@
-//! Lights that are not emissive geometry: points, directions and parallelograms.
+//! Lights that are not emissive geometry: points, spots, directions and parallelograms.
 
 use glam::Vec3;
 
@@ -32,6 +32,23 @@ pub enum Light {
         /// Falloff with distance.
         attenuation: Attenuation,
     },
+    /// A point light that shines into a cone (glTF `KHR_lights_punctual` spot): full colour
+    /// within `inner_cone` of `direction`, nothing beyond `outer_cone`, and in between the
+    /// glTF falloff [`spot_cone`].
+    Spot {
+        /// Position in world space.
+        position: Vec3,
+        /// Unit axis of the cone, the way the light shines.
+        direction: Vec3,
+        /// Colour (intensity on the axis).
+        color: Vec3,
+        /// Falloff with distance.
+        attenuation: Attenuation,
+        /// Half-angle of full intensity, radians.
+        inner_cone: f32,
+        /// Half-angle beyond which the light is dark, radians (at most pi/2).
+        outer_cone: f32,
+    },
     /// A light infinitely far away; `direction` points from the scene towards the light.
     Directional {
         /// Unit direction towards the light.
@@ -58,6 +75,7 @@ impl Light {
     pub fn validate(&self, index: usize) -> Result<(), crate::SceneError> {
         let (kind, vectors, color) = match self {
             Light::Point { position, color, .. } => ("point light", vec![*position], *color),
+            Light::Spot { position, direction, color, .. } => ("spot light", vec![*position, *direction], *color),
             Light::Directional { direction, color } => ("directional light", vec![*direction], *color),
             Light::Quad { corner, edge_a, edge_b, radiance } => ("quad light", vec![*corner, *edge_a, *edge_b], *radiance),
         };
@@ -70,11 +88,34 @@ impl Light {
                 return Err(crate::SceneError::invalid(object, "has a zero direction"));
             }
         }
-        if let Light::Point { attenuation: a, .. } = self {
+        if let Light::Spot { direction, inner_cone, outer_cone, .. } = *self {
+            let cones = 0.0 <= inner_cone && inner_cone <= outer_cone && outer_cone <= std::f32::consts::FRAC_PI_2;
+            if direction.length_squared() == 0.0 || !cones {
+                return Err(crate::SceneError::invalid(object, "needs a direction and cone angles 0 <= inner <= outer <= pi/2"));
+            }
+        }
+        if let Light::Point { attenuation: a, .. } | Light::Spot { attenuation: a, .. } = self {
             if a.constant < 0.0 || a.linear < 0.0 || a.quadratic < 0.0 || a.constant + a.linear + a.quadratic <= 0.0 {
                 return Err(crate::SceneError::invalid(object, "attenuation terms must be >= 0 and not all 0"));
             }
         }
         Ok(())
     }
+}
+
+/// The glTF spot light falloff at `cos_angle` (cosine of the angle to the cone's axis): the
+/// cone scale and offset of [`spot_scale_offset`] applied, clamped to [0, 1] and squared.
+/// The CPU twin of the cone factor in `shaders/lights/sample.wgsl`.
+pub fn spot_cone(cos_angle: f32, inner_cone: f32, outer_cone: f32) -> f32 {
+    let (scale, offset) = spot_scale_offset(inner_cone, outer_cone);
+    (cos_angle * scale + offset).clamp(0.0, 1.0).powi(2)
+}
+
+/// The spot cone as `(scale, offset)` with `cos_angle * scale + offset` 1 at the inner and 0
+/// at the outer angle (glTF's `lightAngleScale`, `lightAngleOffset`; the cosines' difference
+/// at least 1e-3 so that equal angles give a sharp edge, not a division by zero).
+pub fn spot_scale_offset(inner_cone: f32, outer_cone: f32) -> (f32, f32) {
+    let cos_outer = outer_cone.cos();
+    let scale = 1.0 / (inner_cone.cos() - cos_outer).max(1e-3);
+    (scale, -cos_outer * scale)
 }
