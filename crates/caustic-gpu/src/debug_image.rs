@@ -93,7 +93,7 @@ pub fn heat_color(x: f32) -> [f32; 3] {
 
 /// A distinct colour per material id (golden-ratio hues); black for -1 (no hit).
 pub fn id_color(id: f32) -> [f32; 3] {
-    if !(id >= 0.0) {
+    if id.is_nan() || id < 0.0 {
         return [0.0; 3];
     }
     let hue = (id.round() * 0.618_034 + 0.55).fract() * 6.0;
