@@ -4,7 +4,8 @@
 //! [`GpuScene`] builds the BVH and uploads the scene as storage buffers whose structs are
 //! declared once in [`gpu_types`] and mirrored in `shaders/common/types.wgsl`.
 //! [`PathTracer`] accumulates samples one bounded dispatch at a time; [`RayBench`] measures
-//! raw traversal throughput.
+//! raw traversal throughput. For debugging, [`PathTracer::inspect`] records one pixel's path
+//! ([`inspector`]) and [`debug_image`] turns the debug views into pictures.
 
 mod bench;
 mod context;
