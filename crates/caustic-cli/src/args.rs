@@ -357,6 +357,15 @@ pub fn parse_data_path(text: &str) -> Result<caustic_gpu::DataPath, String> {
     }
 }
 
+/// Parses `independent` or `sobol` (see [`caustic_gpu::Sampler`]).
+pub fn parse_sampler(text: &str) -> Result<caustic_gpu::Sampler, String> {
+    match text {
+        "independent" => Ok(caustic_gpu::Sampler::Independent),
+        "sobol" => Ok(caustic_gpu::Sampler::Sobol),
+        _ => Err(format!("'{text}': use independent or sobol")),
+    }
+}
+
 fn parse_split(text: &str) -> Result<caustic_bvh::SplitMethod, String> {
     match text {
         "sah" => Ok(caustic_bvh::SplitMethod::BinnedSah),

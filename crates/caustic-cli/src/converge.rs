@@ -48,6 +48,9 @@ pub struct ConvergeArgs {
     /// buffers (always the BVH in storage buffers, the general kernel).
     #[arg(long, default_value = "auto", value_parser = crate::args::parse_data_path)]
     pub data_path: caustic_gpu::DataPath,
+    /// Sample generator: independent or sobol (Owen-scrambled).
+    #[arg(long, default_value = "independent", value_parser = crate::args::parse_sampler)]
+    pub sampler: caustic_gpu::Sampler,
     /// Scene settings that replace the scene's.
     #[command(flatten)]
     pub overrides: SceneOverrides,
@@ -114,7 +117,15 @@ pub fn run(args: &ConvergeArgs) -> anyhow::Result<()> {
     let ctx = GpuContext::new(args.device.adapter.as_deref())?;
     eprintln!("adapter: {}", ctx.adapter);
     let gpu_scene = GpuScene::upload(&ctx, &scene)?;
-    let settings = RenderSettings { integrator, pass: scene.options.pass, max_depth, seed: args.overrides.seed, data_path: args.data_path, ..RenderSettings::default() };
+    let settings = RenderSettings {
+        integrator,
+        pass: scene.options.pass,
+        max_depth,
+        seed: args.overrides.seed,
+        data_path: args.data_path,
+        sampler: args.sampler,
+        ..RenderSettings::default()
+    };
     let mut tracer = PathTracer::new(&ctx, &scene, &gpu_scene, &settings)?;
     let points = measure(&mut tracer, &reference, spp, args)?;
     write_outputs(&points, args)?;

@@ -24,6 +24,6 @@ pub mod specialize;
 pub use bench::{BenchResult, ExternalRay, RayBench, RayKind, TracedRay};
 pub use context::{AdapterSummary, GpuContext};
 pub use error::GpuError;
-pub use path_tracer::{DataPath, DebugView, PassOutcome, PathTracer, RenderSettings};
+pub use path_tracer::{DataPath, DebugView, PassOutcome, PathTracer, RenderSettings, Sampler};
 pub use scene_buffers::GpuScene;
 pub use scene_data::{SceneData, bsdf_params, material_with_bsdf};

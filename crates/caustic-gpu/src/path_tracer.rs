@@ -35,6 +35,28 @@ pub struct RenderSettings {
     pub target_submit: Duration,
     /// How the kernels find the primitives a ray hits.
     pub data_path: DataPath,
+    /// Where the random numbers come from.
+    pub sampler: Sampler,
+}
+
+/// The sample generator (`shaders/common/rng.wgsl`, chosen by its `SAMPLER` override).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Sampler {
+    /// Independent uniform numbers (PCG hash).
+    #[default]
+    Independent,
+    /// Owen-scrambled Sobol: each dimension pair stratified over a pixel's samples.
+    Sobol,
+}
+
+impl Sampler {
+    /// The value of the shaders' `SAMPLER` override constant.
+    pub fn override_value(self) -> f64 {
+        match self {
+            Sampler::Independent => 0.0,
+            Sampler::Sobol => 1.0,
+        }
+    }
 }
 
 /// How the kernels find the primitives a ray hits.
@@ -60,6 +82,7 @@ impl Default for RenderSettings {
             first_sample: 0,
             target_submit: Duration::from_millis(100),
             data_path: DataPath::Auto,
+            sampler: Sampler::Independent,
         }
     }
 }
@@ -132,6 +155,8 @@ pub struct PathTracer<'a> {
     entry_point: &'static str,
     /// The scene-specialised traversal compiled into the kernel, if any (see [`DataPath`]).
     traversal: Option<String>,
+    /// The sampler compiled into the kernel.
+    sampler: Sampler,
     bind_group: wgpu::BindGroup,
     frame_buffer: wgpu::Buffer,
     accumulation: wgpu::Buffer,
@@ -175,7 +200,10 @@ impl<'a> PathTracer<'a> {
             layout: Some(&pipeline_layout),
             module: &module,
             entry_point: Some(entry_point),
-            compilation_options: Default::default(),
+            compilation_options: wgpu::PipelineCompilationOptions {
+                constants: &[("SAMPLER", settings.sampler.override_value())],
+                ..Default::default()
+            },
             cache: None,
         });
         let inspection = device.create_buffer(&wgpu::BufferDescriptor {
@@ -193,6 +221,7 @@ impl<'a> PathTracer<'a> {
             layout,
             entry_point,
             traversal,
+            sampler: settings.sampler,
             bind_group,
             frame_buffer,
             accumulation,
@@ -217,6 +246,9 @@ impl<'a> PathTracer<'a> {
         let wanted = entry_point(settings);
         if wanted != self.entry_point {
             return Err(GpuError::Scene(format!("restart cannot switch the kernel from {} to {wanted}; create a new PathTracer", self.entry_point)));
+        }
+        if settings.sampler != self.sampler {
+            return Err(GpuError::Scene(format!("restart cannot switch the sampler from {:?} to {:?}; create a new PathTracer", self.sampler, settings.sampler)));
         }
         if kernel_traversal(gpu, settings) != self.traversal {
             return Err(GpuError::Scene("the scene's data is compiled into the kernel and changed; create a new PathTracer".into()));
