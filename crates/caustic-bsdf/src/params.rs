@@ -82,11 +82,11 @@ impl BsdfParams {
     }
 
     /// CSE168's `brdf ggx`: kd / pi plus GGX reflection with Schlick F0 = ks, alpha from
-    /// `roughness`; kd and ks scaled as in [`BsdfParams::phong`].
+    /// `roughness`; kd and ks scaled as in [`BsdfParams::phong`]. As in the course, the GGX
+    /// lobe is there even for ks = 0: Schlick's term still reflects at grazing angles.
     pub fn diffuse_ggx(kd: Vec3, ks: Vec3, alpha: f32) -> BsdfParams {
         let (diffuse, specular_f0) = energy_conserving(kd, ks);
-        let specular_weight = if specular_f0.max_element() > 0.0 { 1.0 } else { 0.0 };
-        BsdfParams { diffuse, specular_weight, specular_f0, specular_alpha: alpha, ..BsdfParams::default() }
+        BsdfParams { diffuse, specular_weight: 1.0, specular_f0, specular_alpha: alpha, ..BsdfParams::default() }
     }
 
     /// A thin translucent sheet: diffuse reflection `reflect` and diffuse transmission
