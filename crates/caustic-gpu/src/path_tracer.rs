@@ -505,9 +505,11 @@ fn frame_constants(scene: &Scene, gpu: &GpuScene, settings: &RenderSettings) -> 
 /// The kernel that accumulates the pass and integrator `settings` ask for.
 /// The scene-specialised traversal the kernel is compiled with, if any.
 fn kernel_traversal(gpu: &GpuScene, settings: &RenderSettings) -> Option<String> {
+    // The BVH-cost debug views show the BVH traversal's work, which the specialised one skips.
+    let bvh_cost = matches!(settings.debug, Some(DebugView::NodeVisits | DebugView::PrimitiveTests));
     match settings.data_path {
-        DataPath::Auto => gpu.traversal.clone(),
-        DataPath::Buffers => None,
+        DataPath::Auto if !bvh_cost => gpu.traversal.clone(),
+        DataPath::Auto | DataPath::Buffers => None,
     }
 }
 
