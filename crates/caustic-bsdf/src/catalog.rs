@@ -49,11 +49,11 @@ pub fn reference_cases() -> Vec<Case> {
     }
     add("translucent".into(), BsdfParams::translucent(Vec3::splat(0.4), Vec3::splat(0.5)), 1.5, Sampling::Bsdf);
     for (m, r, tr) in [(0.0, 0.5, 0.0), (1.0, 0.4, 0.0), (0.5, 0.7, 0.0), (0.0, 0.5, 1.0)] {
-        let p = BsdfParams::metallic_roughness(Vec3::new(0.9, 0.5, 0.2), m, r, 1.0, 1.5, tr);
+        let p = BsdfParams::metallic_roughness(Vec3::new(0.9, 0.5, 0.2), m, r, 1.0, Vec3::ONE, 1.5, tr);
         add(format!("metallic-roughness m={m} r={r} t={tr}"), p, 1.5, Sampling::Bsdf);
     }
     for r in [0.3, 0.6, 1.0] {
-        add(format!("white plastic r={r}"), BsdfParams::metallic_roughness(Vec3::ONE, 0.0, r, 1.0, 1.5, 0.0), 1.5, Sampling::Bsdf);
+        add(format!("white plastic r={r}"), BsdfParams::metallic_roughness(Vec3::ONE, 0.0, r, 1.0, Vec3::ONE, 1.5, 0.0), 1.5, Sampling::Bsdf);
     }
     let layered = BsdfParams::phong(Vec3::splat(0.5), Vec3::splat(0.3), 20.0).with_layers(0.2, 0.3, 0.3, 0.4, 1.33);
     add("phong + gloss 0.3 + frost 0.4".into(), layered, 1.33, Sampling::Bsdf);

@@ -99,21 +99,20 @@ impl BsdfParams {
     /// The glTF metallic-roughness model with `KHR_materials_specular`, `_ior` and
     /// `_transmission`: `metallic` blends a GGX conductor (F0 = base colour) with a
     /// dielectric; the dielectric is `transmission` parts rough glass (tinted by the base
-    /// colour) and the rest a diffuse base under a GGX coat of F0 = ((ior - 1) / (ior + 1))^2
-    /// and weight `specular`, whose Fresnel reflectance the diffuse lobe loses on the way in
-    /// and on the way out.
-    /// alpha = roughness^2.
-    pub fn metallic_roughness(base: Vec3, metallic: f32, roughness: f32, specular: f32, ior: f32, transmission: f32) -> BsdfParams {
+    /// colour) and the rest a diffuse base under a GGX coat of F0 = min(((ior - 1) / (ior + 1))^2
+    /// x `specular_tint`, 1) and weight `specular`, whose Fresnel reflectance (its largest
+    /// channel's) the diffuse lobe loses on the way in and on the way out. alpha = roughness^2.
+    pub fn metallic_roughness(base: Vec3, metallic: f32, roughness: f32, specular: f32, specular_tint: Vec3, ior: f32, transmission: f32) -> BsdfParams {
         let alpha = roughness * roughness;
         let dielectric_share = 1.0 - metallic;
         let opaque = dielectric_share * (1.0 - transmission);
         let coat = opaque * specular;
-        let coat_f0 = ((ior - 1.0) / (ior + 1.0)).powi(2);
+        let dielectric_f0 = (((ior - 1.0) / (ior + 1.0)).powi(2) * specular_tint).min(Vec3::ONE);
         let specular_weight = metallic + coat;
-        let specular_f0 = if specular_weight > 0.0 { (metallic * base + Vec3::splat(coat * coat_f0)) / specular_weight } else { Vec3::ZERO };
+        let specular_f0 = if specular_weight > 0.0 { (metallic * base + coat * dielectric_f0) / specular_weight } else { Vec3::ZERO };
         BsdfParams {
             diffuse: base * opaque,
-            coat_f0,
+            coat_f0: dielectric_f0.max_element(),
             coat_weight: specular,
             specular_weight,
             specular_f0,

@@ -153,7 +153,7 @@ fn reflection_is_reciprocal() {
     ];
     let mixtures = [
         Bsdf::new(BsdfParams::diffuse_ggx(Vec3::splat(0.4), Vec3::splat(0.5), 0.3), 1.5),
-        Bsdf::new(BsdfParams::metallic_roughness(Vec3::splat(0.8), 0.3, 0.5, 1.0, 1.5, 0.0), 1.5),
+        Bsdf::new(BsdfParams::metallic_roughness(Vec3::splat(0.8), 0.3, 0.5, 1.0, Vec3::ONE, 1.5, 0.0), 1.5),
         Bsdf::new(BsdfParams::phong(Vec3::splat(0.3), Vec3::splat(0.6), 30.0), 1.5),
     ];
     let mut rng = Pcg(3);
@@ -195,7 +195,7 @@ fn sampled_pdf_and_weight_equal_pdf_and_eval() {
 fn degenerate_parameters_give_finite_values() {
     let extremes = [
         ("roughness 0", BsdfParams::diffuse_ggx(Vec3::splat(0.2), Vec3::splat(0.7), 0.0)),
-        ("roughness 1", BsdfParams::metallic_roughness(Vec3::ONE, 0.5, 1.0, 1.0, 1.5, 0.5)),
+        ("roughness 1", BsdfParams::metallic_roughness(Vec3::ONE, 0.5, 1.0, 1.0, Vec3::ONE, 1.5, 0.5)),
         ("ior 1 rough", BsdfParams { dielectric: Vec3::ONE, dielectric_alpha: 0.5, ior: 1.0, ..BsdfParams::default() }),
         ("ior 1 smooth", BsdfParams { dielectric: Vec3::ONE, ior: 1.0, ..BsdfParams::default() }),
         ("shininess 0", BsdfParams::phong(Vec3::splat(0.5), Vec3::splat(0.5), 0.0)),

@@ -122,7 +122,7 @@ fn gpu_material(m: &caustic_scene::Material) -> GpuMaterial {
 pub fn bsdf_params(m: &caustic_scene::Material) -> BsdfParams {
     let alpha = m.roughness * m.roughness;
     let base = match m.model {
-        ShadingModel::Lambert => BsdfParams::metallic_roughness(m.base_color, m.metallic, m.roughness, m.specular, m.ior, m.transmission),
+        ShadingModel::Lambert => BsdfParams::metallic_roughness(m.base_color, m.metallic, m.roughness, m.specular, m.specular_tint, m.ior, m.transmission),
         ShadingModel::Phong | ShadingModel::BlinnPhong => BsdfParams::phong(m.base_color, m.specular_color, m.shininess),
         ShadingModel::Ggx => BsdfParams::diffuse_ggx(m.base_color, m.specular_color, alpha),
         ShadingModel::Translucent => BsdfParams::translucent(m.base_color, m.specular_color),
