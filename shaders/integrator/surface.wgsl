@@ -31,7 +31,12 @@ fn surface_interaction(ray: Ray, hit: Hit) -> SurfaceInteraction {
             ns = select(-ns, ns, dot(ns, ng) >= 0.0);
         }
     }
-    return SurfaceInteraction(p, ng, ns, front_face, materials[attributes.material]);
+    var material = materials[attributes.material];
+    if material.base_color_texture != 0u {
+        let uv = w * attributes.uv0 + hit.u * attributes.uv1 + hit.v * attributes.uv2;
+        material = with_base_color_texture(material, uv);
+    }
+    return SurfaceInteraction(p, ng, ns, front_face, material);
 }
 
 // Analytic shapes: the normal comes from the object-space hit point; the material from the

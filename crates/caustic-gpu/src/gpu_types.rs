@@ -148,6 +148,15 @@ pub struct GpuMaterial {
     pub dielectric_alpha: f32,
     /// Index of refraction of the inside.
     pub ior: f32,
+    /// Base colour texture: the row of its `KHR_texture_transform` giving u' from (u, v, 1).
+    pub uv_transform_u: [f32; 3],
+    /// Base colour texture: 1 + its index in the packed texture buffer, 0 for none.
+    pub base_color_texture: u32,
+    /// Base colour texture: the row of the transform giving v'.
+    pub uv_transform_v: [f32; 3],
+    /// Base colour texture: wrap modes, S in bits 0-1 and T in bits 2-3 (0 repeat,
+    /// 1 mirrored repeat, 2 clamp to edge).
+    pub texture_wrap: u32,
 }
 
 /// One light for next-event estimation (`Light` in WGSL); fields by kind are documented there.

@@ -466,6 +466,7 @@ fn bind_group(device: &wgpu::Device, layout: &wgpu::BindGroupLayout, frame: &wgp
         wgpu::BindGroupEntry { binding: 8, resource: wgpu::BindingResource::TextureView(&gpu.environment_view) },
         wgpu::BindGroupEntry { binding: 9, resource: gpu.shapes.as_entire_binding() },
         wgpu::BindGroupEntry { binding: 10, resource: film.inspection.as_entire_binding() },
+        wgpu::BindGroupEntry { binding: 11, resource: gpu.textures.as_entire_binding() },
     ];
     device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("path tracer"), layout, entries: &entries })
 }
@@ -552,6 +553,7 @@ fn bind_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
             entry(8, texture),
             entry(9, read),
             entry(10, write),
+            entry(11, read),
         ],
     })
 }

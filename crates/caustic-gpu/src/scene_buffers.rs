@@ -30,6 +30,8 @@ pub struct GpuScene {
     pub materials: wgpu::Buffer,
     /// `Light` array (binding 5).
     pub lights: wgpu::Buffer,
+    /// The scene's textures, packed as `textures` in `shaders/integrator/bindings.wgsl` (binding 11).
+    pub textures: wgpu::Buffer,
     /// Latitude-longitude environment map (1x1 when the environment is constant).
     pub environment_view: wgpu::TextureView,
     /// Constant environment radiance, or `None` when the map is used.
@@ -80,6 +82,7 @@ impl GpuScene {
             shading: uploader.storage("triangle shading", &data.shading)?,
             materials: uploader.storage("materials", &data.materials)?,
             lights: uploader.storage("lights", &data.lights)?,
+            textures: uploader.storage("textures", &crate::scene_data::pack_textures(&scene.textures))?,
             environment_view,
             environment_color,
             light_count: data.lights.len() as u32,

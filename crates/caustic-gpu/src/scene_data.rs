@@ -6,7 +6,7 @@
 use crate::gpu_types::{FLAG_VERTEX_NORMALS, GpuLight, GpuMaterial, TriangleShading};
 use caustic_bvh::ShapeInput;
 use caustic_bsdf::params::BsdfParams;
-use caustic_scene::{Light, Scene, Shape, ShadingModel, ShapeKind, luminance};
+use caustic_scene::{ColorSpace, Light, Scene, Shape, ShadingModel, ShapeKind, Texture, TextureSlot, WrapMode, luminance};
 use glam::Vec3;
 
 /// Light kinds, as `GpuLight::kind` and `LIGHT_*` in `shaders/common/types.wgsl`.
@@ -109,8 +109,44 @@ fn gpu_material(m: &caustic_scene::Material) -> GpuMaterial {
         shininess: m.shininess,
         ambient: m.ambient.to_array(),
         specular: m.specular_color.to_array(),
-        ..material_with_bsdf(&bsdf_params(m))
+        ..with_base_color_texture(material_with_bsdf(&bsdf_params(m)), m.base_color_texture)
     }
+}
+
+/// `material` reading the base colour texture of `slot` (texture coordinate set 0; the
+/// device has no second set yet).
+fn with_base_color_texture(material: GpuMaterial, slot: Option<TextureSlot>) -> GpuMaterial {
+    let Some(slot) = slot else { return material };
+    let (m, t) = (slot.transform.matrix2, slot.transform.translation);
+    let wrap = |mode| match mode {
+        WrapMode::Repeat => 0,
+        WrapMode::MirroredRepeat => 1,
+        WrapMode::ClampToEdge => 2,
+    };
+    GpuMaterial {
+        uv_transform_u: [m.x_axis.x, m.y_axis.x, t.x],
+        uv_transform_v: [m.x_axis.y, m.y_axis.y, t.y],
+        base_color_texture: slot.texture + 1,
+        texture_wrap: wrap(slot.wrap[0]) | wrap(slot.wrap[1]) << 2,
+        ..material
+    }
+}
+
+/// The scene's textures in the layout of `textures` in `shaders/integrator/bindings.wgsl`:
+/// four words per texture (first texel's word, width, height, flags: bit 0 sRGB), then every
+/// texture's RGBA8 texels, one little-endian word each.
+pub(crate) fn pack_textures(textures: &[Texture]) -> Vec<u32> {
+    let mut words = Vec::with_capacity(4 * textures.len() + textures.iter().map(|t| t.texels.len()).sum::<usize>());
+    let mut first = 4 * textures.len() as u32;
+    for texture in textures {
+        let srgb = u32::from(texture.color_space == ColorSpace::Srgb);
+        words.extend([first, texture.width, texture.height, srgb]);
+        first += texture.texels.len() as u32;
+    }
+    for texture in textures {
+        words.extend(texture.texels.iter().map(|&texel| u32::from_le_bytes(texel)));
+    }
+    words
 }
 
 /// The path tracer's BSDF for a scene material (`docs/MATERIALS.md`): the shading model picks

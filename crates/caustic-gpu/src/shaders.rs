@@ -29,10 +29,11 @@ const TRAVERSAL: [ShaderFile; 4] = [
     shader_file!("bvh/traverse.wgsl"),
 ];
 
-const PATH_TRACER: [ShaderFile; 18] = [
+const PATH_TRACER: [ShaderFile; 19] = [
     shader_file!("integrator/bindings.wgsl"),
     shader_file!("integrator/camera.wgsl"),
     shader_file!("integrator/environment.wgsl"),
+    shader_file!("integrator/texture.wgsl"),
     shader_file!("integrator/surface.wgsl"),
     shader_file!("integrator/film.wgsl"),
     shader_file!("bsdf/common.wgsl"),
