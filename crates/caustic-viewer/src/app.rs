@@ -177,14 +177,15 @@ impl ViewerApp {
             outcome,
         };
         if let Some(pixel) = options.inspect {
-            app.inspect(pixel);
+            app.inspect(pixel, None);
         }
         Ok(app)
     }
 
-    /// Records the path of `pixel` with the pixel inspector.
-    pub fn inspect(&mut self, pixel: (u32, u32)) {
-        let path = self.view.inspect(pixel.0, pixel.1).map_err(|e| e.to_string());
+    /// Records the path of `pixel` in `sample` (by default the latest complete one) with the
+    /// pixel inspector.
+    pub fn inspect(&mut self, pixel: (u32, u32), sample: Option<u32>) {
+        let path = self.view.inspect(pixel.0, pixel.1, sample).map_err(|e| e.to_string());
         self.inspection = Some(Inspection { pixel, path });
     }
 
@@ -290,7 +291,7 @@ impl ViewerApp {
             if let Some(pos) = response.interact_pointer_pos() {
                 let pixel = ((pos.x - rect.min.x) / scale, (pos.y - rect.min.y) / scale);
                 if self.inspect_mode || ui.input(|i| i.modifiers.command) {
-                    self.inspect((pixel.0 as u32, pixel.1 as u32));
+                    self.inspect((pixel.0 as u32, pixel.1 as u32), None);
                 } else {
                     self.picker();
                     if let Some(PickerState::Ready(picker)) = &self.picker {

@@ -93,9 +93,13 @@ impl ViewerApp {
                 return;
             }
         };
+        let mut sample = path.sample;
+        ui.horizontal(|ui| {
+            ui.label(format!("pixel ({x}, {y})"));
+            ui.add(egui::DragValue::new(&mut sample).prefix("sample "));
+        });
         ui.label(format!(
-            "pixel ({x}, {y}), sample {}: {} rays, ended: {}; radiance {}",
-            path.sample,
+            "{} rays, ended: {}; radiance {}",
             path.ray_count,
             path.termination.name(),
             v3(path.radiance)
@@ -124,7 +128,9 @@ impl ViewerApp {
                 }
             });
         });
-        if ui.button("Clear").clicked() {
+        if sample != path.sample {
+            self.inspect((x, y), Some(sample));
+        } else if ui.button("Clear").clicked() {
             self.inspection = None;
         }
     }

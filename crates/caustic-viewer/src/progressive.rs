@@ -182,11 +182,12 @@ impl Progressive {
         self.legend_max.filter(|_| self.settings.debug.is_some_and(|v| v.is_count()))
     }
 
-    /// Records the path of pixel (`x`, `y`) in the latest complete sample (sample 0 before
-    /// the first): [`PathTracer::inspect`], leaving the image as it is.
-    pub fn inspect(&mut self, x: u32, y: u32) -> Result<PathRecord, GpuError> {
-        let sample = self.tracer.sample_range().end.max(1) - 1;
-        self.tracer.inspect(x, y, sample)
+    /// Records the path of pixel (`x`, `y`) in global sample `sample`, by default the latest
+    /// complete one (sample 0 before the first): [`PathTracer::inspect`], leaving the image
+    /// as it is.
+    pub fn inspect(&mut self, x: u32, y: u32, sample: Option<u32>) -> Result<PathRecord, GpuError> {
+        let latest = self.tracer.sample_range().end.max(1) - 1;
+        self.tracer.inspect(x, y, sample.unwrap_or(latest))
     }
 
     /// Finishes the sample pass in progress, if any, so every pixel holds exactly
