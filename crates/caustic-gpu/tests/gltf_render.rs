@@ -1,0 +1,154 @@
+//! glTF models on the device, checked pixel by pixel against a ray cast here: `BoxTextured`
+//! rendered with a pure Lambertian copy of its material under a white sky (one bounce:
+//! radiance = albedo) against the CPU texture twin (`TextureSlot::lookup`, `Texture::sample`),
+//! and `EmissiveStrengthTest`'s panels seen directly (radiance ratios 1:2:4:8:16).
+
+use caustic_gpu::{GpuContext, GpuScene, PathTracer, RenderSettings};
+use caustic_image::Image;
+use caustic_scene::{Environment, Material, Scene, SceneSource, TextureFilter, load_scene};
+use glam::{Vec2, Vec3};
+use std::path::Path;
+
+/// The shared sample model `name` (under `../shared/assets/gltf/`) at `size` x `size`
+/// pixels, or `None` when absent.
+fn shared_model(name: &str, size: u32) -> Option<Scene> {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/assets/gltf").join(name);
+    if !path.is_file() {
+        println!("skipping: {} not found", path.display());
+        return None;
+    }
+    let mut scene = load_scene(&SceneSource::File(path)).expect("the model loads");
+    scene.resolution = (size, size);
+    Some(scene)
+}
+
+/// `spp` samples of `scene` with at most `max_depth` bounces.
+fn render(scene: &Scene, max_depth: u32, spp: u32) -> Image {
+    let ctx = GpuContext::new(std::env::var("CAUSTIC_ADAPTER").ok().as_deref()).expect("device");
+    println!("adapter: {}", ctx.adapter);
+    let gpu = GpuScene::upload(&ctx, scene).expect("upload");
+    let settings = RenderSettings { max_depth: Some(max_depth), ..RenderSettings::default() };
+    let mut tracer = PathTracer::new(&ctx, scene, &gpu, &settings).expect("tracer");
+    for _ in 0..spp {
+        tracer.render_sample().expect("pass");
+    }
+    assert_eq!(tracer.nonfinite_samples().expect("counter"), 0);
+    tracer.image().expect("image")
+}
+
+/// Barycentric (u, v) and distance of the ray's hit on triangle `[a, b, c]` (Moller-Trumbore).
+fn hit_triangle(origin: Vec3, d: Vec3, [a, b, c]: [Vec3; 3]) -> Option<(f32, f32, f32)> {
+    let (e1, e2) = (b - a, c - a);
+    let p = d.cross(e2);
+    let det = e1.dot(p);
+    if det.abs() < 1e-12 {
+        return None;
+    }
+    let s = origin - a;
+    let u = s.dot(p) / det;
+    let q = s.cross(e1);
+    let v = d.dot(q) / det;
+    let t = e2.dot(q) / det;
+    (u >= 0.0 && v >= 0.0 && u + v <= 1.0 && t > 0.0).then_some((t, u, v))
+}
+
+/// What the camera ray through pixel position `film` (pixels, y down) hits first: mesh,
+/// triangle and barycentric (u, v).
+fn cast(scene: &Scene, film: Vec2) -> Option<(usize, usize, f32, f32)> {
+    let (right, up, forward) = scene.camera.frame();
+    let half = (scene.camera.fov_y * 0.5).tan();
+    let aspect = scene.resolution.0 as f32 / scene.resolution.1 as f32;
+    let ndc = Vec2::new(2.0 * film.x / scene.resolution.0 as f32 - 1.0, 1.0 - 2.0 * film.y / scene.resolution.1 as f32);
+    let d = (forward + right * ndc.x * half * aspect + up * ndc.y * half).normalize();
+    let mut nearest: Option<(f32, (usize, usize, f32, f32))> = None;
+    for (m, mesh) in scene.meshes.iter().enumerate() {
+        for t in 0..mesh.triangle_count() {
+            let Some((distance, u, v)) = hit_triangle(scene.camera.eye, d, mesh.triangle(t)) else { continue };
+            if nearest.is_none_or(|(best, _)| distance < best) {
+                nearest = Some((distance, (m, t, u, v)));
+            }
+        }
+    }
+    nearest.map(|(_, hit)| hit)
+}
+
+/// `value` at each pixel whose footprint (corners and centre) gives one value within
+/// `tolerance`, with the pixel's rendered colour; `None` values are skipped.
+fn flat_pixels<T: Copy>(scene: &Scene, image: &Image, value: impl Fn(Vec2) -> Option<T>, same: impl Fn(T, T) -> bool) -> Vec<(T, Vec3)> {
+    let (width, height) = scene.resolution;
+    let mut out = Vec::new();
+    for y in 0..height {
+        for x in 0..width {
+            let at = |dx: f32, dy: f32| value(Vec2::new(x as f32 + dx, y as f32 + dy));
+            let Some(centre) = at(0.5, 0.5) else { continue };
+            let corners = [at(0.02, 0.02), at(0.98, 0.02), at(0.02, 0.98), at(0.98, 0.98)];
+            if corners.iter().all(|c| c.is_some_and(|c| same(c, centre))) {
+                out.push((centre, Vec3::from(image.pixels[(y * width + x) as usize])));
+            }
+        }
+    }
+    out
+}
+
+/// The linear base colour the ray through `film` sees, from the CPU texture twin.
+fn base_colour(scene: &Scene, film: Vec2) -> Option<Vec3> {
+    let (m, t, u, v) = cast(scene, film)?;
+    let mesh = &scene.meshes[m];
+    let material = &scene.materials[mesh.material as usize];
+    let slot = material.base_color_texture.expect("textured");
+    let [a, b, c] = mesh.indices[t].map(|i| mesh.uvs[i as usize]);
+    let uv = a * (1.0 - u - v) + b * u + c * v;
+    Some(scene.textures[slot.texture as usize].sample(slot.lookup(uv), TextureFilter::Bilinear).truncate() * material.base_color)
+}
+
+#[test]
+fn box_textured_shows_its_texture() {
+    let Some(mut scene) = shared_model("BoxTextured/glTF-Binary/BoxTextured.glb", 48) else { return };
+    let textured = scene.materials[0].base_color_texture;
+    scene.materials[0] = Material { base_color_texture: textured, ..Material::diffuse("lambert", Vec3::ONE) };
+    scene.environment = Environment::Constant(Vec3::ONE);
+    let image = render(&scene, 1, 16);
+    let pixels = flat_pixels(&scene, &image, |film| base_colour(&scene, film), |a, b| (a - b).abs().max_element() <= 0.01);
+    let mut colours: Vec<Vec3> = Vec::new();
+    let (mut error_sum, mut worst) = (0.0, 0.0f32);
+    for &(want, got) in &pixels {
+        let error = (got - want).abs().max_element();
+        (error_sum, worst) = (error_sum + error, worst.max(error));
+        if colours.iter().all(|c| (*c - want).length() > 0.1) {
+            colours.push(want);
+        }
+    }
+    let mae = error_sum / pixels.len() as f32;
+    println!("{} flat pixels compared: MAE {mae:.4}, worst {worst:.4}; distinct colours among them: {colours:?}", pixels.len());
+    assert!(pixels.len() > 100, "too few flat pixels: {}", pixels.len());
+    assert!(colours.len() >= 2, "the texture's colours should vary across the box: {colours:?}");
+    assert!(mae < 0.01 && worst < 0.05, "MAE {mae}, worst {worst}");
+}
+
+#[test]
+fn emissive_strength_panels_are_1_2_4_8_16() {
+    let Some(scene) = shared_model("EmissiveStrengthTest/glTF-Binary/EmissiveStrengthTest.glb", 160) else { return };
+    let image = render(&scene, 0, 4);
+    let mesh_at = |film| cast(&scene, film).map(|(m, ..)| m);
+    let pixels = flat_pixels(&scene, &image, mesh_at, |a, b| a == b);
+    let mut panels: Vec<(f32, f32, usize)> = Vec::new();
+    for (mesh, colour) in pixels {
+        let material = &scene.materials[scene.meshes[mesh].material as usize];
+        if !material.is_emissive() {
+            continue;
+        }
+        let emission = material.emission.max_element();
+        match panels.iter_mut().find(|(e, ..)| *e == emission) {
+            Some((_, sum, count)) => (*sum, *count) = (*sum + colour.max_element(), *count + 1),
+            None => panels.push((emission, colour.max_element(), 1)),
+        }
+    }
+    panels.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let means: Vec<f32> = panels.iter().map(|(_, sum, count)| sum / *count as f32).collect();
+    let ratios: Vec<f32> = means.iter().map(|m| m / means[0]).collect();
+    println!("panels (emission, pixels): {:?}\nmean radiance {means:?}\nratios {ratios:?}", panels.iter().map(|p| (p.0, p.2)).collect::<Vec<_>>());
+    assert_eq!(ratios.len(), 5, "five emissive panels in view");
+    for (ratio, want) in ratios.iter().zip([1.0, 2.0, 4.0, 8.0, 16.0]) {
+        assert!((ratio / want - 1.0).abs() < 0.02, "ratio {ratio} vs {want}");
+    }
+}
