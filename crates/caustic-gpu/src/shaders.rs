@@ -53,11 +53,16 @@ const PATH_TRACER: [ShaderFile; 19] = [
 
 const RAY_BENCH: [ShaderFile; 1] = [shader_file!("bench/rays.wgsl")];
 
-/// The shader library of the BSDFs with what it needs (types, random numbers, sampling warps):
-/// no bindings, so kernel tests ([`crate::kernel_test`]) can run its functions alone.
+/// The files every program shares (types, random numbers, sampling warps, rays, ray-triangle
+/// and ray-box tests): no bindings, so kernel tests ([`crate::kernel_test`]) can run their
+/// functions alone.
+pub fn common_library() -> Vec<&'static ShaderFile> {
+    COMMON.iter().collect()
+}
+
+/// [`common_library`] and the BSDFs (`shaders/bsdf`), for kernel tests.
 pub fn bsdf_library() -> Vec<&'static ShaderFile> {
-    let common = COMMON.iter().filter(|f| matches!(f.name, "common/types.wgsl" | "common/rng.wgsl" | "common/sampling.wgsl"));
-    common.chain(PATH_TRACER.iter().filter(|f| f.name.starts_with("bsdf/"))).collect()
+    COMMON.iter().chain(PATH_TRACER.iter().filter(|f| f.name.starts_with("bsdf/"))).collect()
 }
 
 /// The files of one program, in order.
