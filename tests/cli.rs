@@ -196,3 +196,20 @@ fn scene_language_files_run_their_actions() {
     run(&["-o", forced.to_str().unwrap()]);
     assert!(forced.exists(), "-o is honoured");
 }
+
+#[test]
+fn presets_choose_samples_and_explicit_options_win() {
+    let dir = support::scratch("presets");
+    let out = dir.join("p.exr");
+    let render = |extra: &[&str]| {
+        let mut args = vec!["render", "--size", "16x16", "-o", out.to_str().unwrap(), "--json"];
+        args.extend_from_slice(extra);
+        support::caustic_json(&args)
+    };
+    let preview = render(&["--preset", "preview"]);
+    let explicit = render(&["--preset", "preview", "--spp", "3"]);
+    println!("preview preset: {} spp; with --spp 3: {} spp", preview["spp"], explicit["spp"]);
+    assert_eq!(preview["spp"], 16);
+    assert_eq!(explicit["spp"], 3);
+    assert_ne!(preview["fingerprint"], render(&["--preset", "final", "--spp", "16"])["fingerprint"], "presets change the settings");
+}

@@ -133,15 +133,23 @@ pub struct SceneOverrides {
     /// the order the scene's nodes are walked); the overrides below then apply to it.
     #[arg(long = "camera", value_name = "N")]
     pub camera_index: Option<usize>,
+    /// Quality preset (preview, balanced, final): the path tracer with the preset's depth and
+    /// samples per pixel (docs/PERFORMANCE.md has each one's measured time and error);
+    /// --integrator, --max-depth and --spp still win.
+    #[arg(long, value_enum)]
+    pub preset: Option<crate::preset::Preset>,
     /// Camera overrides.
     #[command(flatten)]
     pub camera: CameraArgs,
 }
 
 impl SceneOverrides {
-    /// Applies size, environment and camera to `scene`, and returns the integrator and max
-    /// depth to render with (the command line's, else the scene's).
+    /// Applies the preset, size, environment and camera to `scene`, and returns the integrator
+    /// and max depth to render with (the command line's, else the scene's).
     pub fn apply(&self, scene: &mut Scene) -> anyhow::Result<(Integrator, Option<u32>)> {
+        if let Some(preset) = self.preset {
+            preset.apply(scene);
+        }
         if let Some(index) = self.camera_index {
             scene.select_camera(index)?;
         }

@@ -26,9 +26,6 @@ pub struct ConvergeArgs {
     /// Linear reference image (.exr or .hdr); the render takes its size unless --size is given.
     #[arg(long, value_name = "FILE")]
     pub reference: PathBuf,
-    /// Quality preset: its integrator settings and its samples per pixel.
-    #[arg(long, value_enum)]
-    pub preset: Option<Preset>,
     /// Samples per pixel to render (default: the preset's, else 1024).
     #[arg(long, value_name = "N")]
     pub spp: Option<u32>,
@@ -96,9 +93,6 @@ pub fn run(args: &ConvergeArgs) -> anyhow::Result<()> {
     }
     let reference = Image::load(&args.reference).with_context(|| format!("reference {}", args.reference.display()))?;
     let mut scene = load_scene(&SceneSource::parse(&args.scene))?;
-    if let Some(preset) = args.preset {
-        preset.apply(&mut scene);
-    }
     scene.resolution = (reference.width, reference.height);
     let (integrator, max_depth) = args.overrides.apply(&mut scene)?;
     if scene.resolution != (reference.width, reference.height) {
@@ -110,7 +104,7 @@ pub fn run(args: &ConvergeArgs) -> anyhow::Result<()> {
             reference.height
         );
     }
-    let spp = args.spp.or(args.preset.map(Preset::spp)).unwrap_or(1024);
+    let spp = args.spp.or(args.overrides.preset.map(Preset::spp)).unwrap_or(1024);
     if spp == 0 {
         bail!("--spp 0: at least one sample per pixel is needed");
     }
@@ -136,7 +130,7 @@ pub fn run(args: &ConvergeArgs) -> anyhow::Result<()> {
         scene: scene.name.clone(),
         width: reference.width,
         height: reference.height,
-        preset: args.preset.map(|p| format!("{p:?}").to_lowercase()),
+        preset: args.overrides.preset.map(|p| format!("{p:?}").to_lowercase()),
         samples_per_second: pixels * f64::from(last.spp) / last.seconds.max(1e-9),
         seconds_to_relmse_1e_2: seconds_to_reach(&points, 1e-2),
         seconds_to_relmse_1e_3: seconds_to_reach(&points, 1e-3),

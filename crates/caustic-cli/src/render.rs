@@ -2,6 +2,7 @@
 
 use crate::args::RenderArgs;
 use crate::fingerprint::{Fingerprint, fingerprint};
+use crate::preset::Preset;
 use crate::script;
 use crate::tasks::{TaskIndex, has_placeholder, substitute};
 use anyhow::{Context, bail};
@@ -100,7 +101,10 @@ impl Budget {
         let range = match (args.samples_from_env, task, &args.samples) {
             (true, Some(task), _) => Some(task.sample_range(args.spp_per_task.unwrap_or(0))?),
             (_, _, Some(range)) => Some(range.clone()),
-            _ => args.spp.or(if args.time.is_some() { None } else { Some(DEFAULT_SPP) }).map(|n| 0..n),
+            _ => {
+                let spp = args.spp.or(args.overrides.preset.map(Preset::spp));
+                spp.or(if args.time.is_some() { None } else { Some(DEFAULT_SPP) }).map(|n| 0..n)
+            }
         };
         Ok(match range {
             Some(range) => Budget { first_sample: range.start, spp: Some(range.end - range.start), seconds: args.time },
