@@ -55,6 +55,9 @@ pub struct BuildOptions {
     /// Nodes with at least this many triangles (default 4096) are binned with parallel
     /// chunks and have their two subtrees built with `rayon::join`.
     pub parallel_threshold: usize,
+    /// Nodes with at most this many primitives (default 0: none) are split by the exact SAH
+    /// sweep over sorted centroids instead of bins (docs/PERFORMANCE.md measures what it buys).
+    pub sweep_below: usize,
 }
 
 impl Default for BuildOptions {
@@ -65,6 +68,7 @@ impl Default for BuildOptions {
             bins: 16,
             max_leaf_size: 4,
             parallel_threshold: 4096,
+            sweep_below: 0,
         }
     }
 }
@@ -163,6 +167,7 @@ fn build_from_bounds(bounds: &[Aabb], options: &BuildOptions, start: Instant) ->
         bins: options.bins.clamp(2, MAX_BINS),
         max_leaf_size: options.max_leaf_size.clamp(1, MAX_LEAF_SIZE),
         parallel_threshold: options.parallel_threshold,
+        sweep_below: options.sweep_below,
     };
     let mut indices: Vec<u32> = (0..bounds.len() as u32).collect();
     let nodes = builder.subtree(&mut indices, 0, 0);
@@ -234,6 +239,7 @@ fn ceil_log2(n: usize) -> usize {
 enum Decision {
     Leaf,
     Binned(split::BinnedSplit),
+    Sweep(split::SweepSplit),
     Midpoint,
     Median,
 }
@@ -245,6 +251,7 @@ struct Builder<'a> {
     bins: usize,
     max_leaf_size: usize,
     parallel_threshold: usize,
+    sweep_below: usize,
 }
 
 impl Builder<'_> {
@@ -275,6 +282,7 @@ impl Builder<'_> {
                 return;
             }
             Decision::Binned(plane) => split::partition_binned(self.prims, indices, &plane),
+            Decision::Sweep(plane) => split::partition_sweep(self.prims, indices, &plane),
             Decision::Midpoint => split::partition_midpoint(self.prims, indices, &summary.centroids),
             Decision::Median => split::partition_median(self.prims, indices, &summary.centroids),
         };
@@ -314,9 +322,15 @@ impl Builder<'_> {
         if self.split == SplitMethod::Midpoint {
             return if must_split { Decision::Midpoint } else { Decision::Leaf };
         }
+        if count <= self.sweep_below {
+            return match split::best_sweep_split(self.prims, indices) {
+                Some(plane) if must_split || self.pays(plane.weighted_area, &summary.bounds, count) => Decision::Sweep(plane),
+                _ => Decision::Leaf,
+            };
+        }
         match split::best_binned_split(self.prims, indices, &summary.centroids, self.bins, parallel)
         {
-            Some(plane) if must_split || self.split_pays(&plane, &summary.bounds, count) => {
+            Some(plane) if must_split || self.pays(plane.weighted_area, &summary.bounds, count) => {
                 Decision::Binned(plane)
             }
             Some(_) => Decision::Leaf,
@@ -325,11 +339,11 @@ impl Builder<'_> {
         }
     }
 
-    /// Whether splitting at `plane` is strictly cheaper than a leaf by the SAH
-    /// (both sides multiplied by the node's area to avoid dividing by zero).
-    fn split_pays(&self, plane: &split::BinnedSplit, bounds: &Aabb, count: usize) -> bool {
+    /// Whether a split with this unscaled SAH term is strictly cheaper than a leaf (both
+    /// sides multiplied by the node's area to avoid dividing by zero).
+    fn pays(&self, weighted_area: f32, bounds: &Aabb, count: usize) -> bool {
         let area = bounds.surface_area();
-        let split_cost = SAH_TRAVERSAL_COST * area + SAH_INTERSECTION_COST * plane.weighted_area;
+        let split_cost = SAH_TRAVERSAL_COST * area + SAH_INTERSECTION_COST * weighted_area;
         let leaf_cost = SAH_INTERSECTION_COST * count as f32 * area;
         split_cost < leaf_cost
     }

@@ -206,6 +206,59 @@ fn sweep(bins: &[Bin]) -> Option<(usize, f32)> {
     best
 }
 
+/// A split found by sweeping every primitive boundary of one axis (exact SAH, no bins).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct SweepSplit {
+    axis: usize,
+    /// Primitives on the left, after sorting by centroid along `axis`.
+    left: usize,
+    /// `area(left) * count(left) + area(right) * count(right)`, the unscaled SAH term.
+    pub weighted_area: f32,
+}
+
+/// The cheapest split of `indices` into a prefix and a suffix of their centroid order along
+/// any axis: the exact SAH optimum over object partitions by one coordinate, which binning
+/// approximates. O(n log n) per axis, so meant for small nodes.
+pub(crate) fn best_sweep_split(prims: Prims, indices: &[u32]) -> Option<SweepSplit> {
+    let n = indices.len();
+    if n < 2 {
+        return None;
+    }
+    let mut order = indices.to_vec();
+    let mut right_area = vec![0.0f32; n];
+    let mut best: Option<SweepSplit> = None;
+    for axis in 0..3 {
+        sort_by_centroid(prims, &mut order, axis);
+        let mut bounds = Aabb::empty();
+        for i in (1..n).rev() {
+            bounds = bounds.union(&prims.bounds[order[i] as usize]);
+            right_area[i] = bounds.surface_area();
+        }
+        bounds = Aabb::empty();
+        for left in 1..n {
+            bounds = bounds.union(&prims.bounds[order[left - 1] as usize]);
+            let cost = bounds.surface_area() * left as f32 + right_area[left] * (n - left) as f32;
+            if best.is_none_or(|b| cost < b.weighted_area) {
+                best = Some(SweepSplit { axis, left, weighted_area: cost });
+            }
+        }
+    }
+    best
+}
+
+/// Reorders `indices` by centroid along the split's axis; returns the left size.
+pub(crate) fn partition_sweep(prims: Prims, indices: &mut [u32], split: &SweepSplit) -> usize {
+    sort_by_centroid(prims, indices, split.axis);
+    split.left
+}
+
+fn sort_by_centroid(prims: Prims, indices: &mut [u32], axis: usize) {
+    indices.sort_unstable_by(|&a, &b| {
+        let (ca, cb) = (prims.centroids[a as usize][axis], prims.centroids[b as usize][axis]);
+        ca.total_cmp(&cb).then(a.cmp(&b))
+    });
+}
+
 /// Reorders `indices` so the left side of `split` comes first; returns the left size.
 pub(crate) fn partition_binned(prims: Prims, indices: &mut [u32], split: &BinnedSplit) -> usize {
     let goes_left =
@@ -317,6 +370,37 @@ mod tests {
             (sa.axis, sa.bin, sa.weighted_area),
             (sb.axis, sb.bin, sb.weighted_area)
         );
+    }
+
+    #[test]
+    fn the_sweep_is_never_worse_than_binning() {
+        let mut state = 7u32;
+        let mut next = || {
+            state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            (state >> 8) as f32 / 16_777_216.0
+        };
+        for _ in 0..20 {
+            let bounds: Vec<Aabb> = (0..48)
+                .map(|_| {
+                    let p = Vec3::new(next(), next(), next()) * 10.0;
+                    let mut b = Aabb::empty();
+                    b.grow(p);
+                    b.grow(p + Vec3::new(next(), next(), next()));
+                    b
+                })
+                .collect();
+            let centroids: Vec<Vec3> = bounds.iter().map(Aabb::centroid).collect();
+            let prims = Prims { bounds: &bounds, centroids: &centroids };
+            let mut indices: Vec<u32> = (0..48).collect();
+            let summary = summarize(prims, &indices, false);
+            let binned = best_binned_split(prims, &indices, &summary.centroids, 16, false).unwrap();
+            let sweep = best_sweep_split(prims, &indices).unwrap();
+            assert!(sweep.weighted_area <= binned.weighted_area * (1.0 + 1e-5));
+            let left = partition_sweep(prims, &mut indices, &sweep);
+            let side_cost = |ids: &[u32]| ids.iter().fold(Aabb::empty(), |b, &i| b.union(&bounds[i as usize])).surface_area() * ids.len() as f32;
+            let recomputed = side_cost(&indices[..left]) + side_cost(&indices[left..]);
+            assert!((recomputed - sweep.weighted_area).abs() <= 1e-4 * recomputed);
+        }
     }
 
     #[test]

@@ -348,6 +348,10 @@ pub struct BenchArgs {
     /// builder, for comparison).
     #[arg(long, default_value = "sah", value_parser = parse_split)]
     pub split: caustic_bvh::SplitMethod,
+    /// With --split sah: nodes of at most this many primitives use the exact SAH sweep
+    /// instead of bins (0: never).
+    #[arg(long, default_value_t = 0, value_name = "N")]
+    pub sweep_below: usize,
     /// Timed repeats per ray set; the best is reported.
     #[arg(long, default_value_t = 5)]
     pub repeats: u32,

@@ -140,7 +140,7 @@ fn bench_mesh(ctx: &GpuContext, name: &str, args: &BenchArgs) -> anyhow::Result<
     let start = Instant::now();
     let scene = load_scene(&SceneSource::parse(name))?;
     let load_ms = start.elapsed().as_secs_f64() * 1e3;
-    let gpu_scene = GpuScene::upload_with(ctx, &scene, &BuildOptions { split: args.split, ..BuildOptions::default() })?;
+    let gpu_scene = GpuScene::upload_with(ctx, &scene, &BuildOptions { split: args.split, sweep_below: args.sweep_below, ..BuildOptions::default() })?;
     let render_ms_1spp = one_sample_ms(ctx, &scene, &gpu_scene, args)?;
     let bench = RayBench::new(ctx, &gpu_scene, &scene.camera, args.grid)?;
     let primary: BenchResult = bench.run(RayKind::Primary, args.repeats)?;

@@ -174,6 +174,13 @@ fn option_extremes_are_sound() {
             },
         ),
         (
+            "sweep below 64",
+            BuildOptions {
+                sweep_below: 64,
+                ..Default::default()
+            },
+        ),
+        (
             "all parallel",
             BuildOptions {
                 parallel_threshold: 2,
