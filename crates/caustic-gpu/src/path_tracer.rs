@@ -503,7 +503,6 @@ fn frame_constants(scene: &Scene, gpu: &GpuScene, settings: &RenderSettings) -> 
     }
 }
 
-/// The kernel that accumulates the pass and integrator `settings` ask for.
 /// The scene-specialised traversal the kernel is compiled with, if any.
 fn kernel_traversal(gpu: &GpuScene, settings: &RenderSettings) -> Option<String> {
     // The BVH-cost debug views show the BVH traversal's work, which the specialised one skips.
@@ -514,6 +513,7 @@ fn kernel_traversal(gpu: &GpuScene, settings: &RenderSettings) -> Option<String>
     }
 }
 
+/// The kernel that accumulates the pass and integrator `settings` ask for.
 fn entry_point(settings: &RenderSettings) -> &'static str {
     if settings.debug.is_some() {
         return "render_debug";
