@@ -1,8 +1,10 @@
 // Base colour textures: the material's texture, read through its KHR_texture_transform and
-// wrap modes with bilinear filtering, sRGB texels decoded before filtering. The CPU twin is
-// caustic_scene::Texture::sample with TextureSlot::lookup.
+// wrap modes with nearest or bilinear filtering, sRGB texels decoded before filtering. The
+// CPU twin is caustic_scene::Texture::sample with TextureSlot::lookup.
 
 const TEXTURE_SRGB: u32 = 1u;
+// Bit of Material.texture_wrap selecting nearest filtering.
+const TEXTURE_NEAREST: u32 = 16u;
 
 // One coordinate wrapped into [0, 1]: mode 0 repeat, 1 mirrored repeat, 2 clamp to edge.
 fn wrap_coordinate(x: f32, mode: u32) -> f32 {
@@ -32,10 +34,15 @@ fn texel(header: u32, x: i32, y: i32) -> vec4<f32> {
     return c;
 }
 
-// Bilinear sample of texture `index` at wrapped coordinates `uv` in [0, 1]^2.
-fn sample_texture(index: u32, uv: vec2<f32>) -> vec4<f32> {
+// Sample of texture `index` at wrapped coordinates `uv` in [0, 1]^2: the texel `uv` falls
+// in (nearest), else the four nearest weighted by distance (bilinear).
+fn sample_texture(index: u32, uv: vec2<f32>, nearest: bool) -> vec4<f32> {
     let header = 4u * index;
     let size = vec2<f32>(f32(textures[header + 1u]), f32(textures[header + 2u]));
+    if nearest {
+        let at = max(floor(uv * size), vec2<f32>(0.0));
+        return texel(header, i32(at.x), i32(at.y));
+    }
     let at = max(uv * size - 0.5, vec2<f32>(0.0));
     let base = floor(at);
     let f = at - base;
@@ -51,7 +58,7 @@ fn sample_texture(index: u32, uv: vec2<f32>) -> vec4<f32> {
 fn with_base_color_texture(m: Material, uv: vec2<f32>) -> Material {
     let moved = vec2<f32>(dot(m.uv_transform_u, vec3<f32>(uv, 1.0)), dot(m.uv_transform_v, vec3<f32>(uv, 1.0)));
     let wrapped = vec2<f32>(wrap_coordinate(moved.x, m.texture_wrap & 3u), wrap_coordinate(moved.y, (m.texture_wrap >> 2u) & 3u));
-    let color = sample_texture(m.base_color_texture - 1u, wrapped).rgb;
+    let color = sample_texture(m.base_color_texture - 1u, wrapped, (m.texture_wrap & TEXTURE_NEAREST) != 0u).rgb;
     var out = m;
     out.base_color = m.base_color * color;
     out.diffuse = m.diffuse * color;

@@ -6,7 +6,7 @@
 use crate::gpu_types::{FLAG_VERTEX_NORMALS, GpuLight, GpuMaterial, TriangleShading};
 use caustic_bvh::ShapeInput;
 use caustic_bsdf::params::BsdfParams;
-use caustic_scene::{ColorSpace, Light, Scene, Shape, ShadingModel, ShapeKind, Texture, TextureSlot, WrapMode, luminance};
+use caustic_scene::{ColorSpace, Light, Scene, Shape, ShadingModel, ShapeKind, Texture, TextureFilter, TextureSlot, WrapMode, luminance};
 use glam::Vec3;
 
 /// Light kinds, as `GpuLight::kind` and `LIGHT_*` in `shaders/common/types.wgsl`.
@@ -114,7 +114,7 @@ fn gpu_material(m: &caustic_scene::Material) -> GpuMaterial {
 }
 
 /// `material` reading the base colour texture of `slot` (texture coordinate set 0; the
-/// device has no second set yet).
+/// device has no second set yet), with its transform, wrap modes and filter.
 fn with_base_color_texture(material: GpuMaterial, slot: Option<TextureSlot>) -> GpuMaterial {
     let Some(slot) = slot else { return material };
     let (m, t) = (slot.transform.matrix2, slot.transform.translation);
@@ -127,7 +127,7 @@ fn with_base_color_texture(material: GpuMaterial, slot: Option<TextureSlot>) -> 
         uv_transform_u: [m.x_axis.x, m.y_axis.x, t.x],
         uv_transform_v: [m.x_axis.y, m.y_axis.y, t.y],
         base_color_texture: slot.texture + 1,
-        texture_wrap: wrap(slot.wrap[0]) | wrap(slot.wrap[1]) << 2,
+        texture_wrap: wrap(slot.wrap[0]) | wrap(slot.wrap[1]) << 2 | u32::from(slot.filter == TextureFilter::Nearest) << 4,
         ..material
     }
 }

@@ -1,12 +1,12 @@
 //! glTF models on the device, checked pixel by pixel against a ray cast here: `BoxTextured`
 //! and `TextureTransformTest` rendered with Lambertian copies of their materials under a white
 //! sky (one bounce: radiance = albedo) against the CPU texture twin (`TextureSlot::lookup`,
-//! `Texture::sample`), and `EmissiveStrengthTest`'s panels seen directly (radiance ratios
-//! 1:2:4:8:16).
+//! `Texture::sample`), the same for a synthetic magnified checker with nearest and bilinear
+//! filtering, and `EmissiveStrengthTest`'s panels seen directly (radiance ratios 1:2:4:8:16).
 
 use caustic_gpu::{GpuContext, GpuScene, PathTracer, RenderSettings};
 use caustic_image::Image;
-use caustic_scene::{Environment, Material, Scene, SceneSource, TextureFilter, load_scene};
+use caustic_scene::{Camera, ColorSpace, Environment, Material, Mesh, Scene, SceneSource, Texture, TextureFilter, TextureSlot, load_scene, texture_transform};
 use glam::{Vec2, Vec3};
 use std::path::Path;
 
@@ -99,7 +99,7 @@ fn base_colour(scene: &Scene, film: Vec2) -> Option<Vec3> {
     let slot = material.base_color_texture.expect("textured");
     let [a, b, c] = mesh.indices[t].map(|i| mesh.uvs[i as usize]);
     let uv = a * (1.0 - u - v) + b * u + c * v;
-    Some(scene.textures[slot.texture as usize].sample(slot.lookup(uv), TextureFilter::Bilinear).truncate() * material.base_color)
+    Some(scene.textures[slot.texture as usize].sample(slot.lookup(uv), slot.filter).truncate() * material.base_color)
 }
 
 /// Renders the model `name` with every material made Lambertian (keeping its base colour
@@ -172,4 +172,59 @@ fn emissive_strength_panels_are_1_2_4_8_16() {
     for (ratio, want) in ratios.iter().zip([1.0, 2.0, 4.0, 8.0, 16.0]) {
         assert!((ratio / want - 1.0).abs() < 0.02, "ratio {ratio} vs {want}");
     }
+}
+
+/// A square facing the camera textured with a 4x4 checker of distinct colours, repeated
+/// twice each way by its transform, so texels are several pixels wide.
+fn checker_scene(filter: TextureFilter) -> Scene {
+    let colours = [[230, 25, 75], [60, 180, 75], [255, 225, 25], [0, 130, 200], [245, 130, 48], [145, 30, 180], [70, 240, 240], [240, 50, 230]];
+    let texels = (0..16).map(|i| { let [r, g, b] = colours[(i + i / 4) % 8]; [r, g, b, 255] }).collect();
+    let texture = Texture { name: "checker".into(), width: 4, height: 4, color_space: ColorSpace::Srgb, texels };
+    let slot = TextureSlot { transform: texture_transform(Vec2::ZERO, 0.0, Vec2::splat(2.0)), filter, ..TextureSlot::new(0) };
+    let square = Mesh {
+        name: "square".into(),
+        positions: vec![Vec3::new(-1.0, 1.0, 0.0), Vec3::new(-1.0, -1.0, 0.0), Vec3::new(1.0, -1.0, 0.0), Vec3::new(1.0, 1.0, 0.0)],
+        uvs: vec![Vec2::ZERO, Vec2::Y, Vec2::ONE, Vec2::X],
+        indices: vec![[0, 1, 2], [0, 2, 3]],
+        ..Mesh::default()
+    };
+    Scene {
+        meshes: vec![square],
+        materials: vec![Material { base_color_texture: Some(slot), ..Material::diffuse("checker", Vec3::ONE) }],
+        textures: vec![texture],
+        camera: Camera { eye: Vec3::new(0.0, 0.0, 2.5), target: Vec3::ZERO, up: Vec3::Y, fov_y: 40f32.to_radians() },
+        resolution: (64, 64),
+        environment: Environment::Constant(Vec3::ONE),
+        ..Scene::default()
+    }
+}
+
+/// Mean absolute difference of the render of `scene` from the CPU twin's colour averaged over
+/// each pixel's footprint (5x5 points), over the pixels wholly on the square; and the image.
+fn checker_error(scene: &Scene) -> (f32, Image) {
+    let image = render(scene, 1, 16);
+    let (width, height) = scene.resolution;
+    let (mut sum, mut count) = (0.0, 0);
+    for y in 0..height {
+        for x in 0..width {
+            let grid: Option<Vec<Vec3>> = (0..25).map(|i| base_colour(scene, Vec2::new(x as f32 + 0.1 + 0.2 * (i % 5) as f32, y as f32 + 0.1 + 0.2 * (i / 5) as f32))).collect();
+            let Some(grid) = grid else { continue };
+            let want = grid.iter().sum::<Vec3>() / 25.0;
+            sum += (Vec3::from(image.pixels[(y * width + x) as usize]) - want).abs().max_element();
+            count += 1;
+        }
+    }
+    (sum / count as f32, image)
+}
+
+#[test]
+fn checker_nearest_and_bilinear_match_the_cpu() {
+    let (nearest_mae, nearest) = checker_error(&checker_scene(TextureFilter::Nearest));
+    let (bilinear_mae, bilinear) = checker_error(&checker_scene(TextureFilter::Bilinear));
+    let apart = nearest.pixels.iter().zip(&bilinear.pixels).map(|(a, b)| (Vec3::from(*a) - Vec3::from(*b)).abs().max_element()).sum::<f32>() / nearest.pixels.len() as f32;
+    println!("checker: MAE against the CPU twin: nearest {nearest_mae:.4}, bilinear {bilinear_mae:.4}; nearest and bilinear renders differ by {apart:.4}");
+    assert!(apart > 0.02, "the filters should give different images: {apart}");
+    // 16 jittered samples against 25 fixed points per pixel differ at the texel edges by up
+    // to 1/16 of the colour step: a few thousandths of MAE, far below `apart`.
+    assert!(nearest_mae < 0.03 && bilinear_mae < 0.03, "nearest {nearest_mae}, bilinear {bilinear_mae}");
 }

@@ -7,7 +7,7 @@
 //! from loading.
 
 use crate::mesh_scene::warn;
-use crate::{AlphaMode, ColorSpace, Material, Texture, TextureSlot, WrapMode};
+use crate::{AlphaMode, ColorSpace, Material, Texture, TextureFilter, TextureSlot, WrapMode};
 use glam::{Vec2, Vec3};
 use gltf::texture::WrappingMode;
 use std::collections::HashMap;
@@ -100,7 +100,11 @@ impl<'a> MaterialReader<'a> {
             }
         };
         let sampler = texture.sampler();
-        TextureSlot { wrap: [wrap_mode(sampler.wrap_s()), wrap_mode(sampler.wrap_t())], ..TextureSlot::new(index) }
+        let filter = match sampler.mag_filter() {
+            Some(gltf::texture::MagFilter::Nearest) => TextureFilter::Nearest,
+            _ => TextureFilter::Bilinear,
+        };
+        TextureSlot { wrap: [wrap_mode(sampler.wrap_s()), wrap_mode(sampler.wrap_t())], filter, ..TextureSlot::new(index) }
     }
 
     /// Decodes the image of `texture`, or warns and returns the magenta stand-in.

@@ -166,12 +166,14 @@ pub struct TextureSlot {
     pub transform: Affine2,
     /// Wrap modes along u and v.
     pub wrap: [WrapMode; 2],
+    /// Filtering (glTF: the sampler's `magFilter`; bilinear without one).
+    pub filter: TextureFilter,
 }
 
 impl TextureSlot {
-    /// A slot reading `texture` through set 0, untransformed, repeating.
+    /// A slot reading `texture` through set 0, untransformed, repeating, bilinear.
     pub fn new(texture: u32) -> TextureSlot {
-        TextureSlot { texture, tex_coord: 0, transform: Affine2::IDENTITY, wrap: [WrapMode::Repeat; 2] }
+        TextureSlot { texture, tex_coord: 0, transform: Affine2::IDENTITY, wrap: [WrapMode::Repeat; 2], filter: TextureFilter::Bilinear }
     }
 
     /// Where `uv` reads the image: transformed, then wrapped into [0, 1].
