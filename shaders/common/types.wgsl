@@ -126,8 +126,8 @@ struct Material {
     ior: f32,
     // Base colour texture (integrator/texture.wgsl): the KHR_texture_transform rows giving
     // u' and v' from (u, v, 1), 1 + the texture's index (0: none), and the wrap modes (S in
-    // bits 0-1, T in bits 2-3: 0 repeat, 1 mirrored repeat, 2 clamp) and filter (bit 4:
-    // nearest, else bilinear).
+    // bits 0-1, T in bits 2-3: 0 repeat, 1 mirrored repeat, 2 clamp), filter (bit 4:
+    // nearest, else bilinear) and mip levels (bits 5-6: 0 none, 1 nearest, 2 trilinear).
     uv_transform_u: vec3<f32>,
     base_color_texture: u32,
     uv_transform_v: vec3<f32>,

@@ -12,5 +12,6 @@
 @group(0) @binding(7) var<storage, read_write> nonfinite_counts: array<atomic<u32>>;
 @group(0) @binding(8) var environment_map: texture_2d<f32>;
 // The scene's textures (caustic-gpu scene_data::pack_textures): a header of four words per
-// texture (first texel, width, height, flags: bit 0 sRGB), then RGBA8 texels, one word each.
+// texture (first texel, width, height, flags: bit 0 sRGB, bits 8-15 mip levels), then each
+// texture's mip levels, largest first, RGBA8 texels one word each.
 @group(0) @binding(11) var<storage, read> textures: array<u32>;

@@ -34,7 +34,13 @@ fn surface_interaction(ray: Ray, hit: Hit) -> SurfaceInteraction {
     var material = materials[attributes.material];
     if material.base_color_texture != 0u {
         let uv = w * attributes.uv0 + hit.u * attributes.uv1 + hit.v * attributes.uv2;
-        material = with_base_color_texture(material, uv);
+        var lod = 0.0;
+        if all(ray.origin == frame.eye) {
+            let duv1 = attributes.uv1 - attributes.uv0;
+            let duv2 = attributes.uv2 - attributes.uv0;
+            lod = texture_lod(material, ray.direction, hit.t, tri.v1 - tri.v0, tri.v2 - tri.v0, duv1, duv2);
+        }
+        material = with_base_color_texture(material, uv, lod);
     }
     return SurfaceInteraction(p, ng, ns, front_face, material);
 }

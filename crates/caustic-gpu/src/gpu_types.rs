@@ -155,7 +155,8 @@ pub struct GpuMaterial {
     /// Base colour texture: the row of the transform giving v'.
     pub uv_transform_v: [f32; 3],
     /// Base colour texture: wrap modes, S in bits 0-1 and T in bits 2-3 (0 repeat,
-    /// 1 mirrored repeat, 2 clamp to edge); bit 4: nearest filtering (else bilinear).
+    /// 1 mirrored repeat, 2 clamp to edge); bit 4: nearest filtering (else bilinear); bits
+    /// 5-6: mip levels (0 none, 1 nearest level, 2 blend of two: trilinear).
     pub texture_wrap: u32,
 }
 

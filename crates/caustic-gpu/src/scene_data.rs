@@ -6,7 +6,7 @@
 use crate::gpu_types::{FLAG_VERTEX_NORMALS, GpuLight, GpuMaterial, TriangleShading};
 use caustic_bvh::ShapeInput;
 use caustic_bsdf::params::BsdfParams;
-use caustic_scene::{ColorSpace, Light, Scene, Shape, ShadingModel, ShapeKind, Texture, TextureFilter, TextureSlot, WrapMode, luminance};
+use caustic_scene::{ColorSpace, Light, MipFilter, Scene, Shape, ShadingModel, ShapeKind, Texture, TextureFilter, TextureSlot, WrapMode, luminance};
 use glam::Vec3;
 
 /// Light kinds, as `GpuLight::kind` and `LIGHT_*` in `shaders/common/types.wgsl`.
@@ -123,28 +123,36 @@ fn with_base_color_texture(material: GpuMaterial, slot: Option<TextureSlot>) -> 
         WrapMode::MirroredRepeat => 1,
         WrapMode::ClampToEdge => 2,
     };
+    let mip = |mode| match mode {
+        MipFilter::None => 0,
+        MipFilter::Nearest => 1,
+        MipFilter::Linear => 2,
+    };
     GpuMaterial {
         uv_transform_u: [m.x_axis.x, m.y_axis.x, t.x],
         uv_transform_v: [m.x_axis.y, m.y_axis.y, t.y],
         base_color_texture: slot.texture + 1,
-        texture_wrap: wrap(slot.wrap[0]) | wrap(slot.wrap[1]) << 2 | u32::from(slot.filter == TextureFilter::Nearest) << 4,
+        texture_wrap: wrap(slot.wrap[0]) | wrap(slot.wrap[1]) << 2 | u32::from(slot.filter == TextureFilter::Nearest) << 4 | mip(slot.mip) << 5,
         ..material
     }
 }
 
 /// The scene's textures in the layout of `textures` in `shaders/integrator/bindings.wgsl`:
-/// four words per texture (first texel's word, width, height, flags: bit 0 sRGB), then every
-/// texture's RGBA8 texels, one little-endian word each.
+/// four words per texture (first texel's word, width, height, flags: bit 0 sRGB, bits 8-15
+/// the number of mip levels), then every texture's mip chain ([`Texture::mip_chain`]), level
+/// after level, RGBA8 texels one little-endian word each.
 pub(crate) fn pack_textures(textures: &[Texture]) -> Vec<u32> {
-    let mut words = Vec::with_capacity(4 * textures.len() + textures.iter().map(|t| t.texels.len()).sum::<usize>());
+    let chains: Vec<Vec<Texture>> = textures.iter().map(Texture::mip_chain).collect();
+    let texel_count: usize = chains.iter().flatten().map(|level| level.texels.len()).sum();
+    let mut words = Vec::with_capacity(4 * textures.len() + texel_count);
     let mut first = 4 * textures.len() as u32;
-    for texture in textures {
-        let srgb = u32::from(texture.color_space == ColorSpace::Srgb);
-        words.extend([first, texture.width, texture.height, srgb]);
-        first += texture.texels.len() as u32;
+    for (texture, chain) in textures.iter().zip(&chains) {
+        let flags = u32::from(texture.color_space == ColorSpace::Srgb) | (chain.len() as u32) << 8;
+        words.extend([first, texture.width, texture.height, flags]);
+        first += chain.iter().map(|level| level.texels.len() as u32).sum::<u32>();
     }
-    for texture in textures {
-        words.extend(texture.texels.iter().map(|&texel| u32::from_le_bytes(texel)));
+    for level in chains.iter().flatten() {
+        words.extend(level.texels.iter().map(|&texel| u32::from_le_bytes(texel)));
     }
     words
 }

@@ -6,7 +6,7 @@
 
 use caustic_gpu::{GpuContext, GpuScene, PathTracer, RenderSettings};
 use caustic_image::Image;
-use caustic_scene::{Camera, ColorSpace, Environment, Material, Mesh, Scene, SceneSource, Texture, TextureFilter, TextureSlot, load_scene, texture_transform};
+use caustic_scene::{Camera, ColorSpace, Environment, Material, Mesh, MipFilter, Scene, SceneSource, Texture, TextureFilter, TextureSlot, load_scene, sample_mipmapped, texture_lod, texture_transform};
 use glam::{Vec2, Vec3};
 use std::path::Path;
 
@@ -53,24 +53,33 @@ fn hit_triangle(origin: Vec3, d: Vec3, [a, b, c]: [Vec3; 3]) -> Option<(f32, f32
     (u >= 0.0 && v >= 0.0 && u + v <= 1.0 && t > 0.0).then_some((t, u, v))
 }
 
-/// What the camera ray through pixel position `film` (pixels, y down) hits first: mesh,
-/// triangle and barycentric (u, v).
-fn cast(scene: &Scene, film: Vec2) -> Option<(usize, usize, f32, f32)> {
+/// What the camera ray through pixel position `film` (pixels, y down) hits first.
+struct Cast {
+    mesh: usize,
+    triangle: usize,
+    u: f32,
+    v: f32,
+    distance: f32,
+    direction: Vec3,
+}
+
+/// The first hit of the camera ray through pixel position `film` (pixels, y down).
+fn cast(scene: &Scene, film: Vec2) -> Option<Cast> {
     let (right, up, forward) = scene.camera.frame();
     let half = (scene.camera.fov_y * 0.5).tan();
     let aspect = scene.resolution.0 as f32 / scene.resolution.1 as f32;
     let ndc = Vec2::new(2.0 * film.x / scene.resolution.0 as f32 - 1.0, 1.0 - 2.0 * film.y / scene.resolution.1 as f32);
     let d = (forward + right * ndc.x * half * aspect + up * ndc.y * half).normalize();
-    let mut nearest: Option<(f32, (usize, usize, f32, f32))> = None;
+    let mut nearest: Option<Cast> = None;
     for (m, mesh) in scene.meshes.iter().enumerate() {
         for t in 0..mesh.triangle_count() {
             let Some((distance, u, v)) = hit_triangle(scene.camera.eye, d, mesh.triangle(t)) else { continue };
-            if nearest.is_none_or(|(best, _)| distance < best) {
-                nearest = Some((distance, (m, t, u, v)));
+            if nearest.as_ref().is_none_or(|best| distance < best.distance) {
+                nearest = Some(Cast { mesh: m, triangle: t, u, v, distance, direction: d });
             }
         }
     }
-    nearest.map(|(_, hit)| hit)
+    nearest
 }
 
 /// `value` at the centre of each pixel whose footprint (a 5x5 grid of points from edge to
@@ -91,15 +100,24 @@ fn flat_pixels<T: Copy>(scene: &Scene, image: &Image, value: impl Fn(Vec2) -> Op
     out
 }
 
-/// The linear base colour the ray through `film` sees, from the CPU texture twin.
-fn base_colour(scene: &Scene, film: Vec2) -> Option<Vec3> {
-    let (m, t, u, v) = cast(scene, film)?;
-    let mesh = &scene.meshes[m];
+/// The linear base colour the ray through `film` sees, from the CPU texture twins (mip
+/// chains of `scene.textures` in `chains`, level of detail from the camera ray's footprint).
+fn base_colour(scene: &Scene, chains: &[Vec<Texture>], film: Vec2) -> Option<Vec3> {
+    let hit = cast(scene, film)?;
+    let mesh = &scene.meshes[hit.mesh];
     let material = &scene.materials[mesh.material as usize];
     let slot = material.base_color_texture.expect("textured");
-    let [a, b, c] = mesh.indices[t].map(|i| mesh.uvs[i as usize]);
-    let uv = a * (1.0 - u - v) + b * u + c * v;
-    Some(scene.textures[slot.texture as usize].sample(slot.lookup(uv), slot.filter).truncate() * material.base_color)
+    let [a, b, c] = mesh.indices[hit.triangle].map(|i| mesh.uvs[i as usize]);
+    let uv = a * (1.0 - hit.u - hit.v) + b * hit.u + c * hit.v;
+    let [p0, p1, p2] = mesh.triangle(hit.triangle);
+    let normal = (p1 - p0).cross(p2 - p0);
+    let level0 = &chains[slot.texture as usize][0];
+    let texel_area = (b - a).perp_dot(c - a).abs() * (level0.width * level0.height) as f32 * slot.transform.matrix2.determinant().abs();
+    let cos_theta = hit.direction.dot(normal).abs() / normal.length();
+    let pixel_angle = 2.0 * (scene.camera.fov_y * 0.5).tan() / scene.resolution.1 as f32;
+    let lod = texture_lod(hit.distance, pixel_angle, cos_theta, texel_area / normal.length());
+    let texel = sample_mipmapped(&chains[slot.texture as usize], slot.lookup(uv), lod, slot.filter, slot.mip);
+    Some(texel.truncate() * material.base_color)
 }
 
 /// Renders the model `name` with every material made Lambertian (keeping its base colour
@@ -113,7 +131,8 @@ fn compare_with_cpu_textures(name: &str, size: u32) -> Option<(usize, f32, f32, 
     }
     scene.environment = Environment::Constant(Vec3::ONE);
     let image = render(&scene, 1, 16);
-    let pixels = flat_pixels(&scene, &image, |film| base_colour(&scene, film), |a, b| (a - b).abs().max_element() <= 0.01);
+    let chains: Vec<Vec<Texture>> = scene.textures.iter().map(Texture::mip_chain).collect();
+    let pixels = flat_pixels(&scene, &image, |film| base_colour(&scene, &chains, film), |a, b| (a - b).abs().max_element() <= 0.01);
     let mut colours: Vec<Vec3> = Vec::new();
     for &(want, _) in &pixels {
         if colours.iter().all(|c| (*c - want).length() > 0.1) {
@@ -150,7 +169,7 @@ fn texture_transforms_on_the_device_match_the_cpu() {
 fn emissive_strength_panels_are_1_2_4_8_16() {
     let Some(scene) = shared_model("EmissiveStrengthTest/glTF-Binary/EmissiveStrengthTest.glb", 160) else { return };
     let image = render(&scene, 0, 4);
-    let mesh_at = |film| cast(&scene, film).map(|(m, ..)| m);
+    let mesh_at = |film| cast(&scene, film).map(|hit| hit.mesh);
     let pixels = flat_pixels(&scene, &image, mesh_at, |a, b| a == b);
     let mut panels: Vec<(f32, f32, usize)> = Vec::new();
     for (mesh, colour) in pixels {
@@ -203,11 +222,12 @@ fn checker_scene(filter: TextureFilter) -> Scene {
 /// each pixel's footprint (5x5 points), over the pixels wholly on the square; and the image.
 fn checker_error(scene: &Scene) -> (f32, Image) {
     let image = render(scene, 1, 16);
+    let chains: Vec<Vec<Texture>> = scene.textures.iter().map(Texture::mip_chain).collect();
     let (width, height) = scene.resolution;
     let (mut sum, mut count) = (0.0, 0);
     for y in 0..height {
         for x in 0..width {
-            let grid: Option<Vec<Vec3>> = (0..25).map(|i| base_colour(scene, Vec2::new(x as f32 + 0.1 + 0.2 * (i % 5) as f32, y as f32 + 0.1 + 0.2 * (i / 5) as f32))).collect();
+            let grid: Option<Vec<Vec3>> = (0..25).map(|i| base_colour(scene, &chains, Vec2::new(x as f32 + 0.1 + 0.2 * (i % 5) as f32, y as f32 + 0.1 + 0.2 * (i / 5) as f32))).collect();
             let Some(grid) = grid else { continue };
             let want = grid.iter().sum::<Vec3>() / 25.0;
             sum += (Vec3::from(image.pixels[(y * width + x) as usize]) - want).abs().max_element();
@@ -227,4 +247,34 @@ fn checker_nearest_and_bilinear_match_the_cpu() {
     // 16 jittered samples against 25 fixed points per pixel differ at the texel edges by up
     // to 1/16 of the colour step: a few thousandths of MAE, far below `apart`.
     assert!(nearest_mae < 0.03 && bilinear_mae < 0.03, "nearest {nearest_mae}, bilinear {bilinear_mae}");
+}
+
+/// A square 2.5 units from the camera filling half of a 32x32 image, textured with a
+/// 256x256 one-texel black and white checker: about seven texels per pixel (level of detail
+/// near 2.9), so the mip levels are all 50% grey while level 0 aliases.
+fn minified_checker(mip: MipFilter) -> Scene {
+    let texels = (0..256 * 256).map(|i| if (i % 256 + i / 256) % 2 == 0 { [0, 0, 0, 255] } else { [255; 4] }).collect();
+    let texture = Texture { name: "fine checker".into(), width: 256, height: 256, color_space: ColorSpace::Srgb, texels };
+    let mut scene = checker_scene(TextureFilter::Bilinear);
+    scene.textures = vec![texture];
+    scene.resolution = (32, 32);
+    scene.materials[0].base_color_texture = Some(TextureSlot { mip, ..TextureSlot::new(0) });
+    scene
+}
+
+#[test]
+fn minified_textures_read_their_mip_levels() {
+    let spread = |mip| {
+        let scene = minified_checker(mip);
+        let image = render(&scene, 1, 16);
+        let values: Vec<f32> = (0..32 * 32).filter(|&i| cast(&scene, Vec2::new((i % 32) as f32 + 0.5, (i / 32) as f32 + 0.5)).is_some()).map(|i| image.pixels[i as usize][0]).collect();
+        let mean = values.iter().sum::<f32>() / values.len() as f32;
+        let worst = values.iter().map(|v| (v - mean).abs()).fold(0.0, f32::max);
+        (mean, worst)
+    };
+    let (trilinear_mean, trilinear_worst) = spread(MipFilter::Linear);
+    let (level0_mean, level0_worst) = spread(MipFilter::None);
+    println!("fine checker, minified: trilinear mean {trilinear_mean:.4} (worst pixel off by {trilinear_worst:.4}); level 0 only mean {level0_mean:.4} (worst off by {level0_worst:.4})");
+    assert!((trilinear_mean - 0.5).abs() < 0.01 && trilinear_worst < 0.01, "mip levels of a fine checker are flat grey");
+    assert!(level0_worst > 0.05, "level 0 alone should alias: {level0_worst}");
 }

@@ -7,7 +7,7 @@
 //! from loading.
 
 use crate::mesh_scene::warn;
-use crate::{AlphaMode, ColorSpace, Material, Texture, TextureFilter, TextureSlot, WrapMode};
+use crate::{AlphaMode, ColorSpace, Material, MipFilter, Texture, TextureFilter, TextureSlot, WrapMode};
 use glam::{Vec2, Vec3};
 use gltf::texture::WrappingMode;
 use std::collections::HashMap;
@@ -104,7 +104,13 @@ impl<'a> MaterialReader<'a> {
             Some(gltf::texture::MagFilter::Nearest) => TextureFilter::Nearest,
             _ => TextureFilter::Bilinear,
         };
-        TextureSlot { wrap: [wrap_mode(sampler.wrap_s()), wrap_mode(sampler.wrap_t())], filter, ..TextureSlot::new(index) }
+        use gltf::texture::MinFilter;
+        let mip = match sampler.min_filter() {
+            Some(MinFilter::Nearest | MinFilter::Linear) => MipFilter::None,
+            Some(MinFilter::NearestMipmapNearest | MinFilter::LinearMipmapNearest) => MipFilter::Nearest,
+            Some(MinFilter::NearestMipmapLinear | MinFilter::LinearMipmapLinear) | None => MipFilter::Linear,
+        };
+        TextureSlot { wrap: [wrap_mode(sampler.wrap_s()), wrap_mode(sampler.wrap_t())], filter, mip, ..TextureSlot::new(index) }
     }
 
     /// Decodes the image of `texture`, or warns and returns the magenta stand-in.

@@ -38,4 +38,4 @@ pub use mesh::Mesh;
 pub use options::{ImportanceSampling, Integrator, NextEvent, RenderOptions, RenderPass};
 pub use scene::{EmissiveTriangle, Scene, luminance};
 pub use shape::{Shape, ShapeKind};
-pub use texture::{srgb_to_linear, texture_transform, ColorSpace, Texture, TextureFilter, TextureSlot, WrapMode, MAX_TEXTURE_SIZE};
+pub use texture::{linear_to_srgb, sample_mipmapped, srgb_to_linear, texture_lod, texture_transform, ColorSpace, MipFilter, Texture, TextureFilter, TextureSlot, WrapMode, MAX_TEXTURE_SIZE};

@@ -100,6 +100,33 @@ impl Texture {
         }
     }
 
+    /// The mip chain: this texture, then levels of half the size (rounded down, at least 1)
+    /// down to 1x1, each texel the mean of 2x2 texels of the level above (averaged in linear
+    /// light for sRGB textures).
+    pub fn mip_chain(&self) -> Vec<Texture> {
+        let mut levels = vec![self.clone()];
+        while let Some(above) = levels.last().filter(|t| t.width > 1 || t.height > 1) {
+            let (width, height) = ((above.width / 2).max(1), (above.height / 2).max(1));
+            let texel = |x: u32, y: u32| {
+                let mean = [(0, 0), (1, 0), (0, 1), (1, 1)].iter().map(|&(dx, dy)| above.linear(2 * x + dx, 2 * y + dy)).sum::<Vec4>() / 4.0;
+                self.encode(mean)
+            };
+            let texels = (0..width * height).map(|i| texel(i % width, i / width)).collect();
+            levels.push(Texture { name: self.name.clone(), width, height, color_space: self.color_space, texels });
+        }
+        levels
+    }
+
+    /// A linear RGBA value as this texture stores it (sRGB-encoded or not), rounded.
+    fn encode(&self, c: Vec4) -> [u8; 4] {
+        let encode = |v: f32| match self.color_space {
+            ColorSpace::Srgb => linear_to_srgb(v),
+            ColorSpace::Linear => v,
+        };
+        let byte = |v: f32| (v.clamp(0.0, 1.0) * 255.0).round() as u8;
+        [byte(encode(c.x)), byte(encode(c.y)), byte(encode(c.z)), byte(c.w)]
+    }
+
     /// Bytes held by the texels.
     pub fn memory_bytes(&self) -> usize {
         self.texels.len() * 4
@@ -125,6 +152,49 @@ pub enum TextureFilter {
     /// The four nearest texels, weighted by distance.
     #[default]
     Bilinear,
+}
+
+/// How mip levels are used when a texture is minified (glTF: the sampler's `minFilter`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum MipFilter {
+    /// Level 0 only.
+    None,
+    /// The level nearest the level of detail.
+    Nearest,
+    /// The two levels around the level of detail, blended (trilinear with bilinear levels).
+    #[default]
+    Linear,
+}
+
+/// A sample of the mip chain `levels` ([`Texture::mip_chain`]) at wrapped `uv` and level
+/// of detail `lod` (0 = full size, clamped to the chain), each level read with `filter`.
+/// The CPU twin of `sample_texture` in `shaders/integrator/texture.wgsl`.
+pub fn sample_mipmapped(levels: &[Texture], uv: Vec2, lod: f32, filter: TextureFilter, mip: MipFilter) -> Vec4 {
+    let lod = lod.clamp(0.0, (levels.len() - 1) as f32);
+    match mip {
+        MipFilter::None => levels[0].sample(uv, filter),
+        MipFilter::Nearest => levels[(lod + 0.5).floor() as usize].sample(uv, filter),
+        MipFilter::Linear => {
+            let below = lod.floor() as usize;
+            let above = (below + 1).min(levels.len() - 1);
+            levels[below].sample(uv, filter).lerp(levels[above].sample(uv, filter), lod - below as f32)
+        }
+    }
+}
+
+/// The level of detail at which a camera ray sees a texture: log2 of the width of the
+/// pixel's footprint in texels. The footprint is `distance x pixel_angle` wide across the
+/// ray, stretched by 1 / sqrt(cos_theta) on a tilted surface (the geometric mean of the
+/// stretched and the unstretched side); `texels_per_area` is the triangle's area in texels
+/// (after the texture transform) over its area in world units. The CPU twin of
+/// `texture_lod` in `shaders/integrator/texture.wgsl`.
+pub fn texture_lod(distance: f32, pixel_angle: f32, cos_theta: f32, texels_per_area: f32) -> f32 {
+    (distance * pixel_angle * texels_per_area.sqrt() / cos_theta.max(1e-3).sqrt()).log2()
+}
+
+/// The sRGB transfer function: a linear value in [0, 1] to its encoding.
+pub fn linear_to_srgb(c: f32) -> f32 {
+    if c <= 0.0031308 { 12.92 * c } else { 1.055 * c.powf(1.0 / 2.4) - 0.055 }
 }
 
 /// The sRGB transfer function inverted: an encoded value in [0, 1] to linear.
@@ -166,14 +236,16 @@ pub struct TextureSlot {
     pub transform: Affine2,
     /// Wrap modes along u and v.
     pub wrap: [WrapMode; 2],
-    /// Filtering (glTF: the sampler's `magFilter`; bilinear without one).
+    /// Filtering within a level (glTF: the sampler's `magFilter`; bilinear without one).
     pub filter: TextureFilter,
+    /// Use of mip levels when minified (glTF: the sampler's `minFilter`; trilinear without one).
+    pub mip: MipFilter,
 }
 
 impl TextureSlot {
-    /// A slot reading `texture` through set 0, untransformed, repeating, bilinear.
+    /// A slot reading `texture` through set 0, untransformed, repeating, trilinear.
     pub fn new(texture: u32) -> TextureSlot {
-        TextureSlot { texture, tex_coord: 0, transform: Affine2::IDENTITY, wrap: [WrapMode::Repeat; 2], filter: TextureFilter::Bilinear }
+        TextureSlot { texture, tex_coord: 0, transform: Affine2::IDENTITY, wrap: [WrapMode::Repeat; 2], filter: TextureFilter::Bilinear, mip: MipFilter::Linear }
     }
 
     /// Where `uv` reads the image: transformed, then wrapped into [0, 1].

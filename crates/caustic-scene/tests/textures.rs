@@ -3,7 +3,7 @@
 
 mod common;
 
-use caustic_scene::{ColorSpace, Mesh, Scene, Texture, TextureFilter, TextureSlot, WrapMode};
+use caustic_scene::{sample_mipmapped, srgb_to_linear, texture_lod, ColorSpace, Mesh, MipFilter, Scene, Texture, TextureFilter, TextureSlot, WrapMode};
 use glam::{Vec2, Vec3, Vec4};
 
 /// A 2x1 texture, black then white.
@@ -112,4 +112,23 @@ fn texture_transform_test_lands_on_its_correct_markers() {
         println!("{material}: arrow tip at {tip}, nearest marker '{nearest}' at {centre} ({:.3} away)", centre.distance(tip));
         assert_eq!(*nearest, "Correct", "{material}: the arrow points at a '{nearest}' marker");
     }
+}
+
+#[test]
+fn mip_chains_average_in_linear_light() {
+    let texture = Texture { texels: vec![[0, 0, 0, 255], [255; 4], [0, 0, 0, 255], [255; 4], [255; 4], [0, 0, 0, 255], [255; 4], [0, 0, 0, 255]], width: 4, height: 2, ..black_white(ColorSpace::Srgb) };
+    let chain = texture.mip_chain();
+    let sizes: Vec<(u32, u32)> = chain.iter().map(|level| (level.width, level.height)).collect();
+    println!("levels {sizes:?}, level 1 {:?}, level 2 {:?}", chain[1].texels, chain[2].texels);
+    assert_eq!(sizes, [(4, 2), (2, 1), (1, 1)]);
+    assert_eq!(chain[1].texels, [[188, 188, 188, 255]; 2], "half black, half white: 50% linear grey, sRGB 188");
+    let linear = Texture { color_space: ColorSpace::Linear, ..texture }.mip_chain();
+    assert_eq!(linear[2].texels, [[128, 128, 128, 255]]);
+    let halfway = sample_mipmapped(&chain, Vec2::splat(0.5), 0.5, TextureFilter::Nearest, MipFilter::Linear);
+    let nearest_level = sample_mipmapped(&chain, Vec2::new(0.1, 0.25), 0.4, TextureFilter::Nearest, MipFilter::Nearest);
+    println!("trilinear halfway between levels 0 and 1 at (0.5, 0.5): {halfway}; nearest level at lod 0.4: {nearest_level}");
+    assert!((halfway.x - (0.5 * 1.0 + 0.5 * srgb_to_linear(188.0 / 255.0))).abs() < 1e-6, "{halfway}");
+    assert_eq!(nearest_level.x, 0.0, "lod 0.4 reads level 0");
+    assert!((texture_lod(2.0, 0.01, 1.0, 400.0) - (0.4f32).log2()).abs() < 1e-6, "2 x 0.01 wide, 20 texels a unit");
+    assert!((texture_lod(2.0, 0.01, 0.25, 400.0) - (0.8f32).log2()).abs() < 1e-6, "a tilt by cos 1/4 doubles it");
 }
