@@ -113,8 +113,8 @@ fn gpu_material(m: &caustic_scene::Material) -> GpuMaterial {
     }
 }
 
-/// `material` reading the base colour texture of `slot` (texture coordinate set 0; the
-/// device has no second set yet), with its transform, wrap modes and filter.
+/// `material` reading the base colour texture of `slot` with its transform, wrap modes and
+/// filters (its texture coordinate set is chosen by [`mesh_shading`]).
 fn with_base_color_texture(material: GpuMaterial, slot: Option<TextureSlot>) -> GpuMaterial {
     let Some(slot) = slot else { return material };
     let (m, t) = (slot.transform.matrix2, slot.transform.translation);
@@ -197,14 +197,19 @@ pub fn material_with_bsdf(p: &BsdfParams) -> GpuMaterial {
     }
 }
 
+/// Per-triangle shading entries. The texture coordinates are the set the material's base
+/// colour texture reads (`TEXCOORD_1` or, by default, `TEXCOORD_0`): the only texture the
+/// device samples, so one set per triangle suffices.
 fn mesh_shading(scene: &Scene) -> Vec<TriangleShading> {
     let mut out = Vec::with_capacity(scene.triangle_count());
     for mesh in &scene.meshes {
         let has_normals = !mesh.normals.is_empty();
+        let slot = scene.materials.get(mesh.material as usize).and_then(|m| m.base_color_texture);
+        let uvs = if slot.is_some_and(|slot| slot.tex_coord == 1) { &mesh.uvs1 } else { &mesh.uvs };
         for tri in &mesh.indices {
             let corner = |k: usize| tri[k] as usize;
             let normal = |k: usize| if has_normals { mesh.normals[corner(k)].to_array() } else { [0.0; 3] };
-            let uv = |k: usize| mesh.uvs.get(corner(k)).map_or([0.0; 2], |uv| uv.to_array());
+            let uv = |k: usize| uvs.get(corner(k)).map_or([0.0; 2], |uv| uv.to_array());
             out.push(TriangleShading {
                 n0: normal(0),
                 n1: normal(1),

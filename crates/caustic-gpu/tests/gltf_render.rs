@@ -107,7 +107,8 @@ fn base_colour(scene: &Scene, chains: &[Vec<Texture>], film: Vec2) -> Option<Vec
     let mesh = &scene.meshes[hit.mesh];
     let material = &scene.materials[mesh.material as usize];
     let slot = material.base_color_texture.expect("textured");
-    let [a, b, c] = mesh.indices[hit.triangle].map(|i| mesh.uvs[i as usize]);
+    let uvs = if slot.tex_coord == 1 { &mesh.uvs1 } else { &mesh.uvs };
+    let [a, b, c] = mesh.indices[hit.triangle].map(|i| uvs[i as usize]);
     let uv = a * (1.0 - hit.u - hit.v) + b * hit.u + c * hit.v;
     let [p0, p1, p2] = mesh.triangle(hit.triangle);
     let normal = (p1 - p0).cross(p2 - p0);
@@ -193,17 +194,19 @@ fn emissive_strength_panels_are_1_2_4_8_16() {
     }
 }
 
-/// A square facing the camera textured with a 4x4 checker of distinct colours, repeated
-/// twice each way by its transform, so texels are several pixels wide.
+/// A square facing the camera textured with a 4x4 checker of distinct colours through
+/// TEXCOORD_1 (TEXCOORD_0 is a decoy), repeated twice each way by its transform, so texels
+/// are several pixels wide.
 fn checker_scene(filter: TextureFilter) -> Scene {
     let colours = [[230, 25, 75], [60, 180, 75], [255, 225, 25], [0, 130, 200], [245, 130, 48], [145, 30, 180], [70, 240, 240], [240, 50, 230]];
     let texels = (0..16).map(|i| { let [r, g, b] = colours[(i + i / 4) % 8]; [r, g, b, 255] }).collect();
     let texture = Texture { name: "checker".into(), width: 4, height: 4, color_space: ColorSpace::Srgb, texels };
-    let slot = TextureSlot { transform: texture_transform(Vec2::ZERO, 0.0, Vec2::splat(2.0)), filter, ..TextureSlot::new(0) };
+    let slot = TextureSlot { tex_coord: 1, transform: texture_transform(Vec2::ZERO, 0.0, Vec2::splat(2.0)), filter, ..TextureSlot::new(0) };
     let square = Mesh {
         name: "square".into(),
         positions: vec![Vec3::new(-1.0, 1.0, 0.0), Vec3::new(-1.0, -1.0, 0.0), Vec3::new(1.0, -1.0, 0.0), Vec3::new(1.0, 1.0, 0.0)],
-        uvs: vec![Vec2::ZERO, Vec2::Y, Vec2::ONE, Vec2::X],
+        uvs: vec![Vec2::splat(0.5); 4],
+        uvs1: vec![Vec2::ZERO, Vec2::Y, Vec2::ONE, Vec2::X],
         indices: vec![[0, 1, 2], [0, 2, 3]],
         ..Mesh::default()
     };
@@ -258,7 +261,7 @@ fn minified_checker(mip: MipFilter) -> Scene {
     let mut scene = checker_scene(TextureFilter::Bilinear);
     scene.textures = vec![texture];
     scene.resolution = (32, 32);
-    scene.materials[0].base_color_texture = Some(TextureSlot { mip, ..TextureSlot::new(0) });
+    scene.materials[0].base_color_texture = Some(TextureSlot { mip, tex_coord: 1, ..TextureSlot::new(0) });
     scene
 }
 
