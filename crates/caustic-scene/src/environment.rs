@@ -30,8 +30,12 @@ pub struct EnvironmentMap {
 }
 
 impl EnvironmentMap {
-    /// Loads a `.hdr` or `.exr` latitude-longitude map.
+    /// Loads a `.hdr` or `.exr` latitude-longitude map, or a folder holding a six-face
+    /// cubemap ([`EnvironmentMap::from_cubemap`]).
     pub fn load(path: &std::path::Path) -> Result<EnvironmentMap, crate::SceneError> {
+        if path.is_dir() {
+            return EnvironmentMap::from_cubemap(path);
+        }
         let image = image::open(path)
             .map_err(|e| crate::SceneError::file(path, format!("cannot read environment map: {e}")))?
             .into_rgb32f();
@@ -43,4 +47,80 @@ impl EnvironmentMap {
         }
         Ok(EnvironmentMap { width, height, texels })
     }
+}
+
+/// Names of a cubemap's faces in OpenGL order (+X, -X, +Y, -Y, +Z, -Z).
+const CUBE_FACES: [&str; 6] = ["posx", "negx", "posy", "negy", "posz", "negz"];
+
+/// Width of the latitude-longitude map a cubemap is resampled to: four faces around, at
+/// most 2048 texels.
+const CUBEMAP_MAX_WIDTH: u32 = 2048;
+
+impl EnvironmentMap {
+    /// Resamples the six-face cubemap in folder `dir` (files `posx`, `negx`, `posy`, `negy`,
+    /// `posz`, `negz` with any image extension, OpenGL face orientation) to a
+    /// latitude-longitude map 4 faces wide (at most 2048 texels), bilinearly. 8-bit faces are
+    /// sRGB-decoded to linear radiance; `.hdr`/`.exr` faces are used as they are.
+    pub fn from_cubemap(dir: &std::path::Path) -> Result<EnvironmentMap, crate::SceneError> {
+        let faces = CUBE_FACES.iter().map(|name| read_face(dir, name)).collect::<Result<Vec<_>, _>>()?;
+        let size = faces[0].width();
+        if let Some(i) = faces.iter().position(|face| face.dimensions() != (size, size)) {
+            let (w, h) = faces[i].dimensions();
+            return Err(crate::SceneError::file(dir, format!("cubemap face {} is {w}x{h}; every face must be square and {size}x{size} like posx", CUBE_FACES[i])));
+        }
+        let width = (4 * size).min(CUBEMAP_MAX_WIDTH);
+        let height = (width / 2).max(1);
+        let texels = (0..width * height)
+            .map(|i| {
+                let (u, v) = (((i % width) as f32 + 0.5) / width as f32, ((i / width) as f32 + 0.5) / height as f32);
+                let (phi, theta) = ((u - 0.5) * std::f32::consts::TAU, v * std::f32::consts::PI);
+                let direction = Vec3::new(theta.sin() * phi.sin(), theta.cos(), -theta.sin() * phi.cos());
+                cube_lookup(&faces, direction)
+            })
+            .collect();
+        Ok(EnvironmentMap { width, height, texels })
+    }
+}
+
+/// One face as linear RGB: the first file in `dir` whose stem is `name`.
+fn read_face(dir: &std::path::Path, name: &str) -> Result<image::Rgb32FImage, crate::SceneError> {
+    let entries = std::fs::read_dir(dir).map_err(|e| crate::SceneError::file(dir, format!("cannot list the cubemap folder: {e}")))?;
+    let mut files: Vec<std::path::PathBuf> = entries.flatten().map(|e| e.path()).filter(|p| p.file_stem().is_some_and(|s| s == name)).collect();
+    files.sort();
+    let file = files.first().ok_or_else(|| crate::SceneError::file(dir, format!("cubemap face '{name}' is missing (faces: {})", CUBE_FACES.join(", "))))?;
+    let image = image::open(file).map_err(|e| crate::SceneError::file(file, format!("cannot read cubemap face: {e}")))?;
+    let linear = matches!(image, image::DynamicImage::ImageRgb32F(_) | image::DynamicImage::ImageRgba32F(_));
+    let mut rgb = image.into_rgb32f();
+    if !linear {
+        rgb.pixels_mut().for_each(|p| p.0 = p.0.map(crate::srgb_to_linear));
+    }
+    if let Some(bad) = rgb.pixels().position(|p| p.0.iter().any(|c| !c.is_finite() || *c < 0.0)) {
+        return Err(crate::SceneError::file(file, format!("texel {bad} is negative or not finite")));
+    }
+    Ok(rgb)
+}
+
+/// The bilinear radiance of `faces` (OpenGL order and orientation) in `direction`.
+fn cube_lookup(faces: &[image::Rgb32FImage], d: Vec3) -> [f32; 3] {
+    let a = d.abs();
+    let (face, sc, tc, ma) = if a.x >= a.y && a.x >= a.z {
+        if d.x > 0.0 { (0, -d.z, -d.y, a.x) } else { (1, d.z, -d.y, a.x) }
+    } else if a.y >= a.z {
+        if d.y > 0.0 { (2, d.x, d.z, a.y) } else { (3, d.x, -d.z, a.y) }
+    } else if d.z > 0.0 {
+        (4, d.x, -d.y, a.z)
+    } else {
+        (5, -d.x, -d.y, a.z)
+    };
+    let image = &faces[face];
+    let size = image.width() as f32;
+    let at = |c: f32| ((c / ma + 1.0) * 0.5 * size - 0.5).clamp(0.0, size - 1.0);
+    let (x, y) = (at(sc), at(tc));
+    let (x0, y0) = (x.floor() as u32, y.floor() as u32);
+    let (x1, y1) = ((x0 + 1).min(image.width() - 1), (y0 + 1).min(image.height() - 1));
+    let (fx, fy) = (x - x0 as f32, y - y0 as f32);
+    let texel = |x: u32, y: u32| Vec3::from(image.get_pixel(x, y).0);
+    let top = texel(x0, y0).lerp(texel(x1, y0), fx);
+    let bottom = texel(x0, y1).lerp(texel(x1, y1), fx);
+    top.lerp(bottom, fy).to_array()
 }
