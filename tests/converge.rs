@@ -9,6 +9,7 @@ fn error_falls_with_samples_and_outputs_are_written() {
     let dir = support::scratch("converge");
     let reference = dir.join("reference.exr");
     let rendered = support::caustic(&["render", "--size", "32x32", "--spp", "1024", "--seed", "99", "-o", reference.to_str().unwrap()]);
+    // Independent numbers: the test is about the Monte Carlo rate (Sobol's is faster).
     assert!(rendered.status.success());
     let (csv, plot) = (dir.join("converge.csv"), dir.join("converge.svg"));
     let report = support::caustic_json(&[
@@ -19,6 +20,8 @@ fn error_falls_with_samples_and_outputs_are_written() {
         "64",
         "--points-per-doubling",
         "1",
+        "--sampler",
+        "independent",
         "--csv",
         csv.to_str().unwrap(),
         "--plot",

@@ -46,7 +46,7 @@ pub struct ConvergeArgs {
     #[arg(long, default_value = "auto", value_parser = crate::args::parse_data_path)]
     pub data_path: caustic_gpu::DataPath,
     /// Sample generator: independent or sobol (Owen-scrambled).
-    #[arg(long, default_value = "independent", value_parser = crate::args::parse_sampler)]
+    #[arg(long, default_value = "sobol", value_parser = crate::args::parse_sampler)]
     pub sampler: caustic_gpu::Sampler,
     /// Scene settings that replace the scene's.
     #[command(flatten)]

