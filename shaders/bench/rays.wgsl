@@ -87,13 +87,6 @@ fn primitive_normal(id: u32, slot: u32, p: vec3<f32>) -> vec3<f32> {
     return normalize(cross(tri.v1 - tri.v0, tri.v2 - tri.v0));
 }
 
-fn square_to_uniform_sphere(u: vec2<f32>) -> vec3<f32> {
-    let z = 1.0 - 2.0 * u.x;
-    let r = sqrt(max(0.0, 1.0 - z * z));
-    let phi = 2.0 * PI * u.y;
-    return vec3<f32>(r * cos(phi), r * sin(phi), z);
-}
-
 @compute @workgroup_size(64)
 fn trace_rays(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
     let i = ray_index(id, groups);

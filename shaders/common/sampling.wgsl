@@ -41,6 +41,22 @@ fn square_to_concentric_disk(u: vec2<f32>) -> vec2<f32> {
 }
 
 // Barycentrics (b1, b2) of a uniformly distributed point on a triangle.
+// A uniformly distributed direction on the unit sphere.
+fn square_to_uniform_sphere(u: vec2<f32>) -> vec3<f32> {
+    let z = 1.0 - 2.0 * u.x;
+    let r = sqrt(max(0.0, 1.0 - z * z));
+    let phi = 2.0 * PI * u.y;
+    return vec3<f32>(r * cos(phi), r * sin(phi), z);
+}
+
+// A uniformly distributed direction in the cone of half-angle acos(cos_max) around +z.
+fn square_to_uniform_cone(u: vec2<f32>, cos_max: f32) -> vec3<f32> {
+    let z = 1.0 - u.x * (1.0 - cos_max);
+    let r = sqrt(max(0.0, 1.0 - z * z));
+    let phi = 2.0 * PI * u.y;
+    return vec3<f32>(r * cos(phi), r * sin(phi), z);
+}
+
 fn square_to_triangle(u: vec2<f32>) -> vec2<f32> {
     let s = sqrt(u.x);
     return vec2<f32>(1.0 - s, u.y * s);

@@ -136,10 +136,12 @@ struct Material {
 
 // One light; `cdf` is the inclusive upper end of its share of total power. By kind:
 // triangle / quad: corner v0 and edges e1, e2 (emitting towards cross(e1, e2)), area;
-// point: position v0, attenuation (constant, linear, quadratic) in e1;
+// point: position v0, attenuation (constant, linear, quadratic) in e1, spread (the radius
+// of the sphere it is sampled over, 0 for a point) in area;
 // spot: as point, plus the cone: axis (the way it shines) x cone scale in e2, cone offset in
 // area (caustic_scene::spot_scale_offset);
-// directional: unit direction towards the light in v0. `radiance` is the emitted radiance
+// directional: unit direction towards the light in v0, spread (tangent of the half-angle of
+// the cone of arrival directions, 0 for parallel light) in area. `radiance` is the emitted radiance
 // (area lights) or the colour (point, directional).
 struct Light {
     v0: vec3<f32>,

@@ -47,14 +47,20 @@ fn sample_light(p: vec3<f32>, u_select: f32, u_point: vec2<f32>) -> LightSample 
 // A sample of one given light, with the density of the point on it (not of selecting it).
 fn sample_one_light(light: Light, p: vec3<f32>, u: vec2<f32>) -> LightSample {
     if light.kind == LIGHT_POINT || light.kind == LIGHT_SPOT {
-        let to_light = light.v0 - p;
+        // A spread point light is a sphere: a point of it drawn uniformly (soft shadows, the
+        // same colour on average); spot lights keep their point.
+        let spread = select(0.0, light.area, light.kind == LIGHT_POINT);
+        let to_light = light.v0 + spread * square_to_uniform_sphere(u) - p;
         let distance = length(to_light);
         let wi = to_light / distance;
         let falloff = light.e1.x + distance * (light.e1.y + distance * light.e1.z);
         return LightSample(wi, distance, light.radiance * spot_cone(light, wi) / falloff, 1.0, true);
     }
     if light.kind == LIGHT_DIRECTIONAL {
-        return LightSample(light.v0, FAR_AWAY, light.radiance, 1.0, true);
+        // Spread: a direction drawn uniformly from the cone of half-angle atan(spread).
+        let cos_max = 1.0 / sqrt(1.0 + light.area * light.area);
+        let wi = frame_to_world(frame_from_normal(light.v0), square_to_uniform_cone(u, cos_max));
+        return LightSample(wi, FAR_AWAY, light.radiance, 1.0, true);
     }
     let b = select(square_to_triangle(u), u, light.kind == LIGHT_QUAD);
     let q = light.v0 + b.x * light.e1 + b.y * light.e2;

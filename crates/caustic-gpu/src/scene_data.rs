@@ -234,9 +234,10 @@ fn area_light(kind: u32, v0: Vec3, e1: Vec3, e2: Vec3, radiance: Vec3) -> GpuLig
 fn light(light: &Light) -> GpuLight {
     match *light {
         Light::Quad { corner, edge_a, edge_b, radiance } => area_light(LIGHT_QUAD, corner, edge_a, edge_b, radiance),
-        Light::Point { position, color, attenuation: a } => GpuLight {
+        Light::Point { position, color, attenuation: a, spread } => GpuLight {
             v0: position.to_array(),
             e1: [a.constant, a.linear, a.quadratic],
+            area: spread,
             kind: LIGHT_POINT,
             radiance: color.to_array(),
             ..Default::default()
@@ -253,8 +254,9 @@ fn light(light: &Light) -> GpuLight {
                 ..Default::default()
             }
         }
-        Light::Directional { direction, color } => GpuLight {
+        Light::Directional { direction, color, spread } => GpuLight {
             v0: direction.normalize().to_array(),
+            area: spread,
             kind: LIGHT_DIRECTIONAL,
             radiance: color.to_array(),
             ..Default::default()

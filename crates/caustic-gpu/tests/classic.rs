@@ -25,7 +25,7 @@ fn floor(material: Material, lights: Vec<Light>) -> Scene {
         materials: vec![material, Material { ambient: Vec3::splat(0.3), ..Material::diffuse("blocker", Vec3::ZERO) }],
         shapes: vec![Shape::plane(Mat4::IDENTITY, Vec3::ZERO, Vec3::Y, 0)],
         lights,
-        camera: Camera { eye: Vec3::new(0.0, 4.0, 0.0), target: Vec3::ZERO, up: Vec3::NEG_Z, fov_y: 30f32.to_radians() },
+        camera: Camera { eye: Vec3::new(0.0, 4.0, 0.0), target: Vec3::ZERO, up: Vec3::NEG_Z, fov_y: 30f32.to_radians(), ..Camera::default() },
         resolution: (32, 32),
         ..Scene::default()
     }
@@ -38,7 +38,7 @@ fn count_near(values: &[f32], target: f32) -> usize {
 #[test]
 fn ambient_plus_lambert_from_a_directional_light() {
     let material = Material { ambient: Vec3::splat(0.1), ..Material::diffuse("floor", Vec3::splat(0.5)) };
-    let light = Light::Directional { direction: Vec3::Y, color: Vec3::ONE };
+    let light = Light::Directional { direction: Vec3::Y, color: Vec3::ONE, spread: 0.0 };
     let values = classic(&floor(material, vec![light]), 5, 1);
     let exact = count_near(&values, 0.6);
     println!("{exact} of {} pixels are exactly ambient 0.1 + diffuse 0.5 x N.L 1", values.len());
@@ -48,7 +48,7 @@ fn ambient_plus_lambert_from_a_directional_light() {
 #[test]
 fn shadows_leave_only_the_ambient_term() {
     let material = Material { ambient: Vec3::splat(0.1), ..Material::diffuse("floor", Vec3::splat(0.5)) };
-    let light = Light::Directional { direction: Vec3::new(1.0, 1.0, 0.0).normalize(), color: Vec3::ONE };
+    let light = Light::Directional { direction: Vec3::new(1.0, 1.0, 0.0).normalize(), color: Vec3::ONE, spread: 0.0 };
     let mut scene = floor(material, vec![light]);
     scene.shapes.push(Shape::disk(Mat4::IDENTITY, Vec3::new(-0.3, 0.3, 0.0), Vec3::Y, 0.2, 1));
     let values = classic(&scene, 5, 1);
@@ -62,7 +62,7 @@ fn shadows_leave_only_the_ambient_term() {
 #[test]
 fn blinn_phong_highlight_peaks_at_the_mirror_direction() {
     let material = Material { specular_color: Vec3::splat(0.4), shininess: 50.0, ..Material::diffuse("floor", Vec3::ZERO) };
-    let light = Light::Directional { direction: Vec3::Y, color: Vec3::ONE };
+    let light = Light::Directional { direction: Vec3::Y, color: Vec3::ONE, spread: 0.0 };
     let values = classic(&floor(material, vec![light]), 0, 1);
     let centre = values[16 * 32 + 16];
     let corner = values[0];

@@ -16,7 +16,7 @@ fn plane_scene(lights: Vec<Light>) -> Scene {
         materials: vec![Material::diffuse("plane", Vec3::splat(ALBEDO))],
         shapes: vec![Shape::plane(Mat4::IDENTITY, Vec3::ZERO, Vec3::Y, 0)],
         lights,
-        camera: Camera { eye: Vec3::new(0.0, 4.0, 0.0), target: Vec3::ZERO, up: Vec3::NEG_Z, fov_y: 30f32.to_radians() },
+        camera: Camera { eye: Vec3::new(0.0, 4.0, 0.0), target: Vec3::ZERO, up: Vec3::NEG_Z, fov_y: 30f32.to_radians(), ..Camera::default() },
         resolution: (SIZE, SIZE),
         ..Scene::default()
     }
@@ -59,7 +59,7 @@ fn compare(pixels: &[(Vec3, f32)], expected: impl Fn(Vec3) -> f32) -> (f32, f32)
 fn point_light_with_inverse_square_falloff() {
     let position = Vec3::new(0.3, 1.5, -0.2);
     let intensity = 5.0;
-    let light = Light::Point { position, color: Vec3::splat(intensity), attenuation: Attenuation { constant: 0.0, linear: 0.0, quadratic: 1.0 } };
+    let light = Light::Point { position, color: Vec3::splat(intensity), attenuation: Attenuation { constant: 0.0, linear: 0.0, quadratic: 1.0 }, spread: 0.0 };
     let pixels = render(&plane_scene(vec![light]), 4);
     let expected = |p: Vec3| {
         let to_light = position - p;
@@ -75,7 +75,7 @@ fn point_light_with_inverse_square_falloff() {
 #[test]
 fn directional_light_lights_evenly_by_cosine() {
     let direction = Vec3::new(1.0, 2.0, 0.5).normalize();
-    let light = Light::Directional { direction, color: Vec3::splat(3.0) };
+    let light = Light::Directional { direction, color: Vec3::splat(3.0), spread: 0.0 };
     let pixels = render(&plane_scene(vec![light]), 2);
     let (worst, ratio) = compare(&pixels, |_| ALBEDO / PI * 3.0 * direction.y);
     println!("directional light: worst pixel error {:.4}%, mean ratio {ratio:.6}", worst * 100.0);
@@ -136,4 +136,36 @@ fn analytic_direct_is_the_exact_polygon_irradiance() {
     let exact = ALBEDO / PI * polygon_irradiance(Vec3::ZERO, &corners, 4.0);
     println!("analytic direct: centre pixel {centre:.5}, exact at the plane's centre {exact:.5}");
     assert!((centre / exact - 1.0).abs() < 0.01);
+}
+
+/// Width in pixels of the shadow edge (pixels between 10% and 90% of the lit level) along the
+/// middle row of a sphere's shadow cast by a point light spread over `spread`.
+fn penumbra_width(spread: f32) -> usize {
+    let position = Vec3::new(0.0, 3.0, 0.0);
+    let mut scene = plane_scene(vec![Light::Point { position, color: Vec3::splat(9.0), attenuation: Attenuation::default(), spread }]);
+    let (centre, radius) = (Vec3::new(0.0, 1.0, 0.0), 0.3);
+    scene.shapes.push(Shape::sphere(Mat4::IDENTITY, centre, radius, 0));
+    let pixels = render(&scene, 64);
+    let row = &pixels[(SIZE / 2 * SIZE) as usize..(SIZE / 2 * SIZE + SIZE) as usize];
+    // Pixels that see the floor (not the sphere), by a ray-sphere test of their camera ray.
+    let eye = scene.camera.eye;
+    let floor: Vec<f32> = row
+        .iter()
+        .filter(|(p, _)| {
+            let d = (*p - eye).normalize();
+            let along = (centre - eye).dot(d);
+            (eye + d * along).distance(centre) > radius
+        })
+        .map(|(_, v)| *v)
+        .collect();
+    let lit = floor.iter().copied().fold(0.0, f32::max);
+    floor.iter().filter(|&&v| v > 0.1 * lit && v < 0.9 * lit).count()
+}
+
+#[test]
+fn the_penumbra_widens_with_the_light_spread() {
+    let widths: Vec<usize> = [0.0, 0.3, 0.8].into_iter().map(penumbra_width).collect();
+    println!("penumbra width (pixels across both shadow edges) for spread 0, 0.3, 0.8: {widths:?}");
+    assert!(widths[0] <= 4, "a point light casts a sharp shadow (only the pixels the edge crosses)");
+    assert!(widths[1] > widths[0] + 2 && widths[2] > widths[1] + 2, "a larger light, a wider penumbra");
 }

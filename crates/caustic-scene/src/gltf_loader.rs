@@ -268,7 +268,7 @@ fn perspective_camera(camera: &gltf::Camera, world: Mat4) -> Option<(Camera, Opt
     let target = eye + forward * eye.length().max(1.0);
     let height = DEFAULT_RESOLUTION.1;
     let resolution = perspective.aspect_ratio().map(|aspect| (((height as f32 * aspect).round() as u32).max(1), height));
-    Some((Camera { eye, target, up, fov_y: perspective.yfov() }, resolution))
+    Some((Camera { eye, target, up, fov_y: perspective.yfov(), ..Camera::default() }, resolution))
 }
 
 /// A `KHR_lights_punctual` light at a node with world transform `world` (see the module
@@ -279,8 +279,8 @@ fn punctual_light(light: &gltf::khr_lights_punctual::Light, world: Mat4) -> Ligh
     let attenuation = Attenuation { constant: 0.0, linear: 0.0, quadratic: 1.0 };
     let forward = world.transform_vector3(Vec3::NEG_Z).normalize_or_zero();
     match light.kind() {
-        Kind::Directional => Light::Directional { direction: -forward, color },
-        Kind::Point => Light::Point { position, color, attenuation },
+        Kind::Directional => Light::Directional { direction: -forward, color, spread: 0.0 },
+        Kind::Point => Light::Point { position, color, attenuation, spread: 0.0 },
         Kind::Spot { inner_cone_angle, outer_cone_angle } => {
             Light::Spot { position, direction: forward, color, attenuation, inner_cone: inner_cone_angle, outer_cone: outer_cone_angle }
         }

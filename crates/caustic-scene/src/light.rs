@@ -31,6 +31,9 @@ pub enum Light {
         color: Vec3,
         /// Falloff with distance.
         attenuation: Attenuation,
+        /// Radius of the sphere the light is spread over for soft shadows (the scene
+        /// language's `lightspread`); 0 is a point.
+        spread: f32,
     },
     /// A point light that shines into a cone (glTF `KHR_lights_punctual` spot): full colour
     /// within `inner_cone` of `direction`, nothing beyond `outer_cone`, and in between the
@@ -55,6 +58,10 @@ pub enum Light {
         direction: Vec3,
         /// Colour (irradiance at normal incidence).
         color: Vec3,
+        /// Spread of the directions light arrives from, for soft shadows (the scene
+        /// language's `lightspread`): the tangent of the cone's half-angle, i.e. the radius
+        /// of a disk at unit distance; 0 is parallel light.
+        spread: f32,
     },
     /// A one-sided emitting parallelogram `corner + s edge_a + t edge_b`, s, t in [0, 1]
     /// (the CSE168 `quadLight`); it emits towards `edge_a x edge_b`.
@@ -76,7 +83,7 @@ impl Light {
         let (kind, vectors, color) = match self {
             Light::Point { position, color, .. } => ("point light", vec![*position], *color),
             Light::Spot { position, direction, color, .. } => ("spot light", vec![*position, *direction], *color),
-            Light::Directional { direction, color } => ("directional light", vec![*direction], *color),
+            Light::Directional { direction, color, .. } => ("directional light", vec![*direction], *color),
             Light::Quad { corner, edge_a, edge_b, radiance } => ("quad light", vec![*corner, *edge_a, *edge_b], *radiance),
         };
         let object = format!("{kind} {index}");
@@ -86,6 +93,11 @@ impl Light {
         if let Light::Directional { direction, .. } = self {
             if direction.length_squared() == 0.0 {
                 return Err(crate::SceneError::invalid(object, "has a zero direction"));
+            }
+        }
+        if let Light::Point { spread, .. } | Light::Directional { spread, .. } = *self {
+            if !(spread.is_finite() && spread >= 0.0) {
+                return Err(crate::SceneError::invalid(object, format!("has spread {spread}; it must be finite and >= 0")));
             }
         }
         if let Light::Spot { direction, inner_cone, outer_cone, .. } = *self {

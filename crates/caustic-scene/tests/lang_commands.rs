@@ -238,6 +238,20 @@ fn analytic_shapes() {
 }
 
 #[test]
+fn lightspread_spreads_the_point_and_directional_lights_made_after_it() {
+    let s = scene("point 0 1 0 1 1 1\nlightspread 0.25\npoint 0 2 0 1 1 1\ndirectional 0 1 0 1 1 1\n");
+    let spreads: Vec<f32> = s
+        .lights
+        .iter()
+        .map(|l| match *l {
+            Light::Point { spread, .. } | Light::Directional { spread, .. } => spread,
+            _ => panic!("unexpected light {l:?}"),
+        })
+        .collect();
+    assert_eq!(spreads, [0.0, 0.25, 0.25]);
+}
+
+#[test]
 fn lights() {
     let s = scene(
         "point 1 2 3 1 1 1\nattenuation 1 0.1 0.05\npoint 0 0 0 2 2 2\n\
@@ -252,7 +266,7 @@ fn lights() {
     let Light::Point { position, attenuation, .. } = s.lights[2] else { panic!("point") };
     assert!(close(position, Vec3::new(0.0, 9.0, 0.0)), "lights are transformed: {position}");
     assert_eq!(attenuation.linear, 0.1);
-    let Light::Directional { direction, color } = s.lights[3] else { panic!("directional") };
+    let Light::Directional { direction, color, .. } = s.lights[3] else { panic!("directional") };
     assert!(close(direction, Vec3::NEG_Y), "directions are rotated (not translated): {direction}");
     assert_eq!(color, Vec3::splat(0.5));
     let Light::Quad { corner, edge_a, edge_b, radiance } = s.lights[4] else { panic!("quad") };

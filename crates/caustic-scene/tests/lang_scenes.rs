@@ -106,7 +106,7 @@ fn classic_quirks_are_accepted_with_warnings() {
     // (they are defined at the top level); maxdepth 5.
     let scene = lang::load(&shared.join("scenes/hw3/scene6.test")).expect("scene6 loads");
     match scene.lights[0] {
-        Light::Point { position, color, attenuation } => {
+        Light::Point { position, color, attenuation, .. } => {
             assert_eq!(position, Vec3::new(0.0, 0.44, -1.5));
             assert_eq!(color, Vec3::splat(0.8));
             assert_eq!((attenuation.constant, attenuation.linear, attenuation.quadratic), (1.0, 0.1, 0.05));

@@ -142,7 +142,7 @@ mod tests {
         scene.materials.push(caustic_scene::Material::diffuse("ball", Vec3::ONE));
         scene.shapes.push(Shape::sphere(Mat4::IDENTITY, Vec3::new(-1.0, 0.0, 0.0), 0.5, 0));
         let quad = Light::Quad { corner: Vec3::new(0.5, -0.5, 0.0), edge_a: Vec3::X, edge_b: Vec3::Y, radiance: Vec3::ONE };
-        scene.lights.push(Light::Point { position: Vec3::Y, color: Vec3::ONE, attenuation: Default::default() });
+        scene.lights.push(Light::Point { position: Vec3::Y, color: Vec3::ONE, attenuation: Default::default(), spread: 0.0 });
         scene.lights.push(quad);
         let picker = Picker::new(&scene);
         let (w, h) = (scene.resolution.0 as f32, scene.resolution.1 as f32);

@@ -22,7 +22,7 @@ impl Interpreter {
                 if !unit.is_finite() || unit == Vec3::ZERO {
                     return a.fail_at(0, "the direction must not be zero (after the current transform)");
                 }
-                w.scene.lights.push(Light::Directional { direction: unit, color });
+                w.scene.lights.push(Light::Directional { direction: unit, color, spread: w.settings.light_spread });
             }
             "point" => {
                 a.expect(&[6])?;
@@ -32,7 +32,7 @@ impl Interpreter {
                 if !position.is_finite() {
                     return a.fail_at(0, "the position is not finite after the current transform");
                 }
-                w.scene.lights.push(Light::Point { position, color, attenuation: w.attenuation });
+                w.scene.lights.push(Light::Point { position, color, attenuation: w.attenuation, spread: w.settings.light_spread });
                 w.unused_attenuation = None;
             }
             "attenuation" => {
