@@ -39,6 +39,11 @@ struct Frame {
     // The path tracer's CSE168 switches: bits 0-1 next-event estimation (0 off, 1 on, 2 MIS),
     // bits 2-3 sampling of reflection lobes (0 hemisphere, 1 cosine, 2 BSDF).
     transport: u32,
+    // Thin-lens radius, world units; 0 = pinhole (integrator/camera.wgsl).
+    lens_radius: f32,
+    // Distance from the eye to the plane of focus along `forward`.
+    focus_distance: f32,
+    _lens_pad: vec2<u32>,
 }
 
 // Binary BVH node holding both children's bounds (64 bytes).

@@ -10,7 +10,7 @@ fn begin_pixel(local: u32) -> u32 {
 // A camera ray through a uniformly random point of the pixel (box filter).
 fn pixel_ray(pixel: u32, rng: ptr<function, Rng>) -> Ray {
     let xy = vec2<u32>(pixel % frame.width, pixel / frame.width);
-    return camera_ray(vec2<f32>(xy) + next_2d(rng));
+    return camera_ray(vec2<f32>(xy) + next_2d(rng), rng);
 }
 
 fn record_sample(pixel: u32, value: vec3<f32>) {

@@ -95,7 +95,7 @@ pub fn scene(meshes: Vec<Mesh>, materials: Vec<Material>, camera: Camera, size: 
 
 /// A look-at camera with `fov` degrees of vertical field of view and +y up.
 pub fn camera(eye: Vec3, target: Vec3, fov: f32) -> Camera {
-    Camera { eye, target, up: Vec3::Y, fov_y: fov.to_radians() }
+    Camera { eye, target, up: Vec3::Y, fov_y: fov.to_radians(), ..Camera::default() }
 }
 
 /// Every channel of every pixel of `image`, as f64.

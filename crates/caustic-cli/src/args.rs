@@ -205,6 +205,12 @@ pub struct CameraArgs {
     /// Vertical field of view in degrees.
     #[arg(long, value_name = "DEGREES")]
     pub fov: Option<f64>,
+    /// Thin-lens radius for depth of field, world units (0 = pinhole).
+    #[arg(long, value_name = "R", allow_hyphen_values = true)]
+    pub aperture: Option<f32>,
+    /// Distance to the plane of focus (default: the scene's, else the distance to the target).
+    #[arg(long, value_name = "D", allow_hyphen_values = true)]
+    pub focus_distance: Option<f32>,
 }
 
 impl CameraArgs {
@@ -216,6 +222,10 @@ impl CameraArgs {
         if let Some(degrees) = self.fov {
             // Converted in f64, so the degrees `caustic view` prints give back its exact f32.
             camera.fov_y = degrees.to_radians() as f32;
+        }
+        if self.aperture.is_some() || self.focus_distance.is_some() {
+            let focus = self.focus_distance.or(camera.focus_distance);
+            camera.set_lens(self.aperture.unwrap_or(camera.aperture), focus).map_err(|e| anyhow::anyhow!("--aperture/--focus-distance: {e}"))?;
         }
         if !camera.is_valid() {
             bail!("--eye/--target/--up/--fov give a degenerate camera: {camera:?}");

@@ -53,6 +53,12 @@ pub struct Frame {
     /// The path tracer's switches: bits 0-1 next-event estimation, bits 2-3 reflection-lobe
     /// sampling ([`transport_flags`]).
     pub transport: u32,
+    /// Thin-lens radius, world units; 0 = pinhole (`camera.wgsl`).
+    pub lens_radius: f32,
+    /// Distance from the eye to the plane of focus along `forward`.
+    pub focus_distance: f32,
+    /// Rounds the struct up to WGSL's 16-byte multiple.
+    pub _lens_pad: [u32; 2],
 }
 
 /// [`Frame::transport`] for the scene options' next-event estimation mode and importance

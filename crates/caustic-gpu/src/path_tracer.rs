@@ -500,6 +500,8 @@ fn frame_constants(scene: &Scene, gpu: &GpuScene, settings: &RenderSettings) -> 
         debug_view: settings.debug.map_or(0, |view| view as u32),
         inspect_pixel: NO_PIXEL,
         transport: transport_flags(next_event(scene, settings), scene.options.importance_sampling),
+        lens_radius: scene.camera.aperture,
+        focus_distance: scene.camera.focus(),
         ..Default::default()
     }
 }

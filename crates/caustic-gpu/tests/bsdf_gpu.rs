@@ -346,7 +346,7 @@ fn path_traced_white_furnace_per_material() {
             name: "furnace".into(),
             materials: vec![material],
             shapes: vec![Shape::sphere(glam::Mat4::IDENTITY, Vec3::ZERO, radius, 0)],
-            camera: Camera { eye: Vec3::new(0.0, 0.0, distance), target: Vec3::ZERO, up: Vec3::Y, fov_y: fov },
+            camera: Camera { eye: Vec3::new(0.0, 0.0, distance), target: Vec3::ZERO, up: Vec3::Y, fov_y: fov, ..Camera::default() },
             resolution: (size, size),
             environment: Environment::Constant(Vec3::ONE),
             ..Scene::default()

@@ -122,6 +122,7 @@ fn nonfinite_view_marks_the_pixels_that_see_a_nan_texel() {
         target: Vec3::new(0.0, 0.0, -1.0),
         up: Vec3::Y,
         fov_y: 90f32.to_radians(),
+        ..Camera::default()
     };
     let gpu = GpuScene::upload(&ctx, &scene).expect("upload");
     let settings = RenderSettings {

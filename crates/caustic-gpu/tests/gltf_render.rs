@@ -214,7 +214,7 @@ fn checker_scene(filter: TextureFilter) -> Scene {
         meshes: vec![square],
         materials: vec![Material { base_color_texture: Some(slot), ..Material::diffuse("checker", Vec3::ONE) }],
         textures: vec![texture],
-        camera: Camera { eye: Vec3::new(0.0, 0.0, 2.5), target: Vec3::ZERO, up: Vec3::Y, fov_y: 40f32.to_radians() },
+        camera: Camera { eye: Vec3::new(0.0, 0.0, 2.5), target: Vec3::ZERO, up: Vec3::Y, fov_y: 40f32.to_radians(), ..Camera::default() },
         resolution: (64, 64),
         environment: Environment::Constant(Vec3::ONE),
         ..Scene::default()

@@ -18,7 +18,7 @@ fn furnace(shapes: Vec<Shape>) -> Scene {
         name: "shapes".into(),
         materials: vec![Material::diffuse("grey", Vec3::splat(0.5))],
         shapes,
-        camera: Camera { eye: Vec3::new(0.0, 3.0, 6.0), target: Vec3::ZERO, up: Vec3::Y, fov_y: 40f32.to_radians() },
+        camera: Camera { eye: Vec3::new(0.0, 3.0, 6.0), target: Vec3::ZERO, up: Vec3::Y, fov_y: 40f32.to_radians(), ..Camera::default() },
         resolution: (64, 64),
         environment: Environment::Constant(Vec3::ONE),
         ..Scene::default()

@@ -26,7 +26,7 @@ fn spot_light_lights_its_cone_with_the_gltf_falloff() {
         materials: vec![Material::diffuse("plane", Vec3::splat(ALBEDO))],
         shapes: vec![Shape::plane(Mat4::IDENTITY, Vec3::ZERO, Vec3::Y, 0)],
         lights: vec![light],
-        camera: Camera { eye: Vec3::new(0.0, 4.0, 0.0), target: Vec3::ZERO, up: Vec3::NEG_Z, fov_y: 30f32.to_radians() },
+        camera: Camera { eye: Vec3::new(0.0, 4.0, 0.0), target: Vec3::ZERO, up: Vec3::NEG_Z, fov_y: 30f32.to_radians(), ..Camera::default() },
         resolution: (SIZE, SIZE),
         ..Scene::default()
     };

@@ -1,8 +1,10 @@
-//! The pinhole camera.
+//! The camera: a pinhole, or a thin lens when it has an aperture (depth of field).
 
 use glam::Vec3;
 
-/// A pinhole look-at camera. Image right is `normalize(cross(target - eye, up))`, the
+/// A look-at camera: a pinhole when `aperture` is 0, else a thin lens (pbrt's
+/// `PerspectiveCamera`) whose rays start on a disk of radius `aperture` around `eye` and meet
+/// their pinhole ray on the plane of focus, `focus()` along the view direction. Image right is `normalize(cross(target - eye, up))`, the
 /// convention of the Mitsuba references in `../shared/references/`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Camera {
@@ -14,6 +16,25 @@ pub struct Camera {
     pub up: Vec3,
     /// Full vertical field of view in radians.
     pub fov_y: f32,
+    /// Lens radius, world units; 0 = pinhole (every ray starts at `eye`).
+    pub aperture: f32,
+    /// Distance from `eye` to the plane of focus, along the view direction; `None` = focus on
+    /// `target`.
+    pub focus_distance: Option<f32>,
+}
+
+impl Default for Camera {
+    /// A pinhole at (0, 0, 5) looking at the origin with a 40 degree field of view.
+    fn default() -> Self {
+        Camera {
+            eye: Vec3::new(0.0, 0.0, 5.0),
+            target: Vec3::ZERO,
+            up: Vec3::Y,
+            fov_y: 40f32.to_radians(),
+            aperture: 0.0,
+            focus_distance: None,
+        }
+    }
 }
 
 impl Camera {
@@ -33,14 +54,34 @@ impl Camera {
         let half = ((max - min) * 0.5).max(Vec3::splat(1e-6));
         let fov_y = 40f32.to_radians();
         let distance = 1.1 * half.x.max(half.y) / (fov_y * 0.5).tan() + half.z;
-        Camera { eye: centre + Vec3::new(0.0, 0.0, distance), target: centre, up: Vec3::Y, fov_y }
+        Camera { eye: centre + Vec3::new(0.0, 0.0, distance), target: centre, up: Vec3::Y, fov_y, ..Camera::default() }
+    }
+
+    /// Distance to the plane of focus: `focus_distance`, else the distance to `target`.
+    pub fn focus(&self) -> f32 {
+        self.focus_distance.unwrap_or_else(|| (self.target - self.eye).length())
+    }
+
+    /// Sets the thin lens, or says which value is wrong: the aperture (lens radius) must be
+    /// finite and >= 0 (0 = pinhole), a focus distance finite and > 0.
+    pub fn set_lens(&mut self, aperture: f32, focus_distance: Option<f32>) -> Result<(), String> {
+        if !(aperture.is_finite() && aperture >= 0.0) {
+            return Err(format!("the aperture (lens radius) must be a finite number >= 0 (0 = pinhole), found {aperture}"));
+        }
+        if let Some(d) = focus_distance.filter(|d| !(d.is_finite() && *d > 0.0)) {
+            return Err(format!("the focus distance must be a finite number > 0, found {d}"));
+        }
+        self.aperture = aperture;
+        self.focus_distance = focus_distance;
+        Ok(())
     }
 
     /// Whether every field is finite and the frame is well defined.
     pub fn is_valid(&self) -> bool {
         let finite = self.eye.is_finite() && self.target.is_finite() && self.up.is_finite();
         let (right, _, forward) = self.frame();
-        finite && self.fov_y > 0.0 && self.fov_y < std::f32::consts::PI && right.is_finite() && forward.is_finite()
+        let lens = self.aperture.is_finite() && self.aperture >= 0.0 && self.focus() > 0.0 && self.focus().is_finite();
+        finite && lens && self.fov_y > 0.0 && self.fov_y < std::f32::consts::PI && right.is_finite() && forward.is_finite()
     }
 }
 

@@ -93,6 +93,7 @@ pub fn cornell_box() -> Scene {
             target: Vec3::new(278.0, 273.0, 0.0),
             up: Vec3::Y,
             fov_y: FOV_Y_DEGREES.to_radians() as f32,
+            ..Camera::default()
         },
         resolution: (512, 512),
         environment: Environment::Constant(Vec3::ZERO),

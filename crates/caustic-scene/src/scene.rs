@@ -38,7 +38,7 @@ impl Default for Scene {
             name: "scene".to_string(),
             meshes: Vec::new(),
             materials: Vec::new(),
-            camera: Camera { eye: Vec3::new(0.0, 0.0, 5.0), target: Vec3::ZERO, up: Vec3::Y, fov_y: 40f32.to_radians() },
+            camera: Camera { eye: Vec3::new(0.0, 0.0, 5.0), target: Vec3::ZERO, up: Vec3::Y, fov_y: 40f32.to_radians(), ..Camera::default() },
             resolution: (512, 512),
             environment: Environment::default(),
             shapes: Vec::new(),

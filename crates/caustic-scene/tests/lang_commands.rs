@@ -107,7 +107,8 @@ fn extended_settings() {
     assert_eq!((settings.supersample, settings.resample), (3, 2));
     assert_eq!(interpreter.scene().options.spp, Some(18), "spp = supersample^2 x resample");
     assert_eq!(settings.preview.as_deref(), Some(Path::new("prev.jpg")));
-    assert_eq!((settings.dof, settings.gloss_samples, settings.frost_samples, settings.light_spread), (0.25, 4, 5, 0.5));
+    assert_eq!((settings.gloss_samples, settings.frost_samples, settings.light_spread), (4, 5, 0.5));
+    assert_eq!((interpreter.scene().camera.aperture, interpreter.scene().camera.focus_distance), (0.25, None));
     assert_eq!((settings.max_verts, settings.max_vert_norms), (Some(10), Some(7)));
     assert_eq!(scene("supersample 2\nspp 7\n").options.spp, Some(7), "the last of spp and supersample/resample wins");
     assert_eq!(scene("spp 7\nresample 3\n").options.spp, Some(3));
@@ -392,4 +393,17 @@ fn source_offsets_vertex_indices_by_a_frame_pointer() {
     // Through load_scene as a .test file.
     let loaded = common::load(&dir.join("main.test")).expect("loads");
     assert_eq!(loaded.triangle_count(), 9);
+}
+
+#[test]
+fn dof_sets_the_thin_lens_whatever_the_order() {
+    let before = scene("dof 0.2 7.5\ncamera 0 0 5 0 0 0 0 1 0 40\n").camera;
+    let after = scene("camera 0 0 5 0 0 0 0 1 0 40\ndof 0.2 7.5\n").camera;
+    assert_eq!((before.aperture, before.focus_distance), (0.2, Some(7.5)));
+    assert_eq!(before, after);
+    assert_eq!(scene("camera 0 0 5 0 0 0 0 1 0 40\ndof 0.1\n").camera.focus(), 5.0, "focus defaults to the centre point");
+    for (text, needle) in [("dof -0.5\n", "-0.5"), ("dof 0.1 0\n", "found 0"), ("dof 0.1 -2\n", "-2")] {
+        let error = Interpreter::new().execute_str(text, Path::new("t.scene")).unwrap_err().to_string();
+        assert!(error.contains("t.scene:1:") && error.contains(needle), "{error}");
+    }
 }

@@ -93,7 +93,7 @@ mod tests {
     use super::*;
 
     fn camera() -> Camera {
-        Camera { eye: Vec3::new(0.0, 1.0, 5.0), target: Vec3::new(0.0, 1.0, 0.0), up: Vec3::Y, fov_y: 40f32.to_radians() }
+        Camera { eye: Vec3::new(0.0, 1.0, 5.0), target: Vec3::new(0.0, 1.0, 0.0), up: Vec3::Y, fov_y: 40f32.to_radians(), ..Camera::default() }
     }
 
     fn close(a: Vec3, b: Vec3) -> bool {

@@ -146,7 +146,7 @@ mod tests {
             max_depth: None,
             seed: 3,
             integrator: Integrator::RayTracer,
-            camera: Camera { eye: Vec3::new(0.1, -2.5, 1e-7), target: Vec3::ZERO, up: Vec3::Y, fov_y: 0.7 },
+            camera: Camera { eye: Vec3::new(0.1, -2.5, 1e-7), target: Vec3::ZERO, up: Vec3::Y, fov_y: 0.7, ..Camera::default() },
             environment: Some(environment_color(Vec3::new(0.5, 0.25, 1.0))),
             exposure: -0.5,
             tone_map: ToneMap::Reinhard,

@@ -28,7 +28,7 @@ pub const COMMANDS: &[CommandInfo] = &[
     c("output", "filename", "output image file name"),
     c("preview", "filename", "file name of a preview image written with an HDR save"),
     c("camera", "eyex eyey eyez centerx centery centerz upx upy upz fovy", "look-at pinhole camera, fovy = full vertical field of view in degrees"),
-    c("dof", "lens_size", "lens size for depth of field (0 = pinhole)"),
+    c("dof", "lens_size [focus_distance]", "thin-lens depth of field: lens radius (0 = pinhole) and distance to the plane of focus (default: to the camera's centre point)"),
     c("supersample", "n", "n x n jittered samples per pixel (spp = n^2 x resample)"),
     c("resample", "count", "samples per jittered sub-pixel (spp = supersample^2 x count)"),
     c("spp", "count", "samples per pixel"),

@@ -65,7 +65,7 @@ impl Interpreter {
                 if !(fovy > 0.0 && fovy < 180.0) {
                     return a.fail_at(9, format!("fovy must be between 0 and 180 degrees (exclusive), found {}", shown(a.text(9)?)));
                 }
-                let camera = Camera { eye, target, up, fov_y: fovy.to_radians() as f32 };
+                let camera = Camera { eye, target, up, fov_y: fovy.to_radians() as f32, ..w.scene.camera.clone() };
                 if eye == target {
                     return a.fail_at(3, "the centre must differ from the eye");
                 }
@@ -75,8 +75,11 @@ impl Interpreter {
                 w.scene.camera = camera;
             }
             "dof" => {
-                a.expect(&[1])?;
-                w.settings.dof = a.f32_in(0, |v| v >= 0.0, ">= 0")?;
+                a.expect(&[1, 2])?;
+                let aperture = a.f32_in(0, |v| v >= 0.0, ">= 0 (0 = pinhole)")?;
+                let focus = if a.len() == 2 { Some(a.f32_in(1, |v| v > 0.0, "> 0")?) } else { None };
+                w.scene.camera.aperture = aperture;
+                w.scene.camera.focus_distance = focus;
             }
             "environment" => {
                 a.expect(&[1, 3])?;

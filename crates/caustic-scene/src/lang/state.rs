@@ -20,8 +20,6 @@ pub struct LanguageSettings {
     pub resample: u32,
     /// `preview NAME`: JPEG preview written next to an HDR image.
     pub preview: Option<PathBuf>,
-    /// `dof size`: lens size for depth of field (default 0 = pinhole).
-    pub dof: f32,
     /// `glosssamples n` (default 1).
     pub gloss_samples: u32,
     /// `frostsamples n` (default 1).
@@ -40,7 +38,6 @@ impl Default for LanguageSettings {
             supersample: 1,
             resample: 1,
             preview: None,
-            dof: 0.0,
             gloss_samples: 1,
             frost_samples: 1,
             light_spread: 0.0,
