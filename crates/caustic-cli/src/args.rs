@@ -98,6 +98,11 @@ pub struct RenderArgs {
     /// the raw values.
     #[arg(long, value_name = "VIEW", value_parser = parse_debug_view)]
     pub debug: Option<DebugView>,
+    /// Bloom on the finished linear image (docs/FEATURES.md): the fraction 0..=1 of the light
+    /// above THRESHOLD (luminance, default 1) spread into Gaussians of RADIUS, 2 RADIUS and
+    /// 4 RADIUS pixels (default 2); total energy is kept. Not for partial .exr outputs.
+    #[arg(long, value_name = "STRENGTH[,THRESHOLD[,RADIUS]]", value_parser = caustic_gpu::bloom::BloomSettings::parse)]
+    pub bloom: Option<caustic_gpu::bloom::BloomSettings>,
     /// What the command line changes in the scene.
     #[command(flatten)]
     pub overrides: SceneOverrides,

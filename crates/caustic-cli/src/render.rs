@@ -6,6 +6,7 @@ use crate::preset::Preset;
 use crate::script;
 use crate::tasks::{TaskIndex, has_placeholder, substitute};
 use anyhow::{Context, bail};
+use caustic_gpu::bloom::{Bloom, BloomSettings};
 use caustic_gpu::debug_image::{DEBUG_SAVE_OPTIONS, debug_picture};
 use caustic_gpu::{DebugView, GpuContext, GpuScene, PassOutcome, PathTracer, RenderSettings};
 use caustic_image::{Image, PartInfo, PartialImage};
@@ -161,6 +162,9 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let output = output_arg.unwrap_or_else(|| PathBuf::from(format!("{}.png", scene.name)));
     caustic_image::check_output_path(&output)?;
     let partial = is_exr(&output);
+    if partial && args.bloom.is_some() {
+        bail!("--bloom applies to finished images: -o {} is a partial image for `caustic merge`; write .hdr or .png instead", output.display());
+    }
     if !partial && (args.samples_from_env || args.resume) {
         let option = if args.resume { "--resume" } else { "--samples-from-env" };
         bail!("{option} writes a partial image for `caustic merge`: -o {} must end in .exr", output.display());
@@ -205,7 +209,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     } else if let Some(view) = args.debug {
         save_debug_picture(view, &rendered, &output)?;
     } else {
-        rendered.image.save(&output, &args.display.save_options())?;
+        apply_bloom(&ctx, rendered.image, args.bloom.as_ref())?.save(&output, &args.display.save_options())?;
     }
     print_report(&report, args.device.json)?;
     if interrupted {
@@ -215,6 +219,14 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
 }
 
 /// Saves debug view `view`'s picture (`caustic_gpu::debug_image`) and says what its colours mean.
+/// `image` with the bloom post-process applied on the device, if one is asked for.
+pub fn apply_bloom(ctx: &GpuContext, image: Image, bloom: Option<&BloomSettings>) -> anyhow::Result<Image> {
+    match bloom {
+        Some(settings) => Ok(Bloom::new(ctx)?.apply(ctx, &image, settings)?),
+        None => Ok(image),
+    }
+}
+
 fn save_debug_picture(view: DebugView, rendered: &Accumulated, output: &Path) -> anyhow::Result<()> {
     let picture = debug_picture(view, &rendered.image, &rendered.nonfinite);
     picture.image.save(output, &DEBUG_SAVE_OPTIONS)?;

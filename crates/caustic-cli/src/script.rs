@@ -45,12 +45,14 @@ pub struct HostOptions<'a> {
     pub output: Option<PathBuf>,
     /// Report each render as one JSON object on stdout.
     pub json: bool,
+    /// Bloom applied to every rendered image before it is kept and written (`--bloom`).
+    pub bloom: Option<caustic_gpu::bloom::BloomSettings>,
 }
 
 impl<'a> HostOptions<'a> {
     /// The options `render` and `shell` share (no `-o`).
     pub fn new(overrides: &'a SceneOverrides, display: &'a DisplayArgs, spp: Option<u32>, time: Option<f64>, device: &DeviceArgs) -> Self {
-        HostOptions { overrides, display, spp, time, output: None, json: device.json }
+        HostOptions { overrides, display, spp, time, output: None, json: device.json, bloom: None }
     }
 }
 
@@ -127,7 +129,7 @@ impl<'a> Host<'a> {
         let print = fingerprint(&scene, &settings);
         let report = RenderReport::new(self.ctx, &scene, &rendered, interrupted, print.hash, output);
         self.last = Some(LastImage {
-            image: rendered.image,
+            image: crate::render::apply_bloom(self.ctx, rendered.image, self.options.bloom.as_ref())?,
             scene: scene.name,
             output: scene.options.output,
             gamma: scene.options.gamma,
@@ -235,6 +237,7 @@ pub fn run_file(path: &Path, args: &RenderArgs) -> anyhow::Result<()> {
     let (ctx, interrupted) = open_device(&args.device)?;
     let mut options = HostOptions::new(&args.overrides, &args.display, args.spp, args.time, &args.device);
     options.output = args.output.clone();
+    options.bloom = args.bloom;
     let mut host = Host::new(&ctx, options, interrupted);
     for action in actions {
         if host.execute(action)? == Flow::Exit {

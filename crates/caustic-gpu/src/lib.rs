@@ -8,6 +8,7 @@
 //! ([`inspector`]) and [`debug_image`] turns the debug views into pictures.
 
 mod bench;
+pub mod bloom;
 mod context;
 pub mod debug_image;
 mod error;

@@ -53,6 +53,9 @@ const PATH_TRACER: [ShaderFile; 19] = [
 
 const RAY_BENCH: [ShaderFile; 1] = [shader_file!("bench/rays.wgsl")];
 
+/// `post/bloom.wgsl`: the bloom post-process ([`crate::bloom`]), a program on its own.
+pub const BLOOM: ShaderFile = shader_file!("post/bloom.wgsl");
+
 /// The files every program shares (types, random numbers, sampling warps, rays, ray-triangle
 /// and ray-box tests): no bindings, so kernel tests ([`crate::kernel_test`]) can run their
 /// functions alone.
