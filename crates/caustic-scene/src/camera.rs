@@ -76,6 +76,20 @@ impl Camera {
         Ok(())
     }
 
+    /// Sets the thin lens from a glTF camera's `extras` JSON, `{"aperture": R, "focusDistance":
+    /// D}` (both optional: a missing aperture keeps the current one, a missing focus distance
+    /// focuses on `target`); an error names the bad value.
+    pub fn set_lens_from_extras(&mut self, extras: &str) -> Result<(), String> {
+        let json: serde_json::Value = serde_json::from_str(extras).map_err(|e| format!("camera extras are not JSON: {e}"))?;
+        let number = |key: &str| match json.get(key) {
+            None => Ok(None),
+            Some(v) => v.as_f64().map(|x| Some(x as f32)).ok_or_else(|| format!("camera extras: \"{key}\" must be a number, found {v}")),
+        };
+        let aperture = number("aperture")?.unwrap_or(self.aperture);
+        let focus = number("focusDistance")?;
+        self.set_lens(aperture, focus).map_err(|e| format!("camera extras: {e}"))
+    }
+
     /// Whether every field is finite and the frame is well defined.
     pub fn is_valid(&self) -> bool {
         let finite = self.eye.is_finite() && self.target.is_finite() && self.up.is_finite();
@@ -95,4 +109,22 @@ pub struct SceneCamera {
     pub camera: Camera,
     /// Image size its aspect ratio implies, when it gives one.
     pub resolution: Option<(u32, u32)>,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Camera;
+
+    #[test]
+    fn lens_from_gltf_extras() {
+        let mut camera = Camera::default();
+        camera.set_lens_from_extras(r#"{"aperture": 0.05, "focusDistance": 3.5, "other": 1}"#).unwrap();
+        assert_eq!((camera.aperture, camera.focus_distance), (0.05, Some(3.5)));
+        camera.set_lens_from_extras("{}").unwrap();
+        assert_eq!((camera.aperture, camera.focus_distance), (0.05, None), "no focus distance: focus on the target");
+        for (extras, needle) in [(r#"{"aperture": -1}"#, "-1"), (r#"{"focusDistance": 0}"#, "found 0"), (r#"{"aperture": "wide"}"#, "\"wide\""), ("[", "not JSON")] {
+            let error = camera.set_lens_from_extras(extras).unwrap_err();
+            assert!(error.contains(needle), "{error}");
+        }
+    }
 }

@@ -240,8 +240,15 @@ impl Walk<'_> {
     /// Keeps the camera at `node` (perspective cameras only; others are skipped with a warning).
     fn add_camera(&mut self, node: &gltf::Node, camera: &gltf::Camera, world: Mat4) {
         let name = camera.name().or(node.name()).map_or_else(|| format!("camera {}", camera.index()), str::to_string);
+        // A thin lens may come in the camera's extras (`Camera::set_lens_from_extras`).
+        let extras = camera.extras().as_ref().map(|e| e.get().to_string());
         match perspective_camera(camera, world) {
-            Some((camera, resolution)) => self.cameras.push(SceneCamera { name, camera, resolution }),
+            Some((mut camera, resolution)) => {
+                if let Err(e) = extras.map_or(Ok(()), |json| camera.set_lens_from_extras(&json)) {
+                    warn(self.path, &format!("{name}: {e}; using a pinhole"));
+                }
+                self.cameras.push(SceneCamera { name, camera, resolution })
+            }
             None => warn(self.path, &format!("skipping {name}: orthographic cameras are not supported")),
         }
     }

@@ -102,3 +102,14 @@ fn malformed_accessors_and_hierarchies_are_errors() {
     let missing_bin = document(mesh, "VEC3", 3).replace("tri.bin", "absent.bin");
     expect_error(&write_gltf(&dir, "nobin.gltf", &missing_bin), "cannot load buffers");
 }
+
+#[test]
+fn camera_extras_give_a_thin_lens() {
+    let parts = r#""scenes": [{"nodes": [0, 1]}], "nodes": [{"mesh": 0}, {"camera": 0, "translation": [0, 0, 5]}],
+        "cameras": [{"type": "perspective", "perspective": {"yfov": 0.5, "znear": 0.1}, "extras": {"aperture": 0.1, "focusDistance": 4.5}}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}]"#;
+    let dir = common::scratch_dir("gltf-lens");
+    let scene = common::load(&write_gltf(&dir, "lens.gltf", &document(parts, "VEC3", 3))).unwrap_or_else(|e| panic!("{e}"));
+    println!("camera {:?}", scene.camera);
+    assert_eq!((scene.camera.aperture, scene.camera.focus_distance), (0.1, Some(4.5)));
+}
