@@ -10,6 +10,15 @@ const SAMPLING_COSINE: u32 = 1u;
 const SAMPLING_BSDF: u32 = 2u;
 const LOBE_SLOTS: u32 = 6u;
 
+// The slots the scene's materials use, a bit each (crate::specialize::lobe_mask): the loops
+// skip the others, so a pipeline compiled for a scene of diffuse surfaces runs no code of
+// the other lobes.
+override LOBE_MASK: u32 = 0x3fu;
+
+fn lobe_in_scene(slot: u32) -> bool {
+    return (LOBE_MASK & (1u << slot)) != 0u;
+}
+
 // The share of light the coat lets through to the diffuse base at cosine cos_theta.
 fn coat_transmission(m: Material, cos_theta: f32) -> f32 {
     return 1.0 - m.coat_weight * fresnel_schlick(vec3<f32>(m.coat_f0), cos_theta).x;
@@ -94,7 +103,9 @@ fn lobe_sample(m: Material, eta: f32, wo: vec3<f32>, u_lobe: f32, u: vec2<f32>, 
 fn total_selection(m: Material, wo: vec3<f32>) -> f32 {
     var total = 0.0;
     for (var slot = 0u; slot < LOBE_SLOTS; slot++) {
-        total += lobe_selection(m, wo, slot);
+        if lobe_in_scene(slot) {
+            total += lobe_selection(m, wo, slot);
+        }
     }
     return total;
 }
@@ -103,6 +114,9 @@ fn total_selection(m: Material, wo: vec3<f32>) -> f32 {
 fn eval_bsdf(m: Material, eta: f32, wo: vec3<f32>, wi: vec3<f32>) -> vec3<f32> {
     var f = vec3<f32>(0.0);
     for (var slot = 0u; slot < LOBE_SLOTS; slot++) {
+        if !lobe_in_scene(slot) {
+            continue;
+        }
         var w = lobe_weight(m, wo, slot);
         if slot == 0u {
             w *= coat_transmission(m, wi.z);
@@ -122,6 +136,9 @@ fn pdf_bsdf(m: Material, eta: f32, wo: vec3<f32>, wi: vec3<f32>, sampling: u32) 
     }
     var pdf = 0.0;
     for (var slot = 0u; slot < LOBE_SLOTS; slot++) {
+        if !lobe_in_scene(slot) {
+            continue;
+        }
         let s = lobe_selection(m, wo, slot) / total;
         if s > 0.0 {
             pdf += s * lobe_pdf(m, eta, wo, wi, slot, sampling);
@@ -145,6 +162,9 @@ fn sample_bsdf(m: Material, eta: f32, wo: vec3<f32>, u_lobe: f32, u: vec2<f32>, 
     var chosen_p = 0.0;
     var last_p = 0.0;
     for (var slot = 0u; slot < LOBE_SLOTS; slot++) {
+        if !lobe_in_scene(slot) {
+            continue;
+        }
         let p = lobe_selection(m, wo, slot) / total;
         if p <= 0.0 {
             continue;

@@ -3,8 +3,7 @@
 use crate::gpu_types::{transport_flags, AccumTexel, Frame, InspectRecord, NO_PIXEL};
 use crate::inspector::PathRecord;
 use crate::readback::read_buffer;
-use crate::shaders::Program;
-use crate::specialize::TRAVERSAL_FILE;
+use crate::kernel::Kernel;
 use crate::{GpuContext, GpuError, GpuScene};
 use caustic_image::Image;
 use caustic_scene::{Integrator, NextEvent, RenderPass, Scene};
@@ -153,11 +152,7 @@ pub struct PathTracer<'a> {
     pipeline: wgpu::ComputePipeline,
     layout: wgpu::BindGroupLayout,
     /// The kernel `pipeline` runs.
-    entry_point: &'static str,
-    /// The scene-specialised traversal compiled into the kernel, if any (see [`DataPath`]).
-    traversal: Option<String>,
-    /// The sampler compiled into the kernel.
-    sampler: Sampler,
+    kernel: Kernel,
     bind_group: wgpu::BindGroup,
     frame_buffer: wgpu::Buffer,
     accumulation: wgpu::Buffer,
@@ -181,32 +176,8 @@ impl<'a> PathTracer<'a> {
         let device = &ctx.device;
         let frame_buffer = ctx.buffer_with_data("frame", bytemuck::bytes_of(&frame), wgpu::BufferUsages::STORAGE);
         let layout = bind_group_layout(device);
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("integrators"),
-            bind_group_layouts: &[Some(&layout)],
-            immediate_size: 0,
-        });
-        let entry_point = entry_point(settings);
-        let traversal = kernel_traversal(gpu, settings);
-        let source = match &traversal {
-            Some(t) => Program::PathTracer.source_replacing(TRAVERSAL_FILE, t),
-            None => Program::PathTracer.source(),
-        };
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some(Program::PathTracer.label()),
-            source: wgpu::ShaderSource::Wgsl(source.into()),
-        });
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some(entry_point),
-            layout: Some(&pipeline_layout),
-            module: &module,
-            entry_point: Some(entry_point),
-            compilation_options: wgpu::PipelineCompilationOptions {
-                constants: &[("SAMPLER", settings.sampler.override_value())],
-                ..Default::default()
-            },
-            cache: None,
-        });
+        let kernel = Kernel::for_render(gpu, settings);
+        let pipeline = kernel.compile(device, &layout);
         let inspection = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("inspection"),
             size: std::mem::size_of::<InspectRecord>() as u64,
@@ -220,9 +191,7 @@ impl<'a> PathTracer<'a> {
             ctx,
             pipeline,
             layout,
-            entry_point,
-            traversal,
-            sampler: settings.sampler,
+            kernel,
             bind_group,
             frame_buffer,
             accumulation,
@@ -237,22 +206,18 @@ impl<'a> PathTracer<'a> {
         })
     }
 
-    /// Starts the accumulation over without recompiling the kernel, for an interactive view:
-    /// takes `scene`'s camera, resolution and `gpu`'s buffers anew (re-uploaded ones, e.g. by
+    /// Starts the accumulation over, for an interactive view: takes `scene`'s camera,
+    /// resolution and `gpu`'s buffers anew (re-uploaded ones, e.g. by
     /// [`GpuScene::update_materials`], included) and `settings`' max depth, seed, sample range
-    /// and submit target. The integrator, pass and debug view choose the kernel: when they
-    /// differ from the ones the tracer was created with, this fails and [`PathTracer::new`]
-    /// is needed. Afterwards the tracer renders exactly what a new one would.
+    /// and submit target. The kernel is recompiled only when the settings or the scene ask for
+    /// another one ([`Kernel`]: integrator, pass, debug view, sampler, or a material that uses
+    /// a BSDF lobe the compiled kernel left out). Afterwards the tracer renders exactly what a
+    /// new one would.
     pub fn restart(&mut self, scene: &Scene, gpu: &GpuScene, settings: &RenderSettings) -> Result<(), GpuError> {
-        let wanted = entry_point(settings);
-        if wanted != self.entry_point {
-            return Err(GpuError::Scene(format!("restart cannot switch the kernel from {} to {wanted}; create a new PathTracer", self.entry_point)));
-        }
-        if settings.sampler != self.sampler {
-            return Err(GpuError::Scene(format!("restart cannot switch the sampler from {:?} to {:?}; create a new PathTracer", self.sampler, settings.sampler)));
-        }
-        if kernel_traversal(gpu, settings) != self.traversal {
-            return Err(GpuError::Scene("the scene's data is compiled into the kernel and changed; create a new PathTracer".into()));
+        let wanted = Kernel::for_render(gpu, settings);
+        if wanted != self.kernel {
+            self.pipeline = wanted.compile(&self.ctx.device, &self.layout);
+            self.kernel = wanted;
         }
         if scene.resolution == (self.frame.width, self.frame.height) {
             let mut encoder = self.ctx.device.create_command_encoder(&Default::default());
@@ -375,8 +340,8 @@ impl<'a> PathTracer<'a> {
     /// as it was. Only the path-tracing kernel (integrators `pathtracer` and `direct`, image
     /// pass, no debug view) records paths.
     pub fn inspect(&mut self, x: u32, y: u32, sample: u32) -> Result<PathRecord, GpuError> {
-        if self.entry_point != "render_sample" {
-            return Err(GpuError::Scene(format!("the pixel inspector records path-traced paths; this tracer runs {}", self.entry_point)));
+        if self.kernel.entry_point != "render_sample" {
+            return Err(GpuError::Scene(format!("the pixel inspector records path-traced paths; this tracer runs {}", self.kernel.entry_point)));
         }
         if x >= self.frame.width || y >= self.frame.height {
             return Err(GpuError::Scene(format!("pixel ({x}, {y}) is outside the {}x{} image", self.frame.width, self.frame.height)));
@@ -512,30 +477,6 @@ fn next_event(scene: &Scene, settings: &RenderSettings) -> NextEvent {
     match (settings.pass, settings.integrator) {
         (RenderPass::Image, Integrator::Direct) => NextEvent::On,
         _ => scene.options.next_event,
-    }
-}
-
-/// The scene-specialised traversal the kernel is compiled with, if any.
-fn kernel_traversal(gpu: &GpuScene, settings: &RenderSettings) -> Option<String> {
-    // The BVH-cost debug views show the BVH traversal's work, which the specialised one skips.
-    let bvh_cost = matches!(settings.debug, Some(DebugView::NodeVisits | DebugView::PrimitiveTests));
-    match settings.data_path {
-        DataPath::Auto if !bvh_cost => gpu.traversal.clone(),
-        DataPath::Auto | DataPath::Buffers => None,
-    }
-}
-
-/// The kernel that accumulates the pass and integrator `settings` ask for.
-fn entry_point(settings: &RenderSettings) -> &'static str {
-    if settings.debug.is_some() {
-        return "render_debug";
-    }
-    match (settings.pass, settings.integrator) {
-        (RenderPass::Depth, _) => "render_depth",
-        (RenderPass::Normals, _) => "render_normals",
-        (RenderPass::Photo, _) | (RenderPass::Image, Integrator::PathTracer | Integrator::Direct) => "render_sample",
-        (RenderPass::Image, Integrator::RayTracer) => "render_classic",
-        (RenderPass::Image, Integrator::AnalyticDirect) => "render_analytic_direct",
     }
 }
 

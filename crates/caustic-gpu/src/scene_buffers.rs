@@ -50,6 +50,9 @@ pub struct GpuScene {
     /// with the primitives compiled in (replacing `bvh/traverse.wgsl`), which kernels may use
     /// instead of walking the BVH buffers.
     pub traversal: Option<String>,
+    /// The BSDF lobes the scene's materials use ([`specialize::lobe_mask`]), for the
+    /// kernels' `LOBE_MASK` override.
+    pub lobe_mask: u32,
 }
 
 impl GpuScene {
@@ -91,6 +94,7 @@ impl GpuScene {
             bvh_stats: bvh.stats,
             bounds: scene.bounds().unwrap_or((Vec3::ZERO, Vec3::ZERO)),
             traversal,
+            lobe_mask: specialize::lobe_mask(&data.materials),
         };
         ctx.check()?;
         Ok(uploaded)
@@ -102,7 +106,9 @@ impl GpuScene {
     pub fn update_materials(&mut self, ctx: &GpuContext, scene: &Scene) -> Result<(), GpuError> {
         let (lights, total_light_power) = device_lights(scene);
         let uploader = Uploader { ctx };
-        self.materials = uploader.storage("materials", &device_materials(scene))?;
+        let materials = device_materials(scene);
+        self.lobe_mask = specialize::lobe_mask(&materials);
+        self.materials = uploader.storage("materials", &materials)?;
         self.lights = uploader.storage("lights", &lights)?;
         self.light_count = lights.len() as u32;
         self.total_light_power = total_light_power;

@@ -56,6 +56,18 @@ pub fn unrolled_traversal(bvh: &GpuBvh) -> Option<String> {
     Some(wgsl)
 }
 
+/// The BSDF lobe slots (`shaders/bsdf/bsdf.wgsl`) any of `materials` uses, one bit per slot
+/// (0 diffuse, 1 diffuse transmission, 2 modified Phong, 3 GGX specular, 4 glossy mirror,
+/// 5 dielectric): the kernels' `LOBE_MASK` override, so a scene of diffuse surfaces runs no
+/// code of the other lobes. At least the diffuse bit, so an empty scene compiles as before.
+pub fn lobe_mask(materials: &[crate::gpu_types::GpuMaterial]) -> u32 {
+    let used = |w: [f32; 3]| w.iter().any(|&c| c != 0.0);
+    materials.iter().fold(1, |mask, m| {
+        let slots = [used(m.diffuse), used(m.translucent), used(m.phong), m.specular_weight != 0.0, m.mirror != 0.0, used(m.dielectric)];
+        (0..slots.len()).filter(|&slot| slots[slot]).fold(mask, |mask, slot| mask | 1 << slot)
+    })
+}
+
 /// A WGSL `vec3<f32>` constructor that reproduces `v` exactly (Rust's shortest round-trip
 /// float formatting, as WGSL literals with the `f` suffix).
 fn vec3(v: Vec3) -> String {
@@ -96,6 +108,18 @@ mod tests {
             assert!(line.ends_with(&format!("{}u, {slot}u);", tri.id)), "{line}");
         }
         assert!(wgsl.contains("(*cost).triangles += 5u;"));
+    }
+
+    #[test]
+    fn the_lobe_mask_has_the_slots_materials_use() {
+        use crate::gpu_types::GpuMaterial;
+        let diffuse = GpuMaterial { diffuse: [0.5; 3], ..GpuMaterial::default() };
+        let glass = GpuMaterial { dielectric: [1.0; 3], ..GpuMaterial::default() };
+        let metal = GpuMaterial { specular_weight: 1.0, mirror: 0.5, ..GpuMaterial::default() };
+        assert_eq!(lobe_mask(&[]), 0b1);
+        assert_eq!(lobe_mask(&[diffuse]), 0b1);
+        assert_eq!(lobe_mask(&[diffuse, glass]), 0b10_0001);
+        assert_eq!(lobe_mask(&[metal]), 0b1_1001);
     }
 
     #[test]

@@ -1,0 +1,87 @@
+//! Which integrator kernel a render compiles, specialised to the scene and the settings: the
+//! entry point, the traversal (generic BVH walk or the scene's primitives compiled in), and
+//! the pipeline override constants (sampler, the BSDF lobes in use). Two renders with equal
+//! [`Kernel`]s share one compiled pipeline; a change of any part recompiles.
+
+use crate::path_tracer::{DataPath, DebugView, RenderSettings};
+use crate::shaders::Program;
+use crate::specialize::TRAVERSAL_FILE;
+use crate::GpuScene;
+use caustic_scene::{Integrator, RenderPass};
+
+/// Everything that selects or specialises the compiled kernel.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Kernel {
+    /// The WGSL entry point.
+    pub entry_point: &'static str,
+    /// The scene-specialised traversal replacing `bvh/traverse.wgsl`, if any.
+    pub traversal: Option<String>,
+    /// The `SAMPLER` override.
+    pub sampler: u32,
+    /// The `LOBE_MASK` override.
+    pub lobe_mask: u32,
+}
+
+impl Kernel {
+    /// The kernel `settings` ask for on `gpu`'s scene.
+    pub fn for_render(gpu: &GpuScene, settings: &RenderSettings) -> Kernel {
+        Kernel {
+            entry_point: entry_point(settings),
+            traversal: traversal(gpu, settings),
+            sampler: settings.sampler.override_value() as u32,
+            lobe_mask: gpu.lobe_mask,
+        }
+    }
+
+    /// Compiles the kernel against the integrators' bind group layout.
+    pub fn compile(&self, device: &wgpu::Device, layout: &wgpu::BindGroupLayout) -> wgpu::ComputePipeline {
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("integrators"),
+            bind_group_layouts: &[Some(layout)],
+            immediate_size: 0,
+        });
+        let source = match &self.traversal {
+            Some(t) => Program::PathTracer.source_replacing(TRAVERSAL_FILE, t),
+            None => Program::PathTracer.source(),
+        };
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(Program::PathTracer.label()),
+            source: wgpu::ShaderSource::Wgsl(source.into()),
+        });
+        device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some(self.entry_point),
+            layout: Some(&pipeline_layout),
+            module: &module,
+            entry_point: Some(self.entry_point),
+            compilation_options: wgpu::PipelineCompilationOptions {
+                constants: &[("SAMPLER", f64::from(self.sampler)), ("LOBE_MASK", f64::from(self.lobe_mask))],
+                ..Default::default()
+            },
+            cache: None,
+        })
+    }
+}
+
+/// The scene-specialised traversal the kernel is compiled with, if any.
+fn traversal(gpu: &GpuScene, settings: &RenderSettings) -> Option<String> {
+    // The BVH-cost debug views show the BVH traversal's work, which the specialised one skips.
+    let bvh_cost = matches!(settings.debug, Some(DebugView::NodeVisits | DebugView::PrimitiveTests));
+    match settings.data_path {
+        DataPath::Auto if !bvh_cost => gpu.traversal.clone(),
+        DataPath::Auto | DataPath::Buffers => None,
+    }
+}
+
+/// The entry point that accumulates the pass and integrator `settings` ask for.
+fn entry_point(settings: &RenderSettings) -> &'static str {
+    if settings.debug.is_some() {
+        return "render_debug";
+    }
+    match (settings.pass, settings.integrator) {
+        (RenderPass::Depth, _) => "render_depth",
+        (RenderPass::Normals, _) => "render_normals",
+        (RenderPass::Photo, _) | (RenderPass::Image, Integrator::PathTracer | Integrator::Direct) => "render_sample",
+        (RenderPass::Image, Integrator::RayTracer) => "render_classic",
+        (RenderPass::Image, Integrator::AnalyticDirect) => "render_analytic_direct",
+    }
+}
