@@ -3,7 +3,7 @@
 Mitsuba 3 (`llvm_ad_rgb` on the CPU, the variant that made the reference) against Caustic,
 in the same run on the same machine.
 
-    pip install mitsuba
+    pip install mitsuba && apt-get install libllvm19   # Dr.Jit needs LLVM >= 16 (Debian 12's default 14/15 crash it)
     python3 scripts/anchors/mitsuba_converge.py [--caustic target/release/caustic] [--target 1e-3]
 
 Both render `../shared/references/cornell` (Mitsuba its `scene.xml`, Caustic the identical
@@ -22,8 +22,12 @@ import sys
 import tempfile
 import time
 
-import mitsuba as mi
 import numpy as np
+
+# Dr.Jit JIT-compiles with the system LLVM; point it at LLVM 19 when the default is too old.
+if os.path.exists("/usr/lib/x86_64-linux-gnu/libLLVM-19.so"):
+    os.environ.setdefault("DRJIT_LIBLLVM_PATH", "/usr/lib/x86_64-linux-gnu/libLLVM-19.so")
+import mitsuba as mi  # noqa: E402  (after the environment is set)
 
 
 def relmse(image, reference, epsilon=1e-2):
