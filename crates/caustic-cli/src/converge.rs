@@ -41,9 +41,9 @@ pub struct ConvergeArgs {
     /// SVG plot of the errors against time (log-log).
     #[arg(long, value_name = "FILE")]
     pub plot: Option<PathBuf>,
-    /// How the kernel finds hits: auto (small scenes' primitives compiled into the kernel) or
-    /// buffers (always the BVH in storage buffers, the general kernel).
-    #[arg(long, default_value = "auto", value_parser = crate::args::parse_data_path)]
+    /// How the kernel finds hits: buffers (the BVH in storage buffers, the default) or auto
+    /// (small scenes' primitives tested in turn; see caustic_gpu::DataPath).
+    #[arg(long, default_value = "buffers", value_parser = crate::args::parse_data_path)]
     pub data_path: caustic_gpu::DataPath,
     /// Sample generator: independent or sobol (Owen-scrambled).
     #[arg(long, default_value = "sobol", value_parser = crate::args::parse_sampler)]

@@ -161,16 +161,7 @@ impl<'a> RayBench<'a> {
             bind_group_layouts: &[Some(&layout)],
             immediate_size: 0,
         });
-        let pipeline = |entry: &str| {
-            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(entry),
-                layout: Some(&pipeline_layout),
-                module: &module,
-                entry_point: Some(entry),
-                compilation_options: Default::default(),
-                cache: None,
-            })
-        };
+        let pipeline = |entry: &str| ctx.compute_pipeline(&pipeline_layout, &module, entry);
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("ray bench"),
             layout: &layout,

@@ -159,16 +159,7 @@ impl Bloom {
             immediate_size: 0,
         });
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("bloom"), source: wgpu::ShaderSource::Wgsl(BLOOM.source.into()) });
-        let pipeline = |entry: &str| {
-            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(entry),
-                layout: Some(&pipeline_layout),
-                module: &module,
-                entry_point: Some(entry),
-                compilation_options: Default::default(),
-                cache: None,
-            })
-        };
+        let pipeline = |entry: &str| ctx.compute_pipeline(&pipeline_layout, &module, entry);
         let bloom = Bloom { extract: pipeline("bloom_extract"), rows: pipeline("bloom_rows"), columns: pipeline("bloom_columns"), combine: pipeline("bloom_combine"), layout };
         ctx.check()?;
         Ok(bloom)

@@ -129,6 +129,19 @@ impl GpuContext {
         buffer
     }
 
+    /// The compute pipeline of `module`'s `entry` point under `layout`, with the default
+    /// compilation options (the kernels that take override constants build their own).
+    pub fn compute_pipeline(&self, layout: &wgpu::PipelineLayout, module: &wgpu::ShaderModule, entry: &str) -> wgpu::ComputePipeline {
+        self.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some(entry),
+            layout: Some(layout),
+            module,
+            entry_point: Some(entry),
+            compilation_options: Default::default(),
+            cache: None,
+        })
+    }
+
     /// Largest storage buffer binding the device allows, in bytes.
     pub fn max_storage_binding(&self) -> u64 {
         u64::from(self.limits.max_storage_buffer_binding_size).min(self.limits.max_buffer_size)

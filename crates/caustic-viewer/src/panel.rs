@@ -186,6 +186,8 @@ impl ViewerApp {
             vector_row(ui, "ambient", &mut material.ambient, 1e4);
             vector_row(ui, "specular", &mut material.specular_color, 1e4);
             ui.add(DragValue::new(&mut material.shininess).range(0.0..=1e5).speed(0.5).prefix("shininess "));
+        } else {
+            bsdf_rows(ui, material);
         }
         if *material != before {
             self.pending.uploads.materials = true;
@@ -251,4 +253,19 @@ fn vector_row(ui: &mut Ui, name: &str, value: &mut glam::Vec3, max: f32) {
         }
         ui.label(name);
     });
+}
+
+/// The path tracer's material fields (docs/MATERIALS.md): the metallic-roughness model's
+/// factors, its index of refraction, and the scene language's mirror and glass layers.
+fn bsdf_rows(ui: &mut Ui, material: &mut caustic_scene::Material) {
+    let unit = |ui: &mut Ui, value: &mut f32, label: &str| {
+        ui.add(Slider::new(value, 0.0..=1.0).text(label));
+    };
+    unit(ui, &mut material.metallic, "metallic");
+    unit(ui, &mut material.roughness, "roughness");
+    unit(ui, &mut material.specular, "specular");
+    unit(ui, &mut material.transmission, "transmission");
+    ui.add(Slider::new(&mut material.ior, 1.0..=3.0).text("IOR"));
+    unit(ui, &mut material.reflectance, "mirror layer");
+    unit(ui, &mut material.transparency, "glass layer");
 }
