@@ -85,6 +85,10 @@ impl Reproduction {
         add("--target", vector(self.camera.target));
         add("--up", vector(self.camera.up));
         add("--fov", fov_degrees(self.camera.fov_y).to_string());
+        if self.camera.aperture > 0.0 {
+            add("--aperture", self.camera.aperture.to_string());
+            add("--focus-distance", self.camera.focus().to_string());
+        }
         if let Some(environment) = &self.environment {
             add("--environment", environment.clone());
         }
@@ -165,6 +169,17 @@ mod tests {
         ] {
             assert!(line.contains(part), "'{part}' missing from {line}");
         }
+    }
+
+    #[test]
+    fn a_thin_lens_is_spelled_out_and_a_pinhole_is_not() {
+        let pinhole = reproduction().command_line(Path::new("x.png"));
+        assert!(!pinhole.contains("--aperture"), "{pinhole}");
+        let mut lens = reproduction();
+        lens.camera.aperture = 0.05;
+        lens.camera.focus_distance = Some(3.5);
+        let line = lens.command_line(Path::new("x.png"));
+        assert!(line.contains("--aperture 0.05 --focus-distance 3.5"), "{line}");
     }
 
     #[test]

@@ -117,6 +117,7 @@ impl ViewerApp {
         if ui.add(Slider::new(&mut fov, 5.0..=150.0).text("field of view (°)")).changed() {
             camera.fov_y = fov.to_radians();
         }
+        lens_rows(ui, &mut camera);
         let v = |v: glam::Vec3| format!("{:.4}, {:.4}, {:.4}", v.x, v.y, v.z);
         ui.label(format!("eye {}\ntarget {}", v(camera.eye), v(camera.target)));
         ui.label(
@@ -268,4 +269,15 @@ fn bsdf_rows(ui: &mut Ui, material: &mut caustic_scene::Material) {
     ui.add(Slider::new(&mut material.ior, 1.0..=3.0).text("IOR"));
     unit(ui, &mut material.reflectance, "mirror layer");
     unit(ui, &mut material.transparency, "glass layer");
+}
+
+/// Depth of field: the thin lens's radius (0 = pinhole) and its distance of focus, which
+/// follows the target until it is set here (docs/FEATURES.md).
+fn lens_rows(ui: &mut Ui, camera: &mut caustic_scene::Camera) {
+    let scale = (camera.target - camera.eye).length().max(1e-6);
+    ui.add(DragValue::new(&mut camera.aperture).range(0.0..=scale).speed(scale * 1e-3).prefix("aperture "));
+    let mut focus = camera.focus();
+    if ui.add(DragValue::new(&mut focus).range(scale * 1e-3..=scale * 1e3).speed(scale * 1e-3).prefix("focus distance ")).changed() {
+        camera.focus_distance = Some(focus);
+    }
 }
