@@ -49,8 +49,11 @@ fn sample_one_light(light: Light, p: vec3<f32>, u: vec2<f32>) -> LightSample {
     if light.kind == LIGHT_POINT || light.kind == LIGHT_SPOT {
         // A spread point light is a sphere: a point of it drawn uniformly (soft shadows, the
         // same colour on average); spot lights keep their point.
-        let spread = select(0.0, light.area, light.kind == LIGHT_POINT);
-        let to_light = light.v0 + spread * square_to_uniform_sphere(u) - p;
+        var centre = light.v0;
+        if light.kind == LIGHT_POINT && light.area > 0.0 {
+            centre += light.area * square_to_uniform_sphere(u);
+        }
+        let to_light = centre - p;
         let distance = length(to_light);
         let wi = to_light / distance;
         let falloff = light.e1.x + distance * (light.e1.y + distance * light.e1.z);
@@ -58,8 +61,11 @@ fn sample_one_light(light: Light, p: vec3<f32>, u: vec2<f32>) -> LightSample {
     }
     if light.kind == LIGHT_DIRECTIONAL {
         // Spread: a direction drawn uniformly from the cone of half-angle atan(spread).
-        let cos_max = 1.0 / sqrt(1.0 + light.area * light.area);
-        let wi = frame_to_world(frame_from_normal(light.v0), square_to_uniform_cone(u, cos_max));
+        var wi = light.v0;
+        if light.area > 0.0 {
+            let cos_max = 1.0 / sqrt(1.0 + light.area * light.area);
+            wi = frame_to_world(frame_from_normal(light.v0), square_to_uniform_cone(u, cos_max));
+        }
         return LightSample(wi, FAR_AWAY, light.radiance, 1.0, true);
     }
     let b = select(square_to_triangle(u), u, light.kind == LIGHT_QUAD);
