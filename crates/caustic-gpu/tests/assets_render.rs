@@ -6,23 +6,12 @@
 use caustic_gpu::{GpuContext, GpuScene, PathTracer, RenderSettings};
 use caustic_scene::{Environment, Scene, SceneSource, load_scene};
 use glam::Vec3;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::Instant;
 
-/// Every file under `dir` (recursively) with one of `extensions`, sorted.
-fn files_with(dir: &Path, extensions: &[&str]) -> Vec<PathBuf> {
-    let mut found = Vec::new();
-    for entry in std::fs::read_dir(dir).into_iter().flatten().flatten() {
-        let path = entry.path();
-        if path.is_dir() {
-            found.extend(files_with(&path, extensions));
-        } else if path.extension().and_then(|e| e.to_str()).is_some_and(|e| extensions.contains(&e.to_ascii_lowercase().as_str())) {
-            found.push(path);
-        }
-    }
-    found.sort();
-    found
-}
+#[path = "../../caustic-scene/tests/common/mod.rs"]
+mod common;
+use common::files_with;
 
 /// Milliseconds since `start`.
 fn ms(start: Instant) -> f64 {
