@@ -1,7 +1,8 @@
 //! The progressive render behind the window: the scene as currently edited, its device
 //! buffers, the path tracer accumulating into them, and the display pass. Every frame adds
 //! samples for a bounded time ([`FrameBudget`]); any edit restarts the accumulation at once
-//! without recompiling the kernel unless the integrator changed.
+//! without recompiling the kernel unless the edit needs another one ([`PathTracer::restart`]
+//! decides: integrator, debug view, a material using a BSDF lobe the kernel left out).
 
 use crate::display::Display;
 use caustic_gpu::debug_image::debug_picture;
@@ -112,11 +113,9 @@ impl Progressive {
         }
         let kernel = |s: &RenderSettings| (s.integrator, s.pass, s.debug);
         let same_kernel = kernel(&settings) == kernel(&self.settings);
-        if same_kernel {
-            self.tracer.restart(&self.scene, &self.gpu, &settings)?;
-        } else {
-            let began = Instant::now();
-            self.tracer = PathTracer::new(self.ctx, &self.scene, &self.gpu, &settings)?;
+        let began = Instant::now();
+        self.tracer.restart(&self.scene, &self.gpu, &settings)?;
+        if !same_kernel {
             self.stats.kernel_ms = began.elapsed().as_secs_f64() * 1e3;
         }
         self.settings = settings;
