@@ -26,7 +26,7 @@ pub fn parse_rays(bytes: &[u8]) -> anyhow::Result<Vec<ExternalRay>> {
         .chunks_exact(RAY_RECORD_BYTES)
         .enumerate()
         .map(|(index, record)| {
-            let v: Vec<f32> = record.chunks_exact(4).map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]])).collect();
+            let v: [f32; 6] = std::array::from_fn(|i| f32::from_le_bytes([record[4 * i], record[4 * i + 1], record[4 * i + 2], record[4 * i + 3]]));
             let ray = ExternalRay { origin: Vec3::new(v[0], v[1], v[2]), direction: Vec3::new(v[3], v[4], v[5]) };
             if !v.iter().all(|x| x.is_finite()) {
                 bail!("ray {index}: non-finite value in {v:?}");
