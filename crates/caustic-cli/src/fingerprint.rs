@@ -33,7 +33,7 @@ pub fn fingerprint(scene: &Scene, settings: &RenderSettings) -> Fingerprint {
     let Scene { name: _, meshes, materials, camera, resolution, environment, shapes, lights, options, textures, cameras: _ } = scene;
     h.u64(meshes.len() as u64);
     for mesh in meshes {
-        let Mesh { name, positions, normals, uvs, indices, material, uvs1, tangents } = mesh;
+        let Mesh { name, positions, normals, uvs, indices, material, uvs1, tangents, motion } = mesh;
         h.text(name);
         h.floats(positions.iter().flat_map(|v| v.to_array()));
         h.floats(normals.iter().flat_map(|v| v.to_array()));
@@ -44,6 +44,7 @@ pub fn fingerprint(scene: &Scene, settings: &RenderSettings) -> Fingerprint {
             h.u64(u64::from(*index));
         }
         h.u64(u64::from(*material));
+        h.debug(motion);
     }
     h.debug(materials);
     for texture in textures {

@@ -66,7 +66,7 @@ pub(crate) fn read_primitive(primitive: &gltf::Primitive, buffers: &[gltf::buffe
     }
     let indices = flat.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect();
     let [uvs, uvs1] = uv_sets;
-    let mut mesh = Mesh { name: name.to_string(), positions, normals, uvs, uvs1, tangents, indices, material: 0 };
+    let mut mesh = Mesh { name: name.to_string(), positions, normals, uvs, uvs1, tangents, indices, material: 0, motion: None };
     if let Some(set) = normal_map_set {
         if mesh.tangents.is_empty() {
             mesh.tangents = generate_tangents(&mesh, set);

@@ -23,6 +23,8 @@ pub struct Mesh {
     /// Per-vertex tangents for normal mapping: xyz along +u, w = +-1 the handedness
     /// (bitangent = w normal x tangent); may be empty.
     pub tangents: Vec<Vec4>,
+    /// How the mesh moves over the shutter (motion blur); `None` = static.
+    pub motion: Option<crate::Motion>,
 }
 
 impl Mesh {
@@ -91,6 +93,6 @@ impl Mesh {
         if self.material as usize >= material_count {
             return Err(crate::SceneError::invalid(object(), format!("material {} does not exist", self.material)));
         }
-        Ok(())
+        self.motion.map_or(Ok(()), |m| m.validate(&object()))
     }
 }

@@ -92,6 +92,8 @@ impl Scene {
     }
 
     /// Every triangle with an emissive material and non-zero area: the scene's area lights.
+    /// Moving meshes are left out (where they are depends on the path's time): paths find
+    /// them by BSDF sampling, as they find emissive shapes.
     pub fn emissive_triangles(&self) -> Vec<EmissiveTriangle> {
         let mut lights = Vec::new();
         let mut index = 0u32;
@@ -99,7 +101,7 @@ impl Scene {
             let material = &self.materials[mesh.material as usize];
             for t in 0..mesh.triangle_count() {
                 let light = EmissiveTriangle { vertices: mesh.triangle(t), radiance: material.emission, triangle: index + t as u32 };
-                if material.is_emissive() && light.area() > 0.0 {
+                if material.is_emissive() && light.area() > 0.0 && mesh.motion.is_none() {
                     lights.push(light);
                 }
             }

@@ -25,29 +25,31 @@ pub struct Shape {
     pub object_to_world: Mat4,
     /// Index into [`crate::Scene::materials`].
     pub material: u32,
+    /// How the shape moves over the shutter (motion blur); `None` = static.
+    pub motion: Option<crate::Motion>,
 }
 
 impl Shape {
     /// A sphere of `radius` at `centre`, then transformed by `transform`.
     pub fn sphere(transform: Mat4, centre: Vec3, radius: f32, material: u32) -> Shape {
         let local = Mat4::from_translation(centre) * Mat4::from_scale(Vec3::splat(radius));
-        Shape { kind: ShapeKind::Sphere, object_to_world: transform * local, material }
+        Shape { kind: ShapeKind::Sphere, object_to_world: transform * local, material, motion: None }
     }
 
     /// An axis-aligned box of size `dimensions` centred at `centre`, then transformed.
     pub fn cuboid(transform: Mat4, centre: Vec3, dimensions: Vec3, material: u32) -> Shape {
         let local = Mat4::from_translation(centre) * Mat4::from_scale(dimensions);
-        Shape { kind: ShapeKind::Box, object_to_world: transform * local, material }
+        Shape { kind: ShapeKind::Box, object_to_world: transform * local, material, motion: None }
     }
 
     /// The infinite plane through `point` perpendicular to `normal`, then transformed.
     pub fn plane(transform: Mat4, point: Vec3, normal: Vec3, material: u32) -> Shape {
-        Shape { kind: ShapeKind::Plane, object_to_world: transform * orient_z(point, normal, 1.0), material }
+        Shape { kind: ShapeKind::Plane, object_to_world: transform * orient_z(point, normal, 1.0), material, motion: None }
     }
 
     /// The disk of `radius` at `centre` perpendicular to `normal`, then transformed.
     pub fn disk(transform: Mat4, centre: Vec3, normal: Vec3, radius: f32, material: u32) -> Shape {
-        Shape { kind: ShapeKind::Disk, object_to_world: transform * orient_z(centre, normal, radius), material }
+        Shape { kind: ShapeKind::Disk, object_to_world: transform * orient_z(centre, normal, radius), material, motion: None }
     }
 
     /// World-space bounds; `None` for the unbounded plane.
@@ -74,7 +76,10 @@ impl Shape {
         if self.material as usize >= material_count {
             return Err(crate::SceneError::invalid(object(), format!("material {} does not exist", self.material)));
         }
-        Ok(())
+        if self.motion.is_some() && self.kind == ShapeKind::Plane {
+            return Err(crate::SceneError::invalid(object(), "an infinite plane cannot move (motion blur bounds moving objects)"));
+        }
+        self.motion.map_or(Ok(()), |m| m.validate(&object()))
     }
 }
 

@@ -61,6 +61,9 @@ pub const COMMANDS: &[CommandInfo] = &[
     c("scale", "x y z", "right-multiply the current transform by a scale"),
     c("pushTransform", "", "save the current transform"),
     c("popTransform", "", "restore the transform saved by the matching pushTransform"),
+    // Motion blur
+    c("motion", "dx dy dz [degrees ax ay az]", "objects that follow move by (dx, dy, dz) and turn about the axis through the current origin over one unit of time (0 0 0 = still)"),
+    c("shutter", "open close", "the interval of time the camera sees (default 0 0: no motion blur)"),
     // Materials
     c("material", "flat|lambert|phong|blinnphong|ggx|translucent|checkers|mirror|glass", "start a fresh material of a reflection model"),
     c("brdf", "phong|ggx", "reflection model of the current material"),

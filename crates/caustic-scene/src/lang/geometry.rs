@@ -57,7 +57,8 @@ impl Interpreter {
                 if normal.normalize_or_zero() == Vec3::ZERO {
                     return a.fail_at(3, "the normal must not be zero");
                 }
-                let shape = Shape::plane(w.current.as_mat4(), point, normal, 0);
+                self.check_plane_motion(a)?;
+                let shape = Shape::plane(self.world.current.as_mat4(), point, normal, 0);
                 self.add_shape(a, shape)?;
             }
             "disk" => {
@@ -103,7 +104,7 @@ impl Interpreter {
             return a.fail("the shape's transform is degenerate or not finite (a zero or huge scale?)");
         }
         let material = self.world.material_index();
-        self.world.scene.shapes.push(Shape { material, ..shape });
+        self.world.scene.shapes.push(Shape { material, motion: self.world.motion, ..shape });
         Ok(())
     }
 
@@ -163,7 +164,7 @@ impl Interpreter {
             Some(o) => o.mesh,
             None => {
                 let file = at.file.file_name().map_or_else(|| at.file.display().to_string(), |n| n.to_string_lossy().into_owned());
-                w.scene.meshes.push(Mesh { name: format!("{file}:{}", at.line), material, ..Mesh::default() });
+                w.scene.meshes.push(Mesh { name: format!("{file}:{}", at.line), material, motion: w.motion, ..Mesh::default() });
                 let mesh = w.scene.meshes.len() - 1;
                 w.open = Some(OpenMesh { mesh, material, normals });
                 w.bump_generation();

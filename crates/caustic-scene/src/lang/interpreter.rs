@@ -138,11 +138,13 @@ impl Interpreter {
         }
     }
 
-    /// The scene as it stands (meshes, materials, shapes, lights, camera and options).
+    /// The scene as it stands (meshes, materials, shapes, lights, camera and options), moving
+    /// objects placed at shutter open with their motion measured over the shutter.
     /// `options.russian_roulette` is the `russianroulette` setting or, when none was given,
     /// whether `maxdepth` is unbounded.
     pub fn scene(&self) -> Scene {
         let mut scene = self.world.scene.clone();
+        super::motion::apply_shutter(&mut scene, self.world.shutter);
         scene.options.russian_roulette = self.world.russian_roulette.unwrap_or(scene.options.max_depth.is_none());
         scene
     }
@@ -305,6 +307,7 @@ impl Interpreter {
             || self.sampling_command(a)?
             || self.geometry_command(a, at)?
             || self.transform_command(a, at)?
+            || self.motion_command(a)?
             || self.material_command(a, at)?
             || self.light_command(a, at)?;
         if handled {

@@ -19,6 +19,7 @@ mod geometry;
 mod interpreter;
 mod lights;
 mod materials;
+mod motion;
 mod options;
 mod state;
 mod transforms;

@@ -99,6 +99,10 @@ pub(super) struct World {
     pub(super) warned_max_verts: bool,
     pub(super) warned_max_vert_norms: bool,
     pub(super) warned_weights: bool,
+    /// `motion`: the motion of the objects that follow (over one unit of time), if any.
+    pub(super) motion: Option<crate::Motion>,
+    /// `shutter open close`: the interval of time the camera sees.
+    pub(super) shutter: (f32, f32),
 }
 
 impl World {
@@ -126,6 +130,8 @@ impl World {
             warned_max_verts: false,
             warned_max_vert_norms: false,
             warned_weights: false,
+            motion: None,
+            shutter: super::motion::NO_SHUTTER,
         }
     }
 
