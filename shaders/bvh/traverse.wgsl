@@ -1,6 +1,7 @@
 // Stack-based traversal of the two-wide BVH, nearest child first. The CPU twin is
 // crates/caustic-bvh/src/traverse.rs. Scenes small enough to bake replace this file with a
 // generated `trace` that tests every primitive in turn (crates/caustic-gpu/src/specialize.rs).
+// Moving primitives (bvh/motion.wgsl) meet the ray carried to their shutter-open frame.
 
 const LEAF_BIT: u32 = 0x80000000u;
 const EMPTY_CHILD: u32 = 0xffffffffu;
@@ -34,7 +35,7 @@ fn trace(ray: Ray, t_max: f32, any_hit: bool, cost: ptr<function, TraversalCost>
                 (*cost).triangles += 1u;
                 if (tri.id & SHAPE_BIT) != 0u {
                     let shape = bvh_shapes[tri.id & ~SHAPE_BIT];
-                    let t = intersect_shape(ray, shape, hit.t);
+                    let t = intersect_shape(ray_to_open(ray, tri.motion), shape, hit.t);
                     if t > 0.0 {
                         hit = Hit(t, 0.0, 0.0, SHAPE_BIT | shape.id, tri.id & ~SHAPE_BIT);
                         if any_hit {
@@ -43,7 +44,7 @@ fn trace(ray: Ray, t_max: f32, any_hit: bool, cost: ptr<function, TraversalCost>
                     }
                     continue;
                 }
-                let th = intersect_triangle(r, tri.v0, tri.v1, tri.v2, hit.t);
+                let th = intersect_triangle(traversal_ray_to_open(r, ray, tri.motion), tri.v0, tri.v1, tri.v2, hit.t);
                 if th.t > 0.0 {
                     hit = Hit(th.t, th.u, th.v, tri.id, i);
                     if any_hit {

@@ -66,7 +66,8 @@ struct BvhTriangle {
     v0: vec3<f32>,
     id: u32,
     v1: vec3<f32>,
-    _pad0: u32,
+    // Motion blur: 1 + the index of the primitive's motion in bvh_shapes, 0 = static.
+    motion: u32,
     v2: vec3<f32>,
     _pad1: u32,
 }
@@ -77,7 +78,8 @@ struct BvhShape {
     world_to_object: array<vec4<f32>, 3>,
     kind: u32,
     id: u32,
-    _pad0: u32,
+    // Motion blur: 1 + the index of the shape's motion in bvh_shapes, 0 = static.
+    motion: u32,
     _pad1: u32,
 }
 

@@ -10,7 +10,13 @@ fn begin_pixel(local: u32) -> u32 {
 // A camera ray through a uniformly random point of the pixel (box filter).
 fn pixel_ray(pixel: u32, rng: ptr<function, Rng>) -> Ray {
     let xy = vec2<u32>(pixel % frame.width, pixel / frame.width);
-    return camera_ray(vec2<f32>(xy) + next_2d(rng), rng);
+    let ray = camera_ray(vec2<f32>(xy) + next_2d(rng), rng);
+    // Motion blur (bvh/motion.wgsl): the path's time over the shutter, the dimension after
+    // the camera's; static scenes draw nothing, so their sample sequences are unchanged.
+    if MOTION_BLUR {
+        ray_time = next_f32(rng);
+    }
+    return ray;
 }
 
 fn record_sample(pixel: u32, value: vec3<f32>) {

@@ -12,6 +12,18 @@ struct SurfaceInteraction {
 }
 
 fn surface_interaction(ray: Ray, hit: Hit) -> SurfaceInteraction {
+    // Motion blur (bvh/motion.wgsl): a moving primitive is shaded in its shutter-open frame,
+    // then the point and normals are carried to the path's time.
+    let motion = hit_motion(hit);
+    var si = surface_interaction_open(ray_to_open(ray, motion), hit);
+    si.p = point_at_ray_time(si.p, motion);
+    si.ng = vector_at_ray_time(si.ng, motion);
+    si.ns = vector_at_ray_time(si.ns, motion);
+    return si;
+}
+
+// The interaction where the primitive is at shutter open (`ray` in that frame).
+fn surface_interaction_open(ray: Ray, hit: Hit) -> SurfaceInteraction {
     if (hit.triangle & SHAPE_BIT) != 0u {
         return shape_interaction(ray, hit);
     }

@@ -155,7 +155,7 @@ pub fn build_with_shapes(triangles: &[[Vec3; 3]], shapes: &[ShapeInput], options
 ///
 /// # Panics
 /// If there are `u32::MAX` or more primitives.
-fn build_from_bounds(bounds: &[Aabb], options: &BuildOptions, start: Instant) -> Bvh {
+pub(crate) fn build_from_bounds(bounds: &[Aabb], options: &BuildOptions, start: Instant) -> Bvh {
     assert!(bounds.len() < u32::MAX as usize, "too many primitives for u32 ids");
     let centroids: Vec<Vec3> = bounds.par_iter().map(Aabb::centroid).collect();
     let builder = Builder {

@@ -67,8 +67,9 @@ pub struct GpuTriangle {
     pub id: u32,
     /// Second vertex (barycentric `u` weights it).
     pub v1: [f32; 3],
-    /// Padding to keep the WGSL struct 16-byte aligned.
-    pub _pad0: u32,
+    /// Motion blur: 1 + the index of the primitive's motion in the shapes buffer, 0 when
+    /// it is static (see [`crate::flatten_with_motion`]).
+    pub motion: u32,
     /// Third vertex (barycentric `v` weights it).
     pub v2: [f32; 3],
     /// Padding to keep the WGSL struct 16-byte aligned.
@@ -221,7 +222,7 @@ pub fn flatten_with_shapes(bvh: &Bvh, triangles: &[[Vec3; 3]], shapes: &[ShapeIn
 /// The gathered record standing for bounded shape `slot`: its box and the shape flag.
 fn shape_record(shape: &ShapeInput, slot: u32) -> GpuTriangle {
     let bounds = shape.bounds().unwrap_or_else(Aabb::empty);
-    GpuTriangle { v0: bounds.min.into(), id: SHAPE_BIT | slot, v1: bounds.max.into(), _pad0: 0, v2: bounds.max.into(), _pad1: 0 }
+    GpuTriangle { v0: bounds.min.into(), id: SHAPE_BIT | slot, v1: bounds.max.into(), motion: 0, v2: bounds.max.into(), _pad1: 0 }
 }
 
 /// One input triangle in GPU form.
@@ -231,7 +232,7 @@ fn gather(triangle: &[Vec3; 3], id: u32) -> GpuTriangle {
         v0: v0.into(),
         id,
         v1: v1.into(),
-        _pad0: 0,
+        motion: 0,
         v2: v2.into(),
         _pad1: 0,
     }

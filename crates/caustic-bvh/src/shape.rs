@@ -71,8 +71,11 @@ pub struct GpuShape {
     pub kind: u32,
     /// Index of the shape in the scene's shape list (reported in hits).
     pub id: u32,
+    /// Motion blur: 1 + the index of the shape's motion in the shapes buffer, 0 when it is
+    /// static (see [`crate::flatten_with_motion`]).
+    pub motion: u32,
     /// Padding to 16-byte alignment.
-    pub _pad: [u32; 2],
+    pub _pad: u32,
 }
 
 const _: () = assert!(size_of::<GpuShape>() == 64);
@@ -81,7 +84,7 @@ impl GpuShape {
     /// The device form of `input`, which is shape `id` of the scene.
     pub fn new(input: &ShapeInput, id: u32) -> GpuShape {
         let m = input.object_to_world.inverse().transpose();
-        GpuShape { world_to_object: [m.x_axis.to_array(), m.y_axis.to_array(), m.z_axis.to_array()], kind: input.kind as u32, id, _pad: [0; 2] }
+        GpuShape { world_to_object: [m.x_axis.to_array(), m.y_axis.to_array(), m.z_axis.to_array()], kind: input.kind as u32, id, motion: 0, _pad: 0 }
     }
 
     fn row(&self, i: usize) -> glam::Vec4 {

@@ -20,6 +20,8 @@ pub struct Kernel {
     pub sampler: u32,
     /// The `LOBE_MASK` override.
     pub lobe_mask: u32,
+    /// The `MOTION_BLUR` override (`bvh/motion.wgsl`).
+    pub motion_blur: bool,
 }
 
 impl Kernel {
@@ -30,6 +32,7 @@ impl Kernel {
             traversal: traversal(gpu, settings),
             sampler: settings.sampler.override_value() as u32,
             lobe_mask: gpu.lobe_mask,
+            motion_blur: gpu.motion_blur,
         }
     }
 
@@ -54,7 +57,7 @@ impl Kernel {
             module: &module,
             entry_point: Some(self.entry_point),
             compilation_options: wgpu::PipelineCompilationOptions {
-                constants: &[("SAMPLER", f64::from(self.sampler)), ("LOBE_MASK", f64::from(self.lobe_mask))],
+                constants: &[("SAMPLER", f64::from(self.sampler)), ("LOBE_MASK", f64::from(self.lobe_mask)), ("MOTION_BLUR", f64::from(u8::from(self.motion_blur)))],
                 ..Default::default()
             },
             cache: None,

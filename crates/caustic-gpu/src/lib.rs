@@ -16,6 +16,7 @@ pub mod gpu_types;
 pub mod inspector;
 pub mod kernel;
 pub mod kernel_test;
+pub mod motion;
 mod path_tracer;
 mod readback;
 mod scene_buffers;

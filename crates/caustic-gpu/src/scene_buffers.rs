@@ -53,6 +53,9 @@ pub struct GpuScene {
     /// The BSDF lobes the scene's materials use ([`specialize::lobe_mask`]), for the
     /// kernels' `LOBE_MASK` override.
     pub lobe_mask: u32,
+    /// Whether an object moves over the shutter: the kernels' `MOTION_BLUR` override
+    /// (`bvh/motion.wgsl`), and the BVH bounds the motion ([`crate::motion`]).
+    pub motion_blur: bool,
 }
 
 impl GpuScene {
@@ -65,21 +68,23 @@ impl GpuScene {
     /// [`GpuScene::upload`] with a BVH built with `options`, e.g. to compare split methods.
     pub fn upload_with(ctx: &GpuContext, scene: &Scene, options: &BuildOptions) -> Result<GpuScene, GpuError> {
         let data = SceneData::new(scene);
-        let bvh = caustic_bvh::build_with_shapes(&data.triangles, &data.shapes, options);
+        let moving = crate::motion::primitive_motions(scene);
+        let bvh = caustic_bvh::build_with_motion(&data.triangles, &data.shapes, &moving, options);
         if bvh.stats.max_depth >= MAX_BVH_DEPTH {
             return Err(GpuError::Scene(format!(
                 "the BVH is {} levels deep; the traversal stack holds {MAX_BVH_DEPTH}",
                 bvh.stats.max_depth
             )));
         }
-        let gpu_bvh: GpuBvh = caustic_bvh::flatten_with_shapes(&bvh, &data.triangles, &data.shapes);
-        let traversal = specialize::unrolled_traversal(&gpu_bvh);
+        let gpu_bvh: GpuBvh = caustic_bvh::flatten_with_motion(&bvh, &data.triangles, &data.shapes, &moving);
+        // The specialised traversal has no motion: moving scenes walk the BVH.
+        let traversal = if moving.any() { None } else { specialize::unrolled_traversal(&gpu_bvh) };
         let uploader = Uploader { ctx };
         let (environment_view, environment_color) = upload_environment(ctx, &scene.environment)?;
         let uploaded = GpuScene {
             nodes: uploader.storage("BVH nodes", &gpu_bvh.nodes)?,
             triangles: uploader.storage("BVH triangles", &gpu_bvh.triangles)?,
-            shapes: uploader.storage("shapes", &gpu_bvh.shapes)?,
+            shapes: uploader.storage("shapes", &caustic_bvh::shapes_and_motions(&gpu_bvh, &moving))?,
             first_plane: gpu_bvh.first_plane,
             shape_count: gpu_bvh.shapes.len() as u32,
             shading: uploader.storage("triangle shading", &data.shading)?,
@@ -95,6 +100,7 @@ impl GpuScene {
             bounds: scene.bounds().unwrap_or((Vec3::ZERO, Vec3::ZERO)),
             traversal,
             lobe_mask: specialize::lobe_mask(&data.materials),
+            motion_blur: moving.any(),
         };
         ctx.check()?;
         Ok(uploaded)

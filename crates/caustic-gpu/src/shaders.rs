@@ -22,8 +22,9 @@ const COMMON: [ShaderFile; 5] = [
     shader_file!("bvh/intersect.wgsl"),
 ];
 
-const TRAVERSAL: [ShaderFile; 4] = [
+const TRAVERSAL: [ShaderFile; 5] = [
     shader_file!("bvh/bindings.wgsl"),
+    shader_file!("bvh/motion.wgsl"),
     shader_file!("bvh/shapes.wgsl"),
     shader_file!("bvh/hit.wgsl"),
     shader_file!("bvh/traverse.wgsl"),
