@@ -45,7 +45,7 @@ fn trace(ray: Ray, t_max: f32, any_hit: bool, cost: ptr<function, TraversalCost>
                     continue;
                 }
                 let th = intersect_triangle(traversal_ray_to_open(r, ray, tri.motion), tri.v0, tri.v1, tri.v2, hit.t);
-                if th.t > 0.0 {
+                if th.t > 0.0 && (!ALPHA_TEST || alpha_visible(ray, tri.id, th.u, th.v)) {
                     hit = Hit(th.t, th.u, th.v, tri.id, i);
                     if any_hit {
                         return hit;

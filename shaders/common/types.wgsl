@@ -88,10 +88,13 @@ struct TriangleShading {
     n0: vec3<f32>,
     material: u32,
     n1: vec3<f32>,
-    // Bit 0: has per-vertex normals (else the flat geometric normal is used).
+    // Bit 0: has per-vertex normals (else the flat geometric normal is used); bit 1: its
+    // material is alpha-tested (FLAG_ALPHA_TESTED, integrator/alpha.wgsl).
     flags: u32,
     n2: vec3<f32>,
-    _pad0: u32,
+    // Index of this triangle's extension entry (integrator/material.wgsl: per-vertex tangents
+    // in n0..n2 with the handedness in flags bits 0-2, TEXCOORD_1 in uv0..uv2); 0 = none.
+    extension: u32,
     uv0: vec2<f32>,
     uv1: vec2<f32>,
     uv2: vec2<f32>,
@@ -139,6 +142,40 @@ struct Material {
     base_color_texture: u32,
     uv_transform_v: vec3<f32>,
     texture_wrap: u32,
+    // glTF textures and factors beyond the base colour (integrator/material.wgsl): the
+    // metallic-roughness, normal and emissive textures; the factors the metallic-roughness
+    // texel scales, to rebuild the lobes per hit (metallic, roughness, KHR_materials_specular
+    // factor and colour, transmission); the normal map's xy scale; the Beer-Lambert
+    // absorption coefficient inside (KHR_materials_volume, per unit length, 0: none); the
+    // alpha mode (ALPHA_*), cutoff and alpha factor; 1 when the lobes are the glTF
+    // metallic-roughness model's, which textures rebuild per hit (else a base colour texel
+    // scales the diffuse and dielectric lobes).
+    metallic_roughness_map: TextureRef,
+    normal_map: TextureRef,
+    emissive_map: TextureRef,
+    metallic: f32,
+    roughness: f32,
+    specular_factor: f32,
+    transmission: f32,
+    specular_tint: vec3<f32>,
+    normal_scale: f32,
+    absorption: vec3<f32>,
+    alpha_cutoff: f32,
+    alpha: f32,
+    alpha_mode: u32,
+    metallic_roughness_model: u32,
+    _gltf_pad: u32,
+}
+
+// A material's use of a texture (integrator/texture.wgsl): the KHR_texture_transform rows
+// giving u' and v' from (u, v, 1), 1 + the texture's index (0: none), and `bits` as
+// Material.texture_wrap (wrap S bits 0-1, T bits 2-3, bit 4 nearest, bits 5-6 mip) with the
+// texture coordinate set in bit 7 (TEXCOORD_1 when set).
+struct TextureRef {
+    transform_u: vec3<f32>,
+    texture: u32,
+    transform_v: vec3<f32>,
+    bits: u32,
 }
 
 // One light; `cdf` is the inclusive upper end of its share of total power. By kind:
@@ -216,6 +253,10 @@ struct InspectRecord {
 const PI: f32 = 3.14159265358979;
 const INV_PI: f32 = 0.318309886183791;
 const FLAG_VERTEX_NORMALS: u32 = 1u;
+const FLAG_ALPHA_TESTED: u32 = 2u;
+const ALPHA_OPAQUE: u32 = 0u;
+const ALPHA_MASK: u32 = 1u;
+const ALPHA_BLEND: u32 = 2u;
 const NO_HIT: u32 = 0xffffffffu;
 // Flag of a hit's primitive id (and a gathered record's id) marking an analytic shape.
 const SHAPE_BIT: u32 = 0x80000000u;

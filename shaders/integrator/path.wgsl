@@ -78,6 +78,7 @@ fn trace_path(primary: Ray, rng: ptr<function, Rng>) -> vec3<f32> {
         }
         path_vertices = bounce + 1u;
         let si = surface_interaction(ray, hit);
+        throughput *= medium_transmittance(si, hit.t);
         if si.front_face && any(si.material.emission > vec3<f32>(0.0)) {
             // Emissive shapes are not in the light list: BSDF sampling alone finds them.
             // NEE found this emitter already unless the bounce was delta or NEE is off.

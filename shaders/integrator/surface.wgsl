@@ -34,27 +34,88 @@ fn surface_interaction_open(ray: Ray, hit: Hit) -> SurfaceInteraction {
     let face = unit_normal(tri.v1 - tri.v0, tri.v2 - tri.v0);
     let front_face = dot(face, ray.direction) < 0.0;
     let ng = select(-face, face, front_face);
-    var ns = ng;
+    // The front-facing shading normal, turned to the ray's side at the end.
+    var n = face;
     if (attributes.flags & FLAG_VERTEX_NORMALS) != 0u {
         let interpolated = w * attributes.n0 + hit.u * attributes.n1 + hit.v * attributes.n2;
         let len = length(interpolated);
         if len > 0.0 {
-            ns = interpolated / len;
-            ns = select(-ns, ns, dot(ns, ng) >= 0.0);
+            n = interpolated / len;
         }
     }
     var material = materials[attributes.material];
-    if material.base_color_texture != 0u {
-        let uv = w * attributes.uv0 + hit.u * attributes.uv1 + hit.v * attributes.uv2;
-        var lod = 0.0;
-        if all(ray.origin == frame.eye) {
-            let duv1 = attributes.uv1 - attributes.uv0;
-            let duv2 = attributes.uv2 - attributes.uv0;
-            lod = texture_lod(material, ray.direction, hit.t, tri.v1 - tri.v0, tri.v2 - tri.v0, duv1, duv2);
+    if has_textures(material) {
+        let tc = tex_coords(ray, hit, tri, attributes);
+        material = textured_material(material, tc);
+        if material.normal_map.texture != 0u {
+            let ext = shading[attributes.extension];
+            let tangent = w * ext.n0 + hit.u * ext.n1 + hit.v * ext.n2;
+            let handedness = w * corner_sign(ext.flags, 0u) + hit.u * corner_sign(ext.flags, 1u) + hit.v * corner_sign(ext.flags, 2u);
+            let texel = sample_at(material.normal_map, tc).rgb;
+            n = normal_mapped(n, tangent, select(1.0, -1.0, handedness < 0.0), texel, material.normal_scale);
         }
-        material = with_base_color_texture(material, uv, lod);
     }
+    let ns = select(-n, n, dot(n, ng) >= 0.0);
     return SurfaceInteraction(p, ng, ns, front_face, material);
+}
+
+// Whether material m reads any texture.
+fn has_textures(m: Material) -> bool {
+    return (m.base_color_texture | m.metallic_roughness_map.texture | m.normal_map.texture | m.emissive_map.texture) != 0u;
+}
+
+// Handedness (+-1) of corner k of an extension entry (bit k of its flags: negative).
+fn corner_sign(flags: u32, k: u32) -> f32 {
+    return select(1.0, -1.0, ((flags >> k) & 1u) != 0u);
+}
+
+// Both texture coordinate sets at the hit (TEXCOORD_1 from the triangle's extension entry),
+// with the camera ray's footprint when the ray starts at the eye.
+fn tex_coords(ray: Ray, hit: Hit, tri: BvhTriangle, attributes: TriangleShading) -> TexCoords {
+    let w = 1.0 - hit.u - hit.v;
+    var tc: TexCoords;
+    tc.uv0 = w * attributes.uv0 + hit.u * attributes.uv1 + hit.v * attributes.uv2;
+    tc.duv0 = array<vec2<f32>, 2>(attributes.uv1 - attributes.uv0, attributes.uv2 - attributes.uv0);
+    if attributes.extension != 0u {
+        let ext = shading[attributes.extension];
+        tc.uv1 = w * ext.uv0 + hit.u * ext.uv1 + hit.v * ext.uv2;
+        tc.duv1 = array<vec2<f32>, 2>(ext.uv1 - ext.uv0, ext.uv2 - ext.uv0);
+    }
+    let e1 = tri.v1 - tri.v0;
+    let e2 = tri.v2 - tri.v0;
+    tc.primary = all(ray.origin == frame.eye) && length(cross(e1, e2)) > 0.0;
+    if tc.primary {
+        tc.footprint = footprint_lod(ray.direction, hit.t, e1, e2);
+    }
+    return tc;
+}
+
+// Material m with its textures applied where the texture coordinates are tc: the base colour
+// texel scales the base colour; the metallic-roughness texel (blue: metallic, green:
+// roughness) scales those factors; for glTF metallic-roughness materials the lobes are then
+// rebuilt from the textured values (material.wgsl), for others the base colour texel scales
+// the diffuse lobe and the dielectric tint; the emissive texel scales the emission.
+fn textured_material(m: Material, tc: TexCoords) -> Material {
+    var out = m;
+    var color = vec3<f32>(1.0);
+    if m.base_color_texture != 0u {
+        color = sample_at(base_color_ref(m), tc).rgb;
+        out.base_color = m.base_color * color;
+    }
+    if m.metallic_roughness_model != 0u {
+        var metallic_roughness = vec2<f32>(m.metallic, m.roughness);
+        if m.metallic_roughness_map.texture != 0u {
+            metallic_roughness *= sample_at(m.metallic_roughness_map, tc).bg;
+        }
+        out = metallic_roughness_lobes(out, metallic_roughness.x, metallic_roughness.y);
+    } else {
+        out.diffuse = m.diffuse * color;
+        out.dielectric = m.dielectric * color;
+    }
+    if m.emissive_map.texture != 0u {
+        out.emission = m.emission * sample_at(m.emissive_map, tc).rgb;
+    }
+    return out;
 }
 
 // Analytic shapes: the normal comes from the object-space hit point; the material from the
@@ -73,4 +134,14 @@ fn shape_interaction(ray: Ray, hit: Hit) -> SurfaceInteraction {
 fn spawn_ray(si: SurfaceInteraction, direction: vec3<f32>) -> Ray {
     let side = select(-si.ng, si.ng, dot(direction, si.ng) >= 0.0);
     return Ray(offset_ray_origin(si.p, side), direction);
+}
+
+// Beer-Lambert transmittance of a path segment of length t that ends at si: inside a
+// KHR_materials_volume medium when it reaches the back face of that medium's surface
+// (closed meshes: the segment ran inside), exp(-absorption t) per channel; 1 otherwise.
+fn medium_transmittance(si: SurfaceInteraction, t: f32) -> vec3<f32> {
+    if si.front_face || all(si.material.absorption == vec3<f32>(0.0)) {
+        return vec3<f32>(1.0);
+    }
+    return exp(-si.material.absorption * t);
 }

@@ -1,6 +1,6 @@
-// Base colour textures: the material's texture, read through its KHR_texture_transform and
-// wrap modes with nearest or bilinear filtering within a mip level and none, nearest or
-// linear blending between levels, sRGB texels decoded before filtering. The level of detail
+// Material textures (integrator/surface.wgsl applies them): each read through its
+// KHR_texture_transform, texture coordinate set and wrap modes with nearest or bilinear
+// filtering within a mip level and none, nearest or linear blending between levels, sRGB texels decoded before filtering. The level of detail
 // comes from the camera ray's footprint; rays after a bounce read level 0. The CPU twins
 // are caustic_scene::{TextureSlot::lookup, sample_mipmapped, texture_lod}.
 
@@ -81,35 +81,70 @@ fn sample_texture(index: u32, uv: vec2<f32>, nearest: bool, mip: u32, lod: f32) 
     return mix(sample_level(header, below, uv, nearest), sample_level(header, above, uv, nearest), clamped - f32(below));
 }
 
-// Level of detail of material m's base colour texture where a camera ray along unit
-// `direction` meets, at distance t, a triangle with edges e1, e2 and texture coordinate
-// edges duv1, duv2: log2 of the pixel footprint's width in texels (the CPU twin is
-// caustic_scene::texture_lod). 0 where the triangle has no area.
-fn texture_lod(m: Material, direction: vec3<f32>, t: f32, e1: vec3<f32>, e2: vec3<f32>, duv1: vec2<f32>, duv2: vec2<f32>) -> f32 {
-    let normal = cross(e1, e2);
-    let world_area = length(normal);
-    let header = 4u * (m.base_color_texture - 1u);
-    let texels = f32(textures[header + 1u]) * f32(textures[header + 2u]);
-    let det = m.uv_transform_u.x * m.uv_transform_v.y - m.uv_transform_u.y * m.uv_transform_v.x;
-    let texel_area = abs(duv1.x * duv2.y - duv1.y * duv2.x) * texels * abs(det);
-    if world_area <= 0.0 || texel_area <= 0.0 {
-        return 0.0;
-    }
-    let cos_theta = abs(dot(direction, normal)) / world_area;
-    let pixel_angle = 2.0 * length(frame.up) / f32(frame.height);
-    return log2(t * pixel_angle * sqrt(texel_area / world_area) / sqrt(max(cos_theta, 1e-3)));
+// Bit of TextureRef.bits selecting TEXCOORD_1.
+const TEXTURE_SET_1: u32 = 128u;
+
+// The base colour texture's fields of a material as a TextureRef.
+fn base_color_ref(m: Material) -> TextureRef {
+    return TextureRef(m.uv_transform_u, m.base_color_texture, m.uv_transform_v, m.texture_wrap);
 }
 
-// The material with its base colour texture applied at texture coordinates `uv`: the texel
-// scales the base colour and the lobes made of it (diffuse reflection, dielectric tint).
-fn with_base_color_texture(m: Material, uv: vec2<f32>, lod: f32) -> Material {
-    let moved = vec2<f32>(dot(m.uv_transform_u, vec3<f32>(uv, 1.0)), dot(m.uv_transform_v, vec3<f32>(uv, 1.0)));
-    let wrapped = vec2<f32>(wrap_coordinate(moved.x, m.texture_wrap & 3u), wrap_coordinate(moved.y, (m.texture_wrap >> 2u) & 3u));
-    let nearest = (m.texture_wrap & TEXTURE_NEAREST) != 0u;
-    let color = sample_texture(m.base_color_texture - 1u, wrapped, nearest, (m.texture_wrap >> 5u) & 3u, lod).rgb;
-    var out = m;
-    out.base_color = m.base_color * color;
-    out.diffuse = m.diffuse * color;
-    out.dielectric = m.dielectric * color;
-    return out;
+// Texture coordinates at a hit: both sets interpolated, the triangle's edges in each set, and
+// the camera ray's footprint (footprint_lod; primary is false after a bounce, where every
+// texture reads level 0).
+struct TexCoords {
+    uv0: vec2<f32>,
+    uv1: vec2<f32>,
+    duv0: array<vec2<f32>, 2>,
+    duv1: array<vec2<f32>, 2>,
+    footprint: f32,
+    primary: bool,
+}
+
+// The part of the level of detail that does not depend on the texture, for a camera ray along
+// unit `direction` meeting at distance t a triangle with edges e1, e2: log2 of the pixel
+// footprint's width over the square root of the triangle's area (the CPU twin is
+// caustic_scene::texture_lod, which folds in the texel density); none where it has no area.
+fn footprint_lod(direction: vec3<f32>, t: f32, e1: vec3<f32>, e2: vec3<f32>) -> f32 {
+    let normal = cross(e1, e2);
+    let world_area = length(normal);
+    let cos_theta = abs(dot(direction, normal)) / world_area;
+    let pixel_angle = 2.0 * length(frame.up) / f32(frame.height);
+    return log2(t * pixel_angle / sqrt(max(cos_theta, 1e-3))) - 0.5 * log2(world_area);
+}
+
+// Where texture reference r reads: the hit's coordinates in r's set.
+fn ref_uv(r: TextureRef, tc: TexCoords) -> vec2<f32> {
+    return select(tc.uv0, tc.uv1, (r.bits & TEXTURE_SET_1) != 0u);
+}
+
+// Level of detail of texture reference r: the footprint plus half the log2 of the
+// triangle's area in texels (after the texture transform); 0 after a bounce or where the
+// triangle has no area in texels.
+fn ref_lod(r: TextureRef, tc: TexCoords) -> f32 {
+    let set_1 = (r.bits & TEXTURE_SET_1) != 0u;
+    let duv1 = select(tc.duv0[0], tc.duv1[0], set_1);
+    let duv2 = select(tc.duv0[1], tc.duv1[1], set_1);
+    let header = 4u * (r.texture - 1u);
+    let texels = f32(textures[header + 1u]) * f32(textures[header + 2u]);
+    let det = r.transform_u.x * r.transform_v.y - r.transform_u.y * r.transform_v.x;
+    let texel_area = abs(duv1.x * duv2.y - duv1.y * duv2.x) * texels * abs(det);
+    if !tc.primary || texel_area <= 0.0 {
+        return 0.0;
+    }
+    return tc.footprint + 0.5 * log2(texel_area);
+}
+
+// Texture reference r at texture coordinates `uv`: transformed, wrapped, filtered as its
+// bits say, at level of detail `lod` (the CPU twins: TextureSlot::lookup, sample_mipmapped).
+fn sample_ref(r: TextureRef, uv: vec2<f32>, lod: f32) -> vec4<f32> {
+    let moved = vec2<f32>(dot(r.transform_u, vec3<f32>(uv, 1.0)), dot(r.transform_v, vec3<f32>(uv, 1.0)));
+    let wrapped = vec2<f32>(wrap_coordinate(moved.x, r.bits & 3u), wrap_coordinate(moved.y, (r.bits >> 2u) & 3u));
+    let nearest = (r.bits & TEXTURE_NEAREST) != 0u;
+    return sample_texture(r.texture - 1u, wrapped, nearest, (r.bits >> 5u) & 3u, lod);
+}
+
+// Texture reference r where the texture coordinates are tc.
+fn sample_at(r: TextureRef, tc: TexCoords) -> vec4<f32> {
+    return sample_ref(r, ref_uv(r, tc), ref_lod(r, tc));
 }

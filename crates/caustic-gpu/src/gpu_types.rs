@@ -95,8 +95,9 @@ pub struct TriangleShading {
     pub flags: u32,
     /// Vertex normal at v2.
     pub n2: [f32; 3],
-    /// Padding.
-    pub _pad0: u32,
+    /// Index of this triangle's extension entry (`scene_data::extension_entry`: tangents and
+    /// `TEXCOORD_1`), 0 for none.
+    pub extension: u32,
     /// Texture coordinates at v0, v1, v2.
     pub uv: [[f32; 2]; 3],
     /// Padding.
@@ -105,6 +106,9 @@ pub struct TriangleShading {
 
 /// Flag of [`TriangleShading::flags`]: interpolate the vertex normals.
 pub const FLAG_VERTEX_NORMALS: u32 = 1;
+/// Flag of [`TriangleShading::flags`]: the triangle's material is alpha-tested (glTF `MASK`
+/// or `BLEND`), so traversal tests its opacity at candidate hits (`integrator/alpha.wgsl`).
+pub const FLAG_ALPHA_TESTED: u32 = 2;
 
 /// A material as the kernels see it (`Material` in WGSL).
 #[repr(C)]
@@ -162,8 +166,65 @@ pub struct GpuMaterial {
     pub uv_transform_v: [f32; 3],
     /// Base colour texture: wrap modes, S in bits 0-1 and T in bits 2-3 (0 repeat,
     /// 1 mirrored repeat, 2 clamp to edge); bit 4: nearest filtering (else bilinear); bits
-    /// 5-6: mip levels (0 none, 1 nearest level, 2 blend of two: trilinear).
+    /// 5-6: mip levels (0 none, 1 nearest level, 2 blend of two: trilinear); bit 7: reads
+    /// `TEXCOORD_1`.
     pub texture_wrap: u32,
+    /// glTF metallic-roughness texture (blue: metallic, green: roughness).
+    pub metallic_roughness_map: GpuTextureRef,
+    /// glTF tangent-space normal map.
+    pub normal_map: GpuTextureRef,
+    /// glTF emissive texture (scales `emission`).
+    pub emissive_map: GpuTextureRef,
+    /// glTF metallic factor, which the metallic-roughness texel scales before the lobes are
+    /// rebuilt per hit (`integrator/material.wgsl`).
+    pub metallic: f32,
+    /// glTF roughness factor (perceptual), scaled by the texel likewise.
+    pub roughness: f32,
+    /// `KHR_materials_specular` factor.
+    pub specular_factor: f32,
+    /// `KHR_materials_transmission` factor.
+    pub transmission: f32,
+    /// `KHR_materials_specular` colour factor.
+    pub specular_tint: [f32; 3],
+    /// Scale of the normal map's x and y.
+    pub normal_scale: f32,
+    /// Beer-Lambert absorption coefficient inside the volume, per unit length
+    /// (`KHR_materials_volume`: -ln(attenuation colour) / attenuation distance; 0: none).
+    pub absorption: [f32; 3],
+    /// glTF `alphaCutoff` (alpha mode `MASK`).
+    pub alpha_cutoff: f32,
+    /// Opacity factor (glTF base colour alpha), times the base colour texel's alpha.
+    pub alpha: f32,
+    /// [`ALPHA_OPAQUE`], [`ALPHA_MASK`] or [`ALPHA_BLEND`].
+    pub alpha_mode: u32,
+    /// 1 when the lobes are the glTF metallic-roughness model's (no scene-language layers),
+    /// which the textures rebuild per hit; 0: a base colour texel scales the diffuse and
+    /// dielectric lobes.
+    pub metallic_roughness_model: u32,
+    /// Rounds the glTF block to 16 bytes.
+    pub _gltf_pad: u32,
+}
+
+/// [`GpuMaterial::alpha_mode`]: alpha ignored.
+pub const ALPHA_OPAQUE: u32 = 0;
+/// [`GpuMaterial::alpha_mode`]: opaque where alpha >= the cutoff, absent elsewhere.
+pub const ALPHA_MASK: u32 = 1;
+/// [`GpuMaterial::alpha_mode`]: present with probability alpha (stochastic transparency).
+pub const ALPHA_BLEND: u32 = 2;
+
+/// A material's use of one texture (`TextureRef` in WGSL).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuTextureRef {
+    /// Row of the `KHR_texture_transform` giving u' from (u, v, 1).
+    pub transform_u: [f32; 3],
+    /// 1 + the texture's index in the packed texture buffer, 0 for none.
+    pub texture: u32,
+    /// Row giving v'.
+    pub transform_v: [f32; 3],
+    /// Wrap modes, filter and mip use as [`GpuMaterial::texture_wrap`], and bit 7: the
+    /// texture coordinate set is `TEXCOORD_1`.
+    pub bits: u32,
 }
 
 /// One light for next-event estimation (`Light` in WGSL); fields by kind are documented there.

@@ -22,6 +22,9 @@ pub struct Kernel {
     pub lobe_mask: u32,
     /// The `MOTION_BLUR` override (`bvh/motion.wgsl`).
     pub motion_blur: bool,
+    /// The `ALPHA_TEST` override: traversal tests alpha-tested materials' opacity
+    /// (`integrator/alpha.wgsl`).
+    pub alpha_test: bool,
 }
 
 impl Kernel {
@@ -33,6 +36,7 @@ impl Kernel {
             sampler: settings.sampler.override_value() as u32,
             lobe_mask: gpu.lobe_mask,
             motion_blur: gpu.motion_blur,
+            alpha_test: gpu.alpha_test,
         }
     }
 
@@ -57,7 +61,7 @@ impl Kernel {
             module: &module,
             entry_point: Some(self.entry_point),
             compilation_options: wgpu::PipelineCompilationOptions {
-                constants: &[("SAMPLER", f64::from(self.sampler)), ("LOBE_MASK", f64::from(self.lobe_mask)), ("MOTION_BLUR", f64::from(u8::from(self.motion_blur)))],
+                constants: &[("SAMPLER", f64::from(self.sampler)), ("LOBE_MASK", f64::from(self.lobe_mask)), ("MOTION_BLUR", f64::from(u8::from(self.motion_blur))), ("ALPHA_TEST", f64::from(u8::from(self.alpha_test)))],
                 ..Default::default()
             },
             cache: None,
@@ -69,8 +73,9 @@ impl Kernel {
 fn traversal(gpu: &GpuScene, settings: &RenderSettings) -> Option<String> {
     // The BVH-cost debug views show the BVH traversal's work, which the specialised one skips.
     let bvh_cost = matches!(settings.debug, Some(DebugView::NodeVisits | DebugView::PrimitiveTests));
+    // The specialised traversal has no alpha test: alpha-tested scenes walk the BVH.
     match settings.data_path {
-        DataPath::Auto if !bvh_cost => gpu.traversal.clone(),
+        DataPath::Auto if !bvh_cost && !gpu.alpha_test => gpu.traversal.clone(),
         DataPath::Auto | DataPath::Buffers => None,
     }
 }

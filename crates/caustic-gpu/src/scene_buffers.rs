@@ -56,6 +56,9 @@ pub struct GpuScene {
     /// Whether an object moves over the shutter: the kernels' `MOTION_BLUR` override
     /// (`bvh/motion.wgsl`), and the BVH bounds the motion ([`crate::motion`]).
     pub motion_blur: bool,
+    /// Whether some material is alpha-tested (glTF `MASK` or `BLEND`): the kernels'
+    /// `ALPHA_TEST` override (`integrator/alpha.wgsl`).
+    pub alpha_test: bool,
 }
 
 impl GpuScene {
@@ -99,7 +102,8 @@ impl GpuScene {
             bvh_stats: bvh.stats,
             bounds: scene.bounds().unwrap_or((Vec3::ZERO, Vec3::ZERO)),
             traversal,
-            lobe_mask: specialize::lobe_mask(&data.materials),
+            lobe_mask: crate::scene_data::lobe_mask(scene),
+            alpha_test: data.alpha_test,
             motion_blur: moving.any(),
         };
         ctx.check()?;
@@ -113,7 +117,7 @@ impl GpuScene {
         let (lights, total_light_power) = device_lights(scene);
         let uploader = Uploader { ctx };
         let materials = device_materials(scene);
-        self.lobe_mask = specialize::lobe_mask(&materials);
+        self.lobe_mask = crate::scene_data::lobe_mask(scene);
         self.materials = uploader.storage("materials", &materials)?;
         self.lights = uploader.storage("lights", &lights)?;
         self.light_count = lights.len() as u32;

@@ -3,10 +3,10 @@
 //! per shape), materials (the scene's, then one emitter per quad light) and the light list
 //! with its power CDF.
 
-use crate::gpu_types::{FLAG_VERTEX_NORMALS, GpuLight, GpuMaterial, TriangleShading};
+use crate::gpu_types::{ALPHA_BLEND, ALPHA_MASK, ALPHA_OPAQUE, FLAG_ALPHA_TESTED, FLAG_VERTEX_NORMALS, GpuLight, GpuMaterial, GpuTextureRef, TriangleShading};
 use caustic_bvh::ShapeInput;
 use caustic_bsdf::params::BsdfParams;
-use caustic_scene::{ColorSpace, Light, MipFilter, Scene, Shape, ShadingModel, ShapeKind, Texture, TextureFilter, TextureSlot, WrapMode, luminance};
+use caustic_scene::{AlphaMode, ColorSpace, Light, MipFilter, Scene, Shape, ShadingModel, ShapeKind, Texture, TextureFilter, TextureSlot, WrapMode, luminance};
 use glam::Vec3;
 
 /// Light kinds, as `GpuLight::kind` and `LIGHT_*` in `shaders/common/types.wgsl`.
@@ -34,23 +34,40 @@ pub struct SceneData {
     pub lights: Vec<GpuLight>,
     /// Sum of the lights' powers (area x luminance units).
     pub total_light_power: f32,
+    /// Whether some material is alpha-tested (`MASK` or `BLEND`): the kernels' `ALPHA_TEST`.
+    pub alpha_test: bool,
 }
 
 impl SceneData {
     /// Assembles the device form of `scene`.
     pub fn new(scene: &Scene) -> SceneData {
+        let (shading, extensions) = mesh_shading(scene);
         let mut data = SceneData {
             triangles: scene.triangles().collect(),
             shapes: scene.shapes.iter().map(shape_input).collect(),
-            shading: mesh_shading(scene),
+            shading,
             materials: device_materials(scene),
             lights: Vec::new(),
             total_light_power: 0.0,
+            alpha_test: scene.materials.iter().any(|m| m.alpha_mode != AlphaMode::Opaque),
         };
         data.add_quad_geometry(scene);
         data.shading.extend(scene.shapes.iter().map(|s| TriangleShading { material: s.material, ..Default::default() }));
+        data.add_extensions(extensions);
         (data.lights, data.total_light_power) = device_lights(scene);
         data
+    }
+
+    /// Appends the extension entries after every triangle's and shape's entry, pointing each
+    /// triangle's `extension` (1-based in `extensions` until now) at its entry.
+    fn add_extensions(&mut self, extensions: Vec<TriangleShading>) {
+        let base = self.shading.len() as u32 - 1;
+        for entry in &mut self.shading {
+            if entry.extension != 0 {
+                entry.extension += base;
+            }
+        }
+        self.shading.extend(extensions);
     }
 
     /// Two emissive triangles per quad light, each with its quad's emitter material.
@@ -79,17 +96,46 @@ pub(crate) fn device_materials(scene: &Scene) -> Vec<GpuMaterial> {
     scene.materials.iter().map(gpu_material).chain(quad_emitters).collect()
 }
 
+/// The kernels' `LOBE_MASK` ([`crate::specialize::lobe_mask`]) for the scene's materials,
+/// including the lobes a metallic-roughness texel can switch on (a texel's metallic ranges
+/// from 0 to the factor, and the lobes are rebuilt per hit).
+pub(crate) fn lobe_mask(scene: &Scene) -> u32 {
+    let textured = scene.materials.iter().filter(|m| m.metallic_roughness_texture.is_some());
+    let unmetalled = textured.map(|m| gpu_material(&caustic_scene::Material { metallic: 0.0, ..m.clone() }));
+    let materials: Vec<GpuMaterial> = device_materials(scene).into_iter().chain(unmetalled).collect();
+    crate::specialize::lobe_mask(&materials)
+}
+
 /// The light list with its power CDF (emissive triangles, then the scene's lights) and the
 /// lights' total power.
 pub(crate) fn device_lights(scene: &Scene) -> (Vec<GpuLight>, f32) {
     let radius = scene.bounds().map_or(1.0, |(lo, hi)| (hi - lo).length() * 0.5).max(1e-3);
+    let textured = textured_emitters(scene);
     let lights: Vec<GpuLight> = scene
         .emissive_triangles()
         .iter()
+        .filter(|e| !textured.iter().any(|range| range.contains(&e.triangle)))
         .map(|e| area_light(LIGHT_TRIANGLE, e.vertices[0], e.vertices[1] - e.vertices[0], e.vertices[2] - e.vertices[0], e.radiance))
         .chain(scene.lights.iter().map(light))
         .collect();
     with_power_cdf(lights, radius)
+}
+
+/// The scene triangle indices of meshes whose material has an emissive texture: their
+/// radiance varies over the surface, so they are left out of the light list (whose sampling
+/// and MIS assume a constant radiance per triangle) and found by BSDF sampling alone, which
+/// stays unbiased.
+fn textured_emitters(scene: &Scene) -> Vec<std::ops::Range<u32>> {
+    let mut first = 0u32;
+    let mut out = Vec::new();
+    for mesh in &scene.meshes {
+        let end = first + mesh.triangle_count() as u32;
+        if scene.materials.get(mesh.material as usize).is_some_and(|m| m.emissive_texture.is_some()) {
+            out.push(first..end);
+        }
+        first = end;
+    }
+    out
 }
 
 fn shape_input(shape: &Shape) -> ShapeInput {
@@ -103,20 +149,56 @@ fn shape_input(shape: &Shape) -> ShapeInput {
 }
 
 fn gpu_material(m: &caustic_scene::Material) -> GpuMaterial {
+    let base_color = m.base_color_texture.map(texture_ref).unwrap_or_default();
+    let (alpha_mode, alpha_cutoff) = match m.alpha_mode {
+        AlphaMode::Opaque => (ALPHA_OPAQUE, 0.0),
+        AlphaMode::Mask { cutoff } => (ALPHA_MASK, cutoff),
+        AlphaMode::Blend => (ALPHA_BLEND, 0.0),
+    };
     GpuMaterial {
         base_color: m.base_color.to_array(),
         emission: m.emission.to_array(),
         shininess: m.shininess,
         ambient: m.ambient.to_array(),
         specular: m.specular_color.to_array(),
-        ..with_base_color_texture(material_with_bsdf(&bsdf_params(m)), m.base_color_texture)
+        uv_transform_u: base_color.transform_u,
+        base_color_texture: base_color.texture,
+        uv_transform_v: base_color.transform_v,
+        texture_wrap: base_color.bits,
+        metallic_roughness_map: m.metallic_roughness_texture.map(texture_ref).unwrap_or_default(),
+        normal_map: m.normal_texture.map(texture_ref).unwrap_or_default(),
+        emissive_map: m.emissive_texture.map(texture_ref).unwrap_or_default(),
+        metallic: m.metallic,
+        roughness: m.roughness,
+        specular_factor: m.specular,
+        transmission: m.transmission,
+        specular_tint: m.specular_tint.to_array(),
+        normal_scale: m.normal_scale,
+        absorption: absorption(m).to_array(),
+        alpha_cutoff,
+        alpha: m.alpha,
+        alpha_mode,
+        metallic_roughness_model: u32::from(m.model == ShadingModel::Lambert && m.reflectance == 0.0 && m.transparency == 0.0),
+        ..material_with_bsdf(&bsdf_params(m))
     }
 }
 
-/// `material` reading the base colour texture of `slot` with its transform, wrap modes and
-/// filters (its texture coordinate set is chosen by [`mesh_shading`]).
-fn with_base_color_texture(material: GpuMaterial, slot: Option<TextureSlot>) -> GpuMaterial {
-    let Some(slot) = slot else { return material };
+/// The Beer-Lambert absorption coefficient inside a `KHR_materials_volume` material:
+/// -ln(attenuation colour) / attenuation distance per channel (a colour channel of 0 is taken
+/// as 1e-6), so light crossing a distance d keeps exp(-coefficient d). Zero for thin-walled
+/// materials (thickness 0, as the extension defines) and without attenuation (infinite
+/// distance); the thickness itself is not used: the path tracer measures the distance inside.
+pub fn absorption(m: &caustic_scene::Material) -> Vec3 {
+    if m.thickness <= 0.0 || !m.attenuation_distance.is_finite() {
+        return Vec3::ZERO;
+    }
+    let c = m.attenuation_color.max(Vec3::splat(1e-6));
+    -Vec3::new(c.x.ln(), c.y.ln(), c.z.ln()) / m.attenuation_distance
+}
+
+/// A texture slot as the kernels read it: its transform rows, texture, wrap modes, filters
+/// and coordinate set ([`GpuTextureRef`]).
+fn texture_ref(slot: TextureSlot) -> GpuTextureRef {
     let (m, t) = (slot.transform.matrix2, slot.transform.translation);
     let wrap = |mode| match mode {
         WrapMode::Repeat => 0,
@@ -128,12 +210,11 @@ fn with_base_color_texture(material: GpuMaterial, slot: Option<TextureSlot>) -> 
         MipFilter::Nearest => 1,
         MipFilter::Linear => 2,
     };
-    GpuMaterial {
-        uv_transform_u: [m.x_axis.x, m.y_axis.x, t.x],
-        uv_transform_v: [m.x_axis.y, m.y_axis.y, t.y],
-        base_color_texture: slot.texture + 1,
-        texture_wrap: wrap(slot.wrap[0]) | wrap(slot.wrap[1]) << 2 | u32::from(slot.filter == TextureFilter::Nearest) << 4 | mip(slot.mip) << 5,
-        ..material
+    GpuTextureRef {
+        transform_u: [m.x_axis.x, m.y_axis.x, t.x],
+        texture: slot.texture + 1,
+        transform_v: [m.x_axis.y, m.y_axis.y, t.y],
+        bits: wrap(slot.wrap[0]) | wrap(slot.wrap[1]) << 2 | u32::from(slot.filter == TextureFilter::Nearest) << 4 | mip(slot.mip) << 5 | u32::from(slot.tex_coord == 1) << 7,
     }
 }
 
@@ -197,31 +278,52 @@ pub fn material_with_bsdf(p: &BsdfParams) -> GpuMaterial {
     }
 }
 
-/// Per-triangle shading entries. The texture coordinates are the set the material's base
-/// colour texture reads (`TEXCOORD_1` or, by default, `TEXCOORD_0`): the only texture the
-/// device samples, so one set per triangle suffices.
-fn mesh_shading(scene: &Scene) -> Vec<TriangleShading> {
+/// Per-triangle shading entries (vertex normals, `TEXCOORD_0`, material, flags) and the
+/// extension entries ([`extension_entry`]) of the triangles whose material uses a normal map
+/// or `TEXCOORD_1`, which their `extension` numbers from 1 ([`SceneData::add_extensions`]
+/// places them).
+fn mesh_shading(scene: &Scene) -> (Vec<TriangleShading>, Vec<TriangleShading>) {
     let mut out = Vec::with_capacity(scene.triangle_count());
+    let mut extensions = Vec::new();
     for mesh in &scene.meshes {
         let has_normals = !mesh.normals.is_empty();
-        let slot = scene.materials.get(mesh.material as usize).and_then(|m| m.base_color_texture);
-        let uvs = if slot.is_some_and(|slot| slot.tex_coord == 1) { &mesh.uvs1 } else { &mesh.uvs };
+        let material = scene.materials.get(mesh.material as usize);
+        let extended = material.is_some_and(|m| m.normal_texture.is_some() || m.texture_slots().any(|(_, slot)| slot.tex_coord == 1));
+        let alpha_tested = material.is_some_and(|m| m.alpha_mode != AlphaMode::Opaque);
+        let flags = if has_normals { FLAG_VERTEX_NORMALS } else { 0 } | if alpha_tested { FLAG_ALPHA_TESTED } else { 0 };
         for tri in &mesh.indices {
             let corner = |k: usize| tri[k] as usize;
             let normal = |k: usize| if has_normals { mesh.normals[corner(k)].to_array() } else { [0.0; 3] };
-            let uv = |k: usize| uvs.get(corner(k)).map_or([0.0; 2], |uv| uv.to_array());
-            out.push(TriangleShading {
+            let uv = |k: usize| mesh.uvs.get(corner(k)).map_or([0.0; 2], |uv| uv.to_array());
+            let mut entry = TriangleShading {
                 n0: normal(0),
                 n1: normal(1),
                 n2: normal(2),
                 material: mesh.material,
-                flags: if has_normals { FLAG_VERTEX_NORMALS } else { 0 },
+                flags,
                 uv: [uv(0), uv(1), uv(2)],
                 ..Default::default()
-            });
+            };
+            if extended {
+                extensions.push(extension_entry(mesh, *tri));
+                entry.extension = extensions.len() as u32;
+            }
+            out.push(entry);
         }
     }
-    out
+    (out, extensions)
+}
+
+/// The extension entry of triangle `tri` of `mesh`, stored as a [`TriangleShading`] so no
+/// further buffer binding is needed: the corners' tangents (xyz in `n0`..`n2`, handedness
+/// w < 0 as bits 0-2 of `flags`; zero when the mesh has none) and their `TEXCOORD_1` in `uv`
+/// (`shaders/integrator/material.wgsl` reads it).
+pub fn extension_entry(mesh: &caustic_scene::Mesh, tri: [u32; 3]) -> TriangleShading {
+    let tangent = |k: usize| mesh.tangents.get(tri[k] as usize).copied().unwrap_or_default();
+    let xyz = |k: usize| tangent(k).truncate().to_array();
+    let uv1 = |k: usize| mesh.uvs1.get(tri[k] as usize).map_or([0.0; 2], |uv| uv.to_array());
+    let handedness = (0..3).filter(|&k| tangent(k).w < 0.0).fold(0, |bits, k| bits | 1 << k);
+    TriangleShading { n0: xyz(0), n1: xyz(1), n2: xyz(2), flags: handedness, uv: [uv1(0), uv1(1), uv1(2)], ..Default::default() }
 }
 
 fn area_light(kind: u32, v0: Vec3, e1: Vec3, e2: Vec3, radiance: Vec3) -> GpuLight {

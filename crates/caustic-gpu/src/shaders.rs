@@ -30,11 +30,13 @@ const TRAVERSAL: [ShaderFile; 5] = [
     shader_file!("bvh/traverse.wgsl"),
 ];
 
-const PATH_TRACER: [ShaderFile; 19] = [
+const PATH_TRACER: [ShaderFile; 21] = [
     shader_file!("integrator/bindings.wgsl"),
     shader_file!("integrator/camera.wgsl"),
     shader_file!("integrator/environment.wgsl"),
     shader_file!("integrator/texture.wgsl"),
+    shader_file!("integrator/material.wgsl"),
+    shader_file!("integrator/alpha.wgsl"),
     shader_file!("integrator/surface.wgsl"),
     shader_file!("integrator/film.wgsl"),
     shader_file!("bsdf/common.wgsl"),
@@ -52,7 +54,7 @@ const PATH_TRACER: [ShaderFile; 19] = [
     shader_file!("integrator/inspect.wgsl"),
 ];
 
-const RAY_BENCH: [ShaderFile; 1] = [shader_file!("bench/rays.wgsl")];
+const RAY_BENCH: [ShaderFile; 2] = [shader_file!("bench/rays.wgsl"), shader_file!("bench/opaque.wgsl")];
 
 /// `post/bloom.wgsl`: the bloom post-process ([`crate::bloom`]), a program on its own.
 pub const BLOOM: ShaderFile = shader_file!("post/bloom.wgsl");
@@ -67,6 +69,12 @@ pub fn common_library() -> Vec<&'static ShaderFile> {
 /// [`common_library`] and the BSDFs (`shaders/bsdf`), for kernel tests.
 pub fn bsdf_library() -> Vec<&'static ShaderFile> {
     COMMON.iter().chain(PATH_TRACER.iter().filter(|f| f.name.starts_with("bsdf/"))).collect()
+}
+
+/// [`common_library`] and `integrator/material.wgsl` (glTF textures to lobes and normals),
+/// for kernel tests.
+pub fn material_library() -> Vec<&'static ShaderFile> {
+    COMMON.iter().chain(PATH_TRACER.iter().filter(|f| f.name == "integrator/material.wgsl")).collect()
 }
 
 /// The files of one program, in order.

@@ -232,3 +232,17 @@ impl Default for Material {
         }
     }
 }
+
+/// The shading normal a tangent-space normal-map texel (`texel`, rgb in [0, 1]) gives on a
+/// surface of unit normal `normal` with tangent `tangent` (xyz along +u, made orthogonal to
+/// the normal; w = handedness of the bitangent `w normal x tangent`): glTF's
+/// `normalize((texel * 2 - 1) * (scale, scale, 1))` in that frame. The normal itself where the
+/// tangent is degenerate. The CPU twin of `normal_mapped` in
+/// `shaders/integrator/material.wgsl`.
+pub fn normal_mapped(normal: Vec3, tangent: glam::Vec4, texel: Vec3, scale: f32) -> Vec3 {
+    let t = tangent.truncate() - normal * normal.dot(tangent.truncate());
+    let Some(t) = t.try_normalize() else { return normal };
+    let bitangent = tangent.w.signum() * normal.cross(t);
+    let local = (texel * 2.0 - Vec3::ONE) * Vec3::new(scale, scale, 1.0);
+    (t * local.x + bitangent * local.y + normal * local.z).try_normalize().unwrap_or(normal)
+}
