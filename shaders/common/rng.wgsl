@@ -1,17 +1,27 @@
 // Random numbers indexed by (pixel, global sample index, seed), so any split of a render by
-// sample ranges draws the same numbers. Two samplers, chosen per pipeline by `SAMPLER`:
+// sample ranges draws the same numbers. Three samplers, chosen per pipeline by `SAMPLER`:
 // 0: independent numbers from the PCG hash (Jarzynski & Olano 2020);
 // 1: Owen-scrambled Sobol (Burley 2020, "Practical Hash-based Owen Scrambling"): every call
 //    is a new dimension pair drawn from the 2-D Sobol (0,2)-sequence, its sample index
 //    shuffled and its coordinates nested-uniform scrambled by hashes of (pixel, dimension),
-//    so each pair is stratified over the pixel's samples and pairs are decorrelated.
+//    so each pair is stratified over the pixel's samples and pairs are decorrelated;
+// 2: stratified (jittered): a pixel's samples fall in blocks of m^2 consecutive indices
+//    (m = PixelSampling.strata); in each block every call (a new dimension) visits the m x m
+//    cells of [0,1)^2 (next_2d) or the m^2 intervals of [0,1) (next_f32) in a random order
+//    (Kensler's hashed permutation keyed by pixel, dimension and block), jittered uniformly
+//    within the cell. A last, partial block visits a random subset of cells (padding).
+// Dimensions are consumed in the order docs/SAMPLING.md lists (pixel position first).
 
 override SAMPLER: u32 = 0u;
 
+// The pass's pixel sampling constants (Frame.pixel_sampling), copied by begin_pixel
+// (integrator/film.wgsl) so the samplers and filters run without the bindings.
+var<private> pixel_sampling: PixelSampling;
+
 struct Rng {
-    // PCG: the running state. Sobol: the pixel's scramble seed.
+    // PCG: the running state. Sobol, stratified: the pixel's scramble seed.
     state: u32,
-    // Sobol: the sample index and the next dimension pair.
+    // Sobol, stratified: the sample index and the next dimension (pair).
     index: u32,
     dimension: u32,
 }
@@ -23,7 +33,7 @@ fn pcg_hash(x: u32) -> u32 {
 }
 
 fn rng_for_sample(pixel: u32, sample_index: u32, seed: u32) -> Rng {
-    if SAMPLER == 1u {
+    if SAMPLER != 0u {
         return Rng(pcg_hash(pixel ^ pcg_hash(seed ^ 0x5bd1e995u)), sample_index, 0u);
     }
     return Rng(pcg_hash(pixel ^ pcg_hash(sample_index ^ pcg_hash(seed))), 0u, 0u);
@@ -34,12 +44,18 @@ fn next_f32(rng: ptr<function, Rng>) -> f32 {
     if SAMPLER == 1u {
         return sobol_next_2d(rng).x;
     }
+    if SAMPLER == 2u {
+        return stratified_next_1d(rng);
+    }
     return independent_next_f32(rng);
 }
 
 fn next_2d(rng: ptr<function, Rng>) -> vec2<f32> {
     if SAMPLER == 1u {
         return sobol_next_2d(rng);
+    }
+    if SAMPLER == 2u {
+        return stratified_next_2d(rng);
     }
     let a = independent_next_f32(rng);
     return vec2<f32>(a, independent_next_f32(rng));
@@ -58,6 +74,69 @@ fn sobol_next_2d(rng: ptr<function, Rng>) -> vec2<f32> {
     let x = nested_uniform_scramble(reverseBits(index), hash_combine(seed, 1u));
     let y = nested_uniform_scramble(sobol_dimension_1(index), hash_combine(seed, 2u));
     return vec2<f32>(unit_float(x), unit_float(y));
+}
+
+// The next dimension's stratum of the sample's block and the hash keying its jitter: the
+// block's samples visit its `cells` strata in the order of a random permutation.
+fn stratified_cell(rng: ptr<function, Rng>, cells: u32) -> vec2<u32> {
+    let key = hash_combine((*rng).state, pcg_hash((*rng).dimension));
+    (*rng).dimension += 1u;
+    let index = (*rng).index;
+    let cell = permute(index % cells, cells, pcg_hash(hash_combine(key, index / cells)));
+    return vec2<u32>(cell, hash_combine(key, pcg_hash(index)));
+}
+
+// The next dimension pair: one jittered point per cell of the m x m grid in each block.
+fn stratified_next_2d(rng: ptr<function, Rng>) -> vec2<f32> {
+    let m = max(pixel_sampling.strata, 1u);
+    let cell = stratified_cell(rng, m * m);
+    let jitter = vec2<f32>(unit_float(pcg_hash(cell.y)), unit_float(pcg_hash(cell.y ^ 0x68bc21ebu)));
+    let point = (vec2<f32>(f32(cell.x % m), f32(cell.x / m)) + jitter) / f32(m);
+    return min(point, vec2<f32>(ONE_MINUS_EPSILON));
+}
+
+// The next dimension alone: one jittered point per interval of [0,1) split in m^2.
+fn stratified_next_1d(rng: ptr<function, Rng>) -> f32 {
+    let m = max(pixel_sampling.strata, 1u);
+    let cell = stratified_cell(rng, m * m);
+    return min((f32(cell.x) + unit_float(pcg_hash(cell.y))) / f32(m * m), ONE_MINUS_EPSILON);
+}
+
+// Element i of a random permutation of 0..n chosen by `key` (Kensler 2013, "Correlated
+// Multi-Jittered Sampling": a keyed bijection of the next power of two, cycle-walked into
+// 0..n).
+fn permute(index: u32, n: u32, key: u32) -> u32 {
+    var w = n - 1u;
+    w |= w >> 1u;
+    w |= w >> 2u;
+    w |= w >> 4u;
+    w |= w >> 8u;
+    w |= w >> 16u;
+    var i = index;
+    loop {
+        i ^= key;
+        i *= 0xe170893du;
+        i ^= key >> 16u;
+        i ^= (i & w) >> 4u;
+        i ^= key >> 8u;
+        i *= 0x0929eb3fu;
+        i ^= key >> 23u;
+        i ^= (i & w) >> 1u;
+        i *= 1u | (key >> 27u);
+        i *= 0x6935fa69u;
+        i ^= (i & w) >> 11u;
+        i *= 0x74dcb303u;
+        i ^= (i & w) >> 2u;
+        i *= 0x9e501cc3u;
+        i ^= (i & w) >> 2u;
+        i *= 0xc860a3dfu;
+        i &= w;
+        i ^= i >> 5u;
+        if i < n {
+            break;
+        }
+    }
+    return (i + key) % n;
 }
 
 // The second Sobol dimension, as a 32-bit fixed-point fraction: direction numbers
@@ -88,6 +167,9 @@ fn nested_uniform_scramble(x: u32, seed: u32) -> u32 {
 fn hash_combine(seed: u32, v: u32) -> u32 {
     return seed ^ (v + 0x9e3779b9u + (seed << 6u) + (seed >> 2u));
 }
+
+// The largest float below 1.
+const ONE_MINUS_EPSILON: f32 = 0.99999994;
 
 // The top 24 bits as a float in [0, 1).
 fn unit_float(bits: u32) -> f32 {

@@ -44,6 +44,26 @@ struct Frame {
     // Distance from the eye to the plane of focus along `forward`.
     focus_distance: f32,
     _lens_pad: vec2<u32>,
+    // Pixel sampling and reconstruction (helper E: common/rng.wgsl, common/filter.wgsl,
+    // integrator/film.wgsl, the path tracer's light samples).
+    pixel_sampling: PixelSampling,
+}
+
+// How pixels are sampled: the stratified sampler's strata per axis (blocks of strata^2
+// samples), the path tracer's light samples per vertex, and the reconstruction filter
+// (common/filter.wgsl): its FILTER_* kind, radius in pixels, the integral of its 1-D profile
+// f over [-radius, radius], and the CDF of |f| at the ends of 64 equal bins of
+// [-radius, radius], four per vec4.
+struct PixelSampling {
+    strata: u32,
+    light_samples: u32,
+    filter_kind: u32,
+    filter_radius: f32,
+    filter_integral: f32,
+    _filter_pad0: u32,
+    _filter_pad1: u32,
+    _filter_pad2: u32,
+    filter_cdf: array<vec4<f32>, 16>,
 }
 
 // Binary BVH node holding both children's bounds (64 bytes).

@@ -1,16 +1,33 @@
 // What every integrator's kernel does around its estimate: find the pixel, make the camera
-// ray, and add the sample to the pixel's Kahan-compensated sum, or count it if non-finite.
+// ray through a film point drawn from the reconstruction filter (common/filter.wgsl), and add
+// the weighted sample and its weight to the pixel's Kahan-compensated sums, or count it if
+// non-finite. Each pixel's mean is sum / weight sum (sum.w); with the box filter every weight
+// is 1 and sum.w counts the samples.
 
-// Pixel index of invocation `local` of the current tile; sets up the plane range.
+// The filter weight of the invocation's camera sample, set by film_sample.
+var<private> filter_weight: f32 = 1.0;
+
+// Pixel index of invocation `local` of the current tile; sets up the plane range and the
+// pass's pixel sampling constants.
 fn begin_pixel(local: u32) -> u32 {
     plane_range = vec2<u32>(frame.first_plane, frame.shape_count);
+    pixel_sampling = frame.pixel_sampling;
     return frame.tile_start + local;
 }
 
-// A camera ray through a uniformly random point of the pixel (box filter).
+// The film point of pixel `xy`'s camera sample (the first dimension pair): the pixel centre
+// offset by a draw from the filter, whose weight goes to filter_weight. The box filter of
+// radius 0.5 gives a uniform point of the pixel.
+fn film_sample(xy: vec2<u32>, rng: ptr<function, Rng>) -> vec2<f32> {
+    let offset = sample_filter(next_2d(rng));
+    filter_weight = offset.z;
+    return vec2<f32>(xy) + 0.5 + offset.xy;
+}
+
+// A camera ray through a film point drawn from the filter around the pixel centre.
 fn pixel_ray(pixel: u32, rng: ptr<function, Rng>) -> Ray {
     let xy = vec2<u32>(pixel % frame.width, pixel / frame.width);
-    let ray = camera_ray(vec2<f32>(xy) + next_2d(rng), rng);
+    let ray = camera_ray(film_sample(xy, rng), rng);
     // Motion blur (bvh/motion.wgsl): the path's time over the shutter, the dimension after
     // the camera's; static scenes draw nothing, so their sample sequences are unchanged.
     if MOTION_BLUR {
@@ -29,7 +46,7 @@ fn record_sample(pixel: u32, value: vec3<f32>) {
 
 fn accumulate(pixel: u32, value: vec3<f32>) {
     var texel = accumulation[pixel];
-    let y = vec4<f32>(value, 1.0) - texel.compensation;
+    let y = vec4<f32>(value, 1.0) * filter_weight - texel.compensation;
     let t = texel.sum + y;
     // `opaque_one` is 1 at run time but unknown to the compiler, so (t - sum) - y cannot be
     // folded to 0 (Mesa folds it; lavapipe then summed plainly, 4e-5 drift at 1e5 samples).

@@ -51,9 +51,25 @@ fn next_event(si: SurfaceInteraction, local: Frame3, wo: vec3<f32>, rng: ptr<fun
         inspect_light_occluded();
         return vec3<f32>(0.0);
     }
-    let mis = power_heuristic(ls.pdf, pdf_bsdf(si.material, eta, wo, wi_local, sampling_mode()));
+    let mis = power_heuristic(light_sample_count() * ls.pdf, pdf_bsdf(si.material, eta, wo, wi_local, sampling_mode()));
     let weight = select(mis, 1.0, ls.is_delta || next_event_mode() == NEE_ON);
     return inspect_light_result(weight, f * ls.radiance * (weight / ls.pdf));
+}
+
+// Light samples per path vertex (the scene's `lightsamples`, CSE168 hw4).
+fn light_sample_count() -> f32 {
+    return f32(max(frame.pixel_sampling.light_samples, 1u));
+}
+
+// Direct light at a surface: the mean of light_sample_count() light samples, each weighted by
+// the multi-sample power heuristic against the one BSDF sample (Veach: counts times pdfs).
+fn next_events(si: SurfaceInteraction, local: Frame3, wo: vec3<f32>, rng: ptr<function, Rng>) -> vec3<f32> {
+    let count = max(frame.pixel_sampling.light_samples, 1u);
+    var sum = vec3<f32>(0.0);
+    for (var i = 0u; i < count; i++) {
+        sum += next_event(si, local, wo, rng);
+    }
+    return sum / f32(count);
 }
 
 fn trace_path(primary: Ray, rng: ptr<function, Rng>) -> vec3<f32> {
@@ -85,7 +101,7 @@ fn trace_path(primary: Ray, rng: ptr<function, Rng>) -> vec3<f32> {
             var weight = 1.0;
             if bounce > 0u && !after_delta && (hit.triangle & SHAPE_BIT) == 0u && next_event_mode() != NEE_OFF {
                 let cos_light = dot(si.ng, -ray.direction);
-                let mis = power_heuristic(bsdf_pdf, light_pdf(si.material.emission, hit.t, cos_light));
+                let mis = power_heuristic(bsdf_pdf, light_sample_count() * light_pdf(si.material.emission, hit.t, cos_light));
                 weight = select(0.0, mis, next_event_mode() == NEE_MIS);
             }
             radiance += throughput * si.material.emission * weight;
@@ -96,7 +112,7 @@ fn trace_path(primary: Ray, rng: ptr<function, Rng>) -> vec3<f32> {
         }
         let local = frame_from_normal(si.ns);
         let wo = vec3<f32>(dot(-ray.direction, local.t), dot(-ray.direction, local.b), dot(-ray.direction, si.ns));
-        radiance += throughput * next_event(si, local, wo, rng);
+        radiance += throughput * next_events(si, local, wo, rng);
         let u_lobe = next_f32(rng);
         let bs = sample_bsdf(si.material, relative_ior(si), wo, u_lobe, next_2d(rng), sampling_mode());
         let wi = frame_to_world(local, bs.wi);

@@ -103,6 +103,14 @@ pub struct RenderArgs {
     /// 4 RADIUS pixels (default 2); total energy is kept. Not for partial .exr outputs.
     #[arg(long, value_name = "STRENGTH[,THRESHOLD[,RADIUS]]", value_parser = caustic_gpu::bloom::BloomSettings::parse)]
     pub bloom: Option<caustic_gpu::bloom::BloomSettings>,
+    /// Sample generator (docs/SAMPLING.md): sobol (Owen-scrambled, the default), independent,
+    /// stratified (floor(sqrt(spp)) x floor(sqrt(spp)) jittered strata) or stratified:N.
+    #[arg(long, default_value = "sobol", value_name = "NAME", value_parser = parse_sampler)]
+    pub sampler: SamplerArg,
+    /// Pixel reconstruction filter (docs/SAMPLING.md): box (the default), tent, gaussian,
+    /// mitchell or lanczos, optionally :RADIUS in pixels.
+    #[arg(long, default_value = "box", value_name = "NAME[:RADIUS]", value_parser = caustic_gpu::filter::PixelFilter::parse)]
+    pub filter: caustic_gpu::filter::PixelFilter,
     /// What the command line changes in the scene.
     #[command(flatten)]
     pub overrides: SceneOverrides,
@@ -384,12 +392,39 @@ pub fn parse_data_path(text: &str) -> Result<caustic_gpu::DataPath, String> {
     }
 }
 
-/// Parses `independent` or `sobol` (see [`caustic_gpu::Sampler`]).
-pub fn parse_sampler(text: &str) -> Result<caustic_gpu::Sampler, String> {
-    match text {
-        "independent" => Ok(caustic_gpu::Sampler::Independent),
-        "sobol" => Ok(caustic_gpu::Sampler::Sobol),
-        _ => Err(format!("'{text}': use independent or sobol")),
+/// A `--sampler` choice: a fixed [`caustic_gpu::Sampler`], or `stratified` without a count,
+/// whose strata follow the render's sample count.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SamplerArg {
+    /// `independent`, `sobol` or `stratified:N`.
+    Fixed(caustic_gpu::Sampler),
+    /// `stratified`: floor(sqrt(spp)) strata per axis ([`caustic_gpu::Sampler::stratified_for`]).
+    StratifiedForSpp,
+}
+
+impl SamplerArg {
+    /// The sampler of a render whose sample range ends at `end` (None: a time limit).
+    pub fn for_samples(self, end: Option<u32>) -> caustic_gpu::Sampler {
+        match self {
+            SamplerArg::Fixed(sampler) => sampler,
+            SamplerArg::StratifiedForSpp => caustic_gpu::Sampler::stratified_for(end),
+        }
+    }
+}
+
+/// Parses `independent`, `sobol`, `stratified` or `stratified:N` (N strata per axis, 1 to
+/// 256; see [`caustic_gpu::Sampler`]).
+pub fn parse_sampler(text: &str) -> Result<SamplerArg, String> {
+    let usage = "use independent, sobol, stratified or stratified:N";
+    match text.split_once(':') {
+        None if text == "independent" => Ok(SamplerArg::Fixed(caustic_gpu::Sampler::Independent)),
+        None if text == "sobol" => Ok(SamplerArg::Fixed(caustic_gpu::Sampler::Sobol)),
+        None if text == "stratified" => Ok(SamplerArg::StratifiedForSpp),
+        Some(("stratified", n)) => match n.parse::<u32>() {
+            Ok(n) if (1..=caustic_gpu::MAX_STRATA).contains(&n) => Ok(SamplerArg::Fixed(caustic_gpu::Sampler::Stratified(n))),
+            _ => Err(format!("'{text}': strata per axis must be a whole number from 1 to {}", caustic_gpu::MAX_STRATA)),
+        },
+        _ => Err(format!("'{text}': {usage}")),
     }
 }
 

@@ -45,9 +45,14 @@ pub struct ConvergeArgs {
     /// (small scenes' primitives tested in turn; see caustic_gpu::DataPath).
     #[arg(long, default_value = "buffers", value_parser = crate::args::parse_data_path)]
     pub data_path: caustic_gpu::DataPath,
-    /// Sample generator: independent or sobol (Owen-scrambled).
+    /// Sample generator: independent, sobol (Owen-scrambled), stratified (floor(sqrt(spp))
+    /// strata per axis) or stratified:N.
     #[arg(long, default_value = "sobol", value_parser = crate::args::parse_sampler)]
-    pub sampler: caustic_gpu::Sampler,
+    pub sampler: crate::args::SamplerArg,
+    /// Pixel reconstruction filter: box (the default), tent, gaussian, mitchell or lanczos,
+    /// optionally :RADIUS in pixels.
+    #[arg(long, default_value = "box", value_name = "NAME[:RADIUS]", value_parser = caustic_gpu::filter::PixelFilter::parse)]
+    pub filter: caustic_gpu::filter::PixelFilter,
     /// Scene settings that replace the scene's.
     #[command(flatten)]
     pub overrides: SceneOverrides,
@@ -117,7 +122,8 @@ pub fn run(args: &ConvergeArgs) -> anyhow::Result<()> {
         max_depth,
         seed: args.overrides.seed,
         data_path: args.data_path,
-        sampler: args.sampler,
+        sampler: args.sampler.for_samples(Some(spp)),
+        filter: args.filter,
         ..RenderSettings::default()
     };
     let mut tracer = PathTracer::new(&ctx, &scene, &gpu_scene, &settings)?;

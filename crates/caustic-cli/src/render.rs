@@ -119,7 +119,7 @@ impl Budget {
     }
 
     /// The end of the sample range, if the budget has one.
-    fn end(&self) -> Option<u32> {
+    pub fn end(&self) -> Option<u32> {
         self.spp.map(|n| self.first_sample + n)
     }
 
@@ -173,6 +173,8 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let mut settings =
         RenderSettings { integrator, pass: scene.options.pass, max_depth, seed: args.overrides.seed, ..RenderSettings::default() };
     settings.debug = args.debug;
+    settings.sampler = args.sampler.for_samples(budget.end());
+    settings.filter = args.filter;
     // The fingerprint must see the final scene and settings (all but the first sample): parts
     // with equal fingerprints are merged as one render.
     let print = fingerprint(&scene, &settings);

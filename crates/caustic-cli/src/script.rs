@@ -47,12 +47,26 @@ pub struct HostOptions<'a> {
     pub json: bool,
     /// Bloom applied to every rendered image before it is kept and written (`--bloom`).
     pub bloom: Option<caustic_gpu::bloom::BloomSettings>,
+    /// The sample generator of every render (`--sampler`).
+    pub sampler: crate::args::SamplerArg,
+    /// The pixel reconstruction filter of every render (`--filter`).
+    pub filter: caustic_gpu::filter::PixelFilter,
 }
 
 impl<'a> HostOptions<'a> {
     /// The options `render` and `shell` share (no `-o`).
     pub fn new(overrides: &'a SceneOverrides, display: &'a DisplayArgs, spp: Option<u32>, time: Option<f64>, device: &DeviceArgs) -> Self {
-        HostOptions { overrides, display, spp, time, output: None, json: device.json, bloom: None }
+        HostOptions {
+            overrides,
+            display,
+            spp,
+            time,
+            output: None,
+            json: device.json,
+            bloom: None,
+            sampler: crate::args::SamplerArg::Fixed(caustic_gpu::Sampler::Sobol),
+            filter: caustic_gpu::filter::PixelFilter::default(),
+        }
     }
 }
 
@@ -113,16 +127,18 @@ impl<'a> Host<'a> {
     /// LDR) and reports. A render stopped by Ctrl-C writes what it has, then fails.
     fn render(&mut self, mut scene: Scene, hdr: bool, preview: Option<PathBuf>) -> anyhow::Result<()> {
         let (integrator, max_depth) = self.options.overrides.apply(&mut scene)?;
-        let settings = RenderSettings {
+        let mut settings = RenderSettings {
             integrator,
             pass: scene.options.pass,
             max_depth,
             seed: self.options.overrides.seed,
+            filter: self.options.filter,
             ..RenderSettings::default()
         };
         let output = output_path(self.options.output.as_deref(), scene.options.output.as_deref(), &scene.name, hdr);
         caustic_image::check_output_path(&output)?;
         let budget = Budget::from_zero(self.options.spp.or(scene.options.spp), self.options.time);
+        settings.sampler = self.options.sampler.for_samples(budget.end());
         self.interrupted.store(false, Ordering::SeqCst);
         let rendered = accumulate(self.ctx, &scene, &settings, &budget, &self.interrupted)?;
         let (interrupted, spp) = (self.interrupted.load(Ordering::SeqCst), rendered.spp);
@@ -238,6 +254,8 @@ pub fn run_file(path: &Path, args: &RenderArgs) -> anyhow::Result<()> {
     let mut options = HostOptions::new(&args.overrides, &args.display, args.spp, args.time, &args.device);
     options.output = args.output.clone();
     options.bloom = args.bloom;
+    options.sampler = args.sampler;
+    options.filter = args.filter;
     let mut host = Host::new(&ctx, options, interrupted);
     for action in actions {
         if host.execute(action)? == Flow::Exit {

@@ -59,6 +59,30 @@ pub struct Frame {
     pub focus_distance: f32,
     /// Rounds the struct up to WGSL's 16-byte multiple.
     pub _lens_pad: [u32; 2],
+    /// Pixel sampling and reconstruction (sampler strata, filter, light samples).
+    pub pixel_sampling: PixelSampling,
+}
+
+/// How pixels are sampled (`PixelSampling` in WGSL): the stratified sampler's strata per
+/// axis, the path tracer's light samples per vertex and the reconstruction filter
+/// ([`crate::filter::PixelFilter::gpu_table`]).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct PixelSampling {
+    /// Strata per axis of the stratified sampler: blocks of `strata`^2 samples.
+    pub strata: u32,
+    /// Next-event estimation samples per path vertex (CSE168 `lightsamples`).
+    pub light_samples: u32,
+    /// `FILTER_*` kind of the reconstruction filter.
+    pub filter_kind: u32,
+    /// Filter radius in pixels.
+    pub filter_radius: f32,
+    /// Integral of the filter's 1-D profile over [-radius, radius].
+    pub filter_integral: f32,
+    /// Rounds the filter scalars to 16 bytes.
+    pub _filter_pad: [u32; 3],
+    /// CDF of |f| at the ends of 64 equal bins over [-radius, radius].
+    pub filter_cdf: [[f32; 4]; 16],
 }
 
 /// [`Frame::transport`] for the scene options' next-event estimation mode and importance

@@ -1,6 +1,7 @@
 //! The accumulating path tracer: one bounded dispatch per tile and sample pass.
 
-use crate::gpu_types::{transport_flags, AccumTexel, Frame, InspectRecord, NO_PIXEL};
+use crate::filter::PixelFilter;
+use crate::gpu_types::{transport_flags, AccumTexel, Frame, InspectRecord, PixelSampling, NO_PIXEL};
 use crate::inspector::PathRecord;
 use crate::readback::read_buffer;
 use crate::kernel::Kernel;
@@ -36,6 +37,8 @@ pub struct RenderSettings {
     pub data_path: DataPath,
     /// Where the random numbers come from.
     pub sampler: Sampler,
+    /// The pixel reconstruction filter (`shaders/common/filter.wgsl`).
+    pub filter: PixelFilter,
 }
 
 /// The sample generator (`shaders/common/rng.wgsl`, chosen by its `SAMPLER` override).
@@ -47,6 +50,10 @@ pub enum Sampler {
     /// default: 1.4x lower relMSE than independent numbers at 16 spp on the Cornell box).
     #[default]
     Sobol,
+    /// Jittered stratification with this many strata per axis: each block of n^2
+    /// consecutive samples puts one point in every cell of an n x n grid, per dimension pair
+    /// (and one in each of n^2 intervals per 1-D dimension), cells visited in a random order.
+    Stratified(u32),
 }
 
 impl Sampler {
@@ -55,9 +62,29 @@ impl Sampler {
         match self {
             Sampler::Independent => 0.0,
             Sampler::Sobol => 1.0,
+            Sampler::Stratified(_) => 2.0,
+        }
+    }
+
+    /// The stratified sampler for a render of `spp` samples per pixel: floor(sqrt(spp))
+    /// strata per axis (so a square spp is exactly n x n jittered), at most
+    /// [`MAX_STRATA`]; 16 when the count is not known in advance (a time limit).
+    pub fn stratified_for(spp: Option<u32>) -> Sampler {
+        let n = spp.map_or(16, |spp| (f64::from(spp).sqrt().floor() as u32).clamp(1, MAX_STRATA));
+        Sampler::Stratified(n)
+    }
+
+    /// Strata per axis (1 for the other samplers, which ignore it).
+    fn strata(self) -> u32 {
+        match self {
+            Sampler::Stratified(n) => n.clamp(1, MAX_STRATA),
+            _ => 1,
         }
     }
 }
+
+/// The most strata per axis of [`Sampler::Stratified`] (blocks of 65,536 samples).
+pub const MAX_STRATA: u32 = 256;
 
 /// How the kernels find the primitives a ray hits.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -86,6 +113,7 @@ impl Default for RenderSettings {
             target_submit: Duration::from_millis(100),
             data_path: DataPath::Buffers,
             sampler: Sampler::Sobol,
+            filter: PixelFilter::default(),
         }
     }
 }
@@ -470,6 +498,11 @@ fn frame_constants(scene: &Scene, gpu: &GpuScene, settings: &RenderSettings) -> 
         transport: transport_flags(next_event(scene, settings), scene.options.importance_sampling),
         lens_radius: scene.camera.aperture,
         focus_distance: scene.camera.focus(),
+        pixel_sampling: settings.filter.gpu_table(PixelSampling {
+            strata: settings.sampler.strata(),
+            light_samples: scene.options.light_samples.max(1),
+            ..Default::default()
+        }),
         ..Default::default()
     }
 }

@@ -14,10 +14,11 @@ macro_rules! shader_file {
     };
 }
 
-const COMMON: [ShaderFile; 5] = [
+const COMMON: [ShaderFile; 6] = [
     shader_file!("common/types.wgsl"),
     shader_file!("common/rng.wgsl"),
     shader_file!("common/sampling.wgsl"),
+    shader_file!("common/filter.wgsl"),
     shader_file!("common/ray.wgsl"),
     shader_file!("bvh/intersect.wgsl"),
 ];
