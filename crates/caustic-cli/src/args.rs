@@ -103,6 +103,11 @@ pub struct RenderArgs {
     /// 4 RADIUS pixels (default 2); total energy is kept. Not for partial .exr outputs.
     #[arg(long, value_name = "STRENGTH[,THRESHOLD[,RADIUS]]", value_parser = caustic_gpu::bloom::BloomSettings::parse)]
     pub bloom: Option<caustic_gpu::bloom::BloomSettings>,
+    /// Motion blur for glTF scenes (docs/FEATURES.md): the shutter's open and close times in
+    /// seconds of the file's first animation; each mesh moves rigidly from its pose at OPEN to
+    /// its pose at CLOSE. Scene-language files set theirs with the `shutter` command.
+    #[arg(long, value_name = "OPEN,CLOSE", value_parser = parse_shutter)]
+    pub shutter: Option<(f32, f32)>,
     /// Sample generator (docs/SAMPLING.md): sobol (Owen-scrambled, the default), independent,
     /// stratified (floor(sqrt(spp)) x floor(sqrt(spp)) jittered strata) or stratified:N.
     #[arg(long, default_value = "sobol", value_name = "NAME", value_parser = parse_sampler)]
@@ -460,6 +465,16 @@ fn parse_vector(text: &str) -> Result<Vec3, String> {
         Ok([x, y, z]) if [x, y, z].iter().all(|c| c.is_finite()) => Ok(Vec3::new(*x, *y, *z)),
         _ => Err(format!("'{text}' is not three finite numbers x,y,z")),
     }
+}
+
+fn parse_shutter(text: &str) -> Result<(f32, f32), String> {
+    let (open, close) = text.split_once(',').ok_or_else(|| format!("'{text}' is not OPEN,CLOSE"))?;
+    let parse = |s: &str| s.trim().parse::<f32>().ok().filter(|t| t.is_finite()).ok_or_else(|| format!("'{s}' in '{text}' is not a finite time in seconds"));
+    let (open, close) = (parse(open)?, parse(close)?);
+    if close < open {
+        return Err(format!("the shutter closes ({close}) before it opens ({open})"));
+    }
+    Ok((open, close))
 }
 
 fn parse_pixel(text: &str) -> Result<(u32, u32), String> {

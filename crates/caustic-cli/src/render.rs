@@ -10,7 +10,7 @@ use caustic_gpu::bloom::{Bloom, BloomSettings};
 use caustic_gpu::debug_image::{DEBUG_SAVE_OPTIONS, debug_picture};
 use caustic_gpu::{DebugView, GpuContext, GpuScene, PassOutcome, PathTracer, RenderSettings};
 use caustic_image::{Image, PartInfo, PartialImage};
-use caustic_scene::{Scene, SceneSource, load_scene};
+use caustic_scene::{LoadOptions, Scene, SceneSource, load_scene_with};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
 use std::ops::Range;
@@ -155,10 +155,13 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let output_arg = output_argument(args, task.as_ref())?;
     // A debug view renders the scene once too: it shows what the kernels do, not the script.
     let split = args.samples.is_some() || args.samples_from_env || args.frame_from_env || args.resume || args.debug.is_some();
+    if args.shutter.is_some() && script::is_script(Path::new(&scene_arg)) {
+        bail!("--shutter samples glTF animations; a scene-language file sets its shutter with the `shutter` command");
+    }
     if !split && script::is_script(Path::new(&scene_arg)) {
         return script::run_file(Path::new(&scene_arg), args);
     }
-    let mut scene = load_scene(&SceneSource::parse(&scene_arg))?;
+    let mut scene = load_scene_with(&SceneSource::parse(&scene_arg), &LoadOptions { shutter: args.shutter })?;
     let output = output_arg.unwrap_or_else(|| PathBuf::from(format!("{}.png", scene.name)));
     caustic_image::check_output_path(&output)?;
     let partial = is_exr(&output);

@@ -25,8 +25,9 @@
 
 use crate::mesh_scene::{framing_camera, scene_name, warn, DEFAULT_RESOLUTION};
 use crate::gltf_material::{default_material, MaterialReader};
+use crate::gltf_animation::Animation;
 use crate::gltf_primitive::read_primitive;
-use crate::{Attenuation, Camera, Environment, Light, Material, Mesh, Scene, SceneCamera, SceneError};
+use crate::{Attenuation, Camera, Environment, Light, Material, Mesh, Motion, Scene, SceneCamera, SceneError};
 use glam::{Mat4, Vec3};
 use gltf::json::validation::Validate;
 use gltf::khr_lights_punctual::Kind;
@@ -44,15 +45,22 @@ pub const SUPPORTED_EXTENSIONS: [&str; 7] = [
     "KHR_lights_punctual",
 ];
 
-/// Loads a `.gltf` or `.glb` file as the module documentation describes.
-pub(crate) fn load(path: &Path) -> Result<Scene, SceneError> {
+/// Loads a `.gltf` or `.glb` file as the module documentation describes. With a `shutter`
+/// (open and close, seconds of the first animation) nodes are posed as the animation has them
+/// at shutter open and each mesh moves rigidly to its pose at close (motion blur,
+/// [`crate::gltf_animation`]); without one the nodes keep their own transforms.
+pub(crate) fn load(path: &Path, shutter: Option<(f32, f32)>) -> Result<Scene, SceneError> {
     let (document, buffers) = read_document(path)?;
     let scene = document.default_scene().or_else(|| document.scenes().next());
     let scene = scene.ok_or_else(|| SceneError::file(path, "defines no scene"))?;
     check_hierarchy(path, &document, &scene)?;
     let mut reader = MaterialReader::new(path, &buffers);
     let materials = document.materials().map(|m| reader.material(&m)).collect();
-    let mut walk = Walk { path, buffers: &buffers, materials, default_material: None, meshes: Vec::new(), read: HashMap::new(), cameras: Vec::new(), lights: Vec::new() };
+    let animation = match shutter {
+        Some(times) => Animation::read(path, &document, &buffers)?.map(|a| (a, times)),
+        None => None,
+    };
+    let mut walk = Walk { path, buffers: &buffers, materials, default_material: None, meshes: Vec::new(), read: HashMap::new(), cameras: Vec::new(), lights: Vec::new(), animation };
     walk.walk(scene.nodes().collect())?;
     let (camera, resolution) = match walk.cameras.first() {
         Some(first) => (first.camera.clone(), first.resolution.unwrap_or(DEFAULT_RESOLUTION)),
@@ -171,17 +179,20 @@ struct Walk<'a> {
     read: HashMap<usize, Vec<Mesh>>,
     cameras: Vec<SceneCamera>,
     lights: Vec<Light>,
+    /// The first animation and the shutter's open and close times it is sampled at.
+    animation: Option<(Animation, (f32, f32))>,
 }
 
 impl Walk<'_> {
     /// Adds the meshes, cameras and lights of the `roots` and their descendants, depth first
     /// in document order (iteratively: hierarchies may be deeper than the call stack allows).
     fn walk(&mut self, roots: Vec<gltf::Node>) -> Result<(), SceneError> {
-        let mut stack: Vec<(gltf::Node, Mat4)> = roots.into_iter().rev().map(|node| (node, Mat4::IDENTITY)).collect();
-        while let Some((node, parent)) = stack.pop() {
-            let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
+        let mut stack: Vec<(gltf::Node, Mat4, Mat4)> = roots.into_iter().rev().map(|node| (node, Mat4::IDENTITY, Mat4::IDENTITY)).collect();
+        while let Some((node, parent, parent_at_close)) = stack.pop() {
+            let (local, local_at_close) = self.local_transforms(&node);
+            let (world, world_at_close) = (parent * local, parent_at_close * local_at_close);
             if let Some(mesh) = node.mesh() {
-                self.add_mesh(&mesh, world)?;
+                self.add_mesh(&mesh, world, world_at_close)?;
             }
             if let Some(camera) = node.camera() {
                 self.add_camera(&node, &camera, world);
@@ -190,14 +201,26 @@ impl Walk<'_> {
                 self.lights.push(punctual_light(&light, world));
             }
             let children: Vec<gltf::Node> = node.children().collect();
-            stack.extend(children.into_iter().rev().map(|child| (child, world)));
+            stack.extend(children.into_iter().rev().map(|child| (child, world, world_at_close)));
         }
         Ok(())
     }
 
-    /// Adds every triangle primitive of `mesh`, transformed to world space; the primitives
-    /// are read on the mesh's first use only.
-    fn add_mesh(&mut self, mesh: &gltf::Mesh, world: Mat4) -> Result<(), SceneError> {
+    /// The node's local transform at shutter open and close (its own transform twice when
+    /// no shutter is given).
+    fn local_transforms(&self, node: &gltf::Node) -> (Mat4, Mat4) {
+        match &self.animation {
+            Some((animation, (open, close))) => (animation.local(node, *open), animation.local(node, *close)),
+            None => {
+                let matrix = Mat4::from_cols_array_2d(&node.transform().matrix());
+                (matrix, matrix)
+            }
+        }
+    }
+
+    /// Adds every triangle primitive of `mesh`, transformed to world space at shutter open and
+    /// moving rigidly to `world_at_close`; the primitives are read on the mesh's first use only.
+    fn add_mesh(&mut self, mesh: &gltf::Mesh, world: Mat4, world_at_close: Mat4) -> Result<(), SceneError> {
         if !self.read.contains_key(&mesh.index()) {
             let primitives = self.read_mesh(mesh)?;
             self.read.insert(mesh.index(), primitives);
@@ -205,6 +228,7 @@ impl Walk<'_> {
         for primitive in &self.read[&mesh.index()] {
             let mut instance = primitive.clone();
             instance.transform(world);
+            instance.motion = Some(Motion::between(world, world_at_close)).filter(|m| world != world_at_close && !m.is_static());
             self.meshes.push(instance);
         }
         Ok(())

@@ -22,15 +22,38 @@ impl SceneSource {
     }
 }
 
+/// How to load a scene, beyond what its file says.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct LoadOptions {
+    /// Motion blur for glTF files: the shutter's open and close times in seconds of the first
+    /// animation, which poses the nodes at open and moves meshes to their pose at close.
+    pub shutter: Option<(f32, f32)>,
+}
+
 /// Loads and validates a scene from a built-in name or a file (`.gltf`, `.glb`, `.obj`, `.ply`,
 /// or the scene language: `.test`, `.scene`, `.txt`).
 pub fn load_scene(source: &SceneSource) -> Result<Scene, SceneError> {
+    load_scene_with(source, &LoadOptions::default())
+}
+
+/// [`load_scene`] with `options`. A shutter is for glTF files only (scene-language files
+/// have their `shutter` command); one that closes before it opens or is not finite is an error.
+pub fn load_scene_with(source: &SceneSource, options: &LoadOptions) -> Result<Scene, SceneError> {
+    if let Some((open, close)) = options.shutter {
+        if !open.is_finite() || !close.is_finite() || close < open {
+            return Err(SceneError::invalid("shutter", format!("{open},{close}: the times must be finite and close >= open")));
+        }
+        let gltf = matches!(source, SceneSource::File(path) if matches!(extension(path).as_deref(), Some("gltf" | "glb")));
+        if !gltf {
+            return Err(SceneError::invalid("shutter", "samples glTF animations; scene-language files set theirs with the `shutter` command"));
+        }
+    }
     let scene = match source {
         SceneSource::Builtin(name) if name == "cornell" => crate::cornell_box(),
         SceneSource::Builtin(name) => {
             return Err(SceneError::invalid("scene", format!("no built-in scene called '{name}' (built-ins: cornell)")));
         }
-        SceneSource::File(path) => load_file(path)?,
+        SceneSource::File(path) => load_file(path, options)?,
     };
     match source {
         SceneSource::File(path) => scene.validate().map_err(|e| e.in_file(path))?,
@@ -39,13 +62,17 @@ pub fn load_scene(source: &SceneSource) -> Result<Scene, SceneError> {
     Ok(scene)
 }
 
-fn load_file(path: &Path) -> Result<Scene, SceneError> {
+/// The file's extension in lower case.
+fn extension(path: &Path) -> Option<String> {
+    path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase)
+}
+
+fn load_file(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {
     if !path.exists() {
         return Err(SceneError::file(path, "no such file"));
     }
-    let extension = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
-    match extension.as_deref() {
-        Some("gltf" | "glb") => crate::gltf_loader::load(path),
+    match extension(path).as_deref() {
+        Some("gltf" | "glb") => crate::gltf_loader::load(path, options.shutter),
         Some("obj") => crate::obj_loader::load(path),
         Some("ply") => crate::ply_loader::load(path),
         Some("test" | "scene" | "txt") => crate::lang::load(path),
