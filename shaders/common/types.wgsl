@@ -47,6 +47,11 @@ struct Frame {
     // Pixel sampling and reconstruction (helper E: common/rng.wgsl, common/filter.wgsl,
     // integrator/film.wgsl, the path tracer's light samples).
     pixel_sampling: PixelSampling,
+    // The classic ray tracer (integrator/whitted.wgsl, classic/lighting.wgsl): samples per
+    // extended light with soft shadows on, and directions per glossy reflection.
+    classic_light_samples: u32,
+    classic_gloss_samples: u32,
+    _classic_pad: vec2<u32>,
 }
 
 // How pixels are sampled: the stratified sampler's strata per axis (blocks of strata^2
@@ -131,9 +136,12 @@ struct Material {
     emission: vec3<f32>,
     shininess: f32,
     ambient: vec3<f32>,
-    _pad0: u32,
+    // Classic ray tracer: weight of refraction (the part of `dielectric`'s tint that is not
+    // colour), which also dims direct light (classic/interface.wgsl).
+    transparency: f32,
     specular: vec3<f32>,
-    _pad1: u32,
+    // Classic ray tracer: radius of the glossy reflection lobe (integrator/whitted.wgsl).
+    gloss: f32,
     // Lambertian albedo, under a coat of Schlick F0 coat_f0 and strength coat_weight.
     diffuse: vec3<f32>,
     coat_f0: f32,

@@ -140,8 +140,10 @@ fn ref_lod(r: TextureRef, tc: TexCoords) -> f32 {
 fn sample_ref(r: TextureRef, uv: vec2<f32>, lod: f32) -> vec4<f32> {
     let moved = vec2<f32>(dot(r.transform_u, vec3<f32>(uv, 1.0)), dot(r.transform_v, vec3<f32>(uv, 1.0)));
     let wrapped = vec2<f32>(wrap_coordinate(moved.x, r.bits & 3u), wrap_coordinate(moved.y, (r.bits >> 2u) & 3u));
-    let nearest = (r.bits & TEXTURE_NEAREST) != 0u;
-    return sample_texture(r.texture - 1u, wrapped, nearest, (r.bits >> 5u) & 3u, lod);
+    // The filter bits as the texture-filter feature leaves them (classic/features.wgsl).
+    let bits = filter_bits(r.bits);
+    let nearest = (bits & TEXTURE_NEAREST) != 0u;
+    return sample_texture(r.texture - 1u, wrapped, nearest, (bits >> 5u) & 3u, lod);
 }
 
 // Texture reference r where the texture coordinates are tc.

@@ -1,48 +1,92 @@
-// The classic recursive (Whitted) ray tracer of the CSE167 course, as a loop: at each hit,
-// ambient + emission + the sum over lights of visibility x colour / attenuation x
-// (diffuse max(N.L, 0) + specular max(N.H, 0)^shininess), then a mirror bounce weighted by
-// the specular colour, up to max_depth bounces. Area lights are sampled at one random point
-// per pass, so progressive accumulation turns their shadows soft.
+// The classic recursive (Whitted) ray tracer, with its feature switches (classic/features.wgsl).
+// WGSL has no recursion, so the ray tree is walked depth first with an explicit bounded stack
+// of pending rays: at each hit, ambient + emission + (1 - transparency) x direct light
+// (classic/lighting.wgsl), then a reflected ray (split into frame.classic_gloss_samples
+// directions on a glossy surface) and a refracted one (classic/interface.wgsl) are pushed
+// with their weights, up to max_depth bounces. The CPU twin is caustic_gpu::classic_reference.
 
-// Blinn-Phong light from one light at a surface seen along `view` (unit, towards the eye).
-fn classic_light(si: SurfaceInteraction, view: vec3<f32>, light: Light, u: vec2<f32>) -> vec3<f32> {
-    let ls = sample_one_light(light, si.p, u);
-    let n_dot_l = dot(si.ns, ls.wi);
-    if ls.pdf <= 0.0 || n_dot_l <= 0.0 || dot(ls.wi, si.ng) <= 0.0 {
+// Pending rays at most; a branch that finds the stack full is dropped.
+const CLASSIC_STACK: u32 = 16u;
+// Branches whose largest weight is below this are dropped (adaptive depth control).
+const MIN_BRANCH_WEIGHT: f32 = 1e-4;
+
+struct ClassicRay {
+    ray: Ray,
+    weight: vec3<f32>,
+    depth: u32,
+}
+
+// Radiance along a ray that leaves the scene: the environment, which rays after a bounce see
+// only with environment reflections on (else black).
+fn classic_miss(direction: vec3<f32>, depth: u32) -> vec3<f32> {
+    if depth > 0u && !feature_on(FEATURE_ENVIRONMENT_REFLECTIONS) {
         return vec3<f32>(0.0);
     }
-    let shadow = shadow_ray(si.p, spawn_ray(si, ls.wi).origin, ls.wi, ls.distance);
-    if occluded(shadow.ray, shadow.t_max) {
-        return vec3<f32>(0.0);
+    return environment_radiance(direction);
+}
+
+// The mirror direction r perturbed over the glossy lobe: r + gloss x (a point of the unit
+// disk spanned by two directions normal to r), normalised, and mirrored back above the
+// surface when it points below (the seed's glossy reflection; spread grows with gloss).
+fn glossy_direction(r: vec3<f32>, gloss: f32, ng: vec3<f32>, u: vec2<f32>) -> vec3<f32> {
+    let basis = frame_from_normal(r);
+    let disk = square_to_concentric_disk(u);
+    var d = normalize(r + gloss * (disk.x * basis.t + disk.y * basis.b));
+    let below = dot(d, ng);
+    if below < 0.0 {
+        d = d - 2.0 * below * ng;
     }
-    let half_vector = normalize(ls.wi + view);
-    let highlight = pow(max(dot(si.ns, half_vector), 0.0), si.material.shininess);
-    let color = ls.radiance / ls.pdf;
-    return color * (si.material.base_color * n_dot_l + si.material.specular * highlight);
+    return d;
 }
 
 fn trace_classic(primary: Ray, rng: ptr<function, Rng>) -> vec3<f32> {
-    var ray = primary;
+    var stack: array<ClassicRay, CLASSIC_STACK>;
+    stack[0] = ClassicRay(primary, vec3<f32>(1.0), 0u);
+    var size = 1u;
     var color = vec3<f32>(0.0);
-    var weight = vec3<f32>(1.0);
     let max_bounces = min(frame.max_depth, SAFETY_MAX_BOUNCES);
-    for (var bounce = 0u; ; bounce++) {
-        let hit = closest_hit(ray, 3.0e38);
+    while size > 0u {
+        size -= 1u;
+        let item = stack[size];
+        let hit = closest_hit(item.ray, 3.0e38);
         if hit.triangle == NO_HIT {
-            color += weight * environment_radiance(ray.direction);
-            break;
+            color += item.weight * classic_miss(item.ray.direction, item.depth);
+            continue;
         }
-        let si = surface_interaction(ray, hit);
-        var local = si.material.ambient + si.material.emission;
-        for (var i = 0u; i < frame.light_count; i++) {
-            local += classic_light(si, -ray.direction, lights[i], next_2d(rng));
+        var si = surface_interaction(item.ray, hit);
+        if !feature_on(FEATURE_SMOOTH_NORMALS) {
+            si.ns = si.ng;
         }
-        color += weight * local;
-        weight *= si.material.specular;
-        if bounce >= max_bounces || all(weight <= vec3<f32>(0.0)) {
-            break;
+        let m = si.material;
+        let opacity = 1.0 - select(0.0, m.transparency, feature_on(FEATURE_REFRACTION));
+        color += item.weight * (m.ambient + m.emission + opacity * classic_direct(si, -item.ray.direction, rng));
+        if item.depth >= max_bounces {
+            continue;
         }
-        ray = spawn_ray(si, reflect(ray.direction, si.ns));
+        let split = split_at(si, item.ray.direction);
+        let refracted = item.weight * split.refract;
+        if max(refracted.x, max(refracted.y, refracted.z)) >= MIN_BRANCH_WEIGHT && size < CLASSIC_STACK {
+            stack[size] = ClassicRay(spawn_ray(si, split.refracted), refracted, item.depth + 1u);
+            size += 1u;
+        }
+        let reflected = item.weight * split.reflect;
+        if max(reflected.x, max(reflected.y, reflected.z)) < MIN_BRANCH_WEIGHT {
+            continue;
+        }
+        let mirror = reflect(item.ray.direction, si.ns);
+        if !feature_on(FEATURE_GLOSSY) || m.gloss <= 0.0 {
+            if size < CLASSIC_STACK {
+                stack[size] = ClassicRay(spawn_ray(si, mirror), reflected, item.depth + 1u);
+                size += 1u;
+            }
+            continue;
+        }
+        let n = min(max(frame.classic_gloss_samples, 1u), CLASSIC_STACK - size);
+        for (var s = 0u; s < n; s++) {
+            let d = glossy_direction(mirror, m.gloss, si.ng, next_2d(rng));
+            stack[size] = ClassicRay(spawn_ray(si, d), reflected / f32(n), item.depth + 1u);
+            size += 1u;
+        }
     }
     return color;
 }

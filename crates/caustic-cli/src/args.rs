@@ -156,12 +156,29 @@ pub struct SceneOverrides {
     /// --integrator, --max-depth and --spp still win.
     #[arg(long, value_enum)]
     pub preset: Option<crate::preset::Preset>,
+    /// A classic ray tracer feature switch, NAME=VALUE (repeatable): shadows, soft-shadows,
+    /// light-transparency, reflection, refraction, glossy, smooth-normals,
+    /// environment-reflections (on|off), shading (lambert|phong|blinn-phong), fresnel
+    /// (off|schlick|exact), texture-filter (material|nearest|bilinear|trilinear),
+    /// light-samples and gloss-samples (1-256). Unset features follow the scene
+    /// (docs/FEATURES.md).
+    #[arg(long = "feature", value_name = "NAME=VALUE", value_parser = caustic_gpu::features::parse_feature)]
+    pub features: Vec<(usize, u16)>,
     /// Camera overrides.
     #[command(flatten)]
     pub camera: CameraArgs,
 }
 
 impl SceneOverrides {
+    /// The `--feature` switches, in order (a later one wins).
+    pub fn classic_features(&self) -> caustic_gpu::features::ClassicFeatures {
+        let mut features = caustic_gpu::features::ClassicFeatures::default();
+        for &(index, value) in &self.features {
+            features.choose(index, value);
+        }
+        features
+    }
+
     /// Applies the preset, size, environment and camera to `scene`, and returns the integrator
     /// and max depth to render with (the command line's, else the scene's).
     pub fn apply(&self, scene: &mut Scene) -> anyhow::Result<(Integrator, Option<u32>)> {

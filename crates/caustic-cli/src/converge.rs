@@ -121,6 +121,7 @@ pub fn run(args: &ConvergeArgs) -> anyhow::Result<()> {
         pass: scene.options.pass,
         max_depth,
         seed: args.overrides.seed,
+        features: args.overrides.classic_features(),
         data_path: args.data_path,
         sampler: args.sampler.for_samples(Some(spp)),
         filter: args.filter,

@@ -176,6 +176,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let mut settings =
         RenderSettings { integrator, pass: scene.options.pass, max_depth, seed: args.overrides.seed, ..RenderSettings::default() };
     settings.debug = args.debug;
+    settings.features = args.overrides.classic_features();
     settings.sampler = args.sampler.for_samples(budget.end());
     settings.filter = args.filter;
     // The fingerprint must see the final scene and settings (all but the first sample): parts

@@ -132,6 +132,7 @@ impl<'a> Host<'a> {
             pass: scene.options.pass,
             max_depth,
             seed: self.options.overrides.seed,
+            features: self.options.overrides.classic_features(),
             filter: self.options.filter,
             ..RenderSettings::default()
         };

@@ -61,6 +61,13 @@ pub struct Frame {
     pub _lens_pad: [u32; 2],
     /// Pixel sampling and reconstruction (sampler strata, filter, light samples).
     pub pixel_sampling: PixelSampling,
+    /// Classic ray tracer: samples per extended light with soft shadows on
+    /// ([`crate::features`]).
+    pub classic_light_samples: u32,
+    /// Classic ray tracer: directions per glossy reflection.
+    pub classic_gloss_samples: u32,
+    /// Rounds the classic block to 16 bytes.
+    pub _classic_pad: [u32; 2],
 }
 
 /// How pixels are sampled (`PixelSampling` in WGSL): the stratified sampler's strata per
@@ -148,12 +155,14 @@ pub struct GpuMaterial {
     pub shininess: f32,
     /// Classic ambient term.
     pub ambient: [f32; 3],
-    /// Padding.
-    pub _pad0: u32,
+    /// Classic ray tracer: weight of refraction (scene language `transparency` after the
+    /// reflectance/transparency scaling, or glTF transmission x (1 - metallic)); `dielectric`
+    /// is its tinted form.
+    pub transparency: f32,
     /// Classic specular colour: highlight and mirror weight.
     pub specular: [f32; 3],
-    /// Padding.
-    pub _pad1: u32,
+    /// Classic ray tracer: radius of the glossy reflection lobe (scene language `gloss`).
+    pub gloss: f32,
     /// Path tracer: Lambertian albedo ([`caustic_bsdf::params::BsdfParams`] has every lobe field).
     pub diffuse: [f32; 3],
     /// Schlick F0 of the coat over the diffuse lobe.

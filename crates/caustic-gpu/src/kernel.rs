@@ -7,6 +7,7 @@ use crate::path_tracer::{DataPath, DebugView, RenderSettings};
 use crate::shaders::Program;
 use crate::specialize::TRAVERSAL_FILE;
 use crate::GpuScene;
+use crate::features::FeatureConstants;
 use caustic_scene::{Integrator, RenderPass};
 
 /// Everything that selects or specialises the compiled kernel.
@@ -25,6 +26,9 @@ pub struct Kernel {
     /// The `ALPHA_TEST` override: traversal tests alpha-tested materials' opacity
     /// (`integrator/alpha.wgsl`).
     pub alpha_test: bool,
+    /// The classic ray tracer's feature overrides ([`crate::features`]); the defaults for
+    /// other entry points, which only read `TEXTURE_FILTER`.
+    pub classic: FeatureConstants,
 }
 
 impl Kernel {
@@ -37,6 +41,7 @@ impl Kernel {
             lobe_mask: gpu.lobe_mask,
             motion_blur: gpu.motion_blur,
             alpha_test: gpu.alpha_test,
+            classic: classic_constants(gpu, settings),
         }
     }
 
@@ -55,13 +60,15 @@ impl Kernel {
             label: Some(Program::PathTracer.label()),
             source: wgpu::ShaderSource::Wgsl(source.into()),
         });
+        let mut constants = vec![("SAMPLER", f64::from(self.sampler)), ("LOBE_MASK", f64::from(self.lobe_mask)), ("MOTION_BLUR", f64::from(u8::from(self.motion_blur))), ("ALPHA_TEST", f64::from(u8::from(self.alpha_test)))];
+        constants.extend(self.classic.overrides());
         device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some(self.entry_point),
             layout: Some(&pipeline_layout),
             module: &module,
             entry_point: Some(self.entry_point),
             compilation_options: wgpu::PipelineCompilationOptions {
-                constants: &[("SAMPLER", f64::from(self.sampler)), ("LOBE_MASK", f64::from(self.lobe_mask)), ("MOTION_BLUR", f64::from(u8::from(self.motion_blur))), ("ALPHA_TEST", f64::from(u8::from(self.alpha_test)))],
+                constants: &constants,
                 ..Default::default()
             },
             cache: None,
@@ -78,6 +85,16 @@ fn traversal(gpu: &GpuScene, settings: &RenderSettings) -> Option<String> {
         DataPath::Auto if !bvh_cost && !gpu.alpha_test => gpu.traversal.clone(),
         DataPath::Auto | DataPath::Buffers => None,
     }
+}
+
+/// The feature constants of the classic kernel for `gpu`'s scene; other kernels keep the
+/// defaults but the texture filter, so a classic switch does not recompile them.
+fn classic_constants(gpu: &GpuScene, settings: &RenderSettings) -> FeatureConstants {
+    let chosen = settings.features.constants(gpu.classic_features);
+    if entry_point(settings) == "render_classic" {
+        return chosen;
+    }
+    FeatureConstants { texture_filter: chosen.texture_filter, ..FeatureConstants::default() }
 }
 
 /// The entry point that accumulates the pass and integrator `settings` ask for.

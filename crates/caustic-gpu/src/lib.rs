@@ -9,9 +9,12 @@
 
 mod bench;
 pub mod bloom;
+pub mod classic;
+pub mod classic_reference;
 mod context;
 pub mod debug_image;
 mod error;
+pub mod features;
 pub mod filter;
 pub mod gpu_types;
 pub mod inspector;

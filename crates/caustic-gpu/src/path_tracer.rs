@@ -1,5 +1,6 @@
 //! The accumulating path tracer: one bounded dispatch per tile and sample pass.
 
+use crate::features::ClassicFeatures;
 use crate::filter::PixelFilter;
 use crate::gpu_types::{transport_flags, AccumTexel, Frame, InspectRecord, PixelSampling, NO_PIXEL};
 use crate::inspector::PathRecord;
@@ -39,6 +40,8 @@ pub struct RenderSettings {
     pub sampler: Sampler,
     /// The pixel reconstruction filter (`shaders/common/filter.wgsl`).
     pub filter: PixelFilter,
+    /// The classic ray tracer's feature switches (`--feature`, [`crate::features`]).
+    pub features: ClassicFeatures,
 }
 
 /// The sample generator (`shaders/common/rng.wgsl`, chosen by its `SAMPLER` override).
@@ -114,6 +117,7 @@ impl Default for RenderSettings {
             data_path: DataPath::Buffers,
             sampler: Sampler::Sobol,
             filter: PixelFilter::default(),
+            features: ClassicFeatures::default(),
         }
     }
 }
@@ -503,6 +507,8 @@ fn frame_constants(scene: &Scene, gpu: &GpuScene, settings: &RenderSettings) -> 
             light_samples: scene.options.light_samples.max(1),
             ..Default::default()
         }),
+        classic_light_samples: settings.features.light_samples(scene.options.light_samples),
+        classic_gloss_samples: settings.features.gloss_samples(1),
         ..Default::default()
     }
 }

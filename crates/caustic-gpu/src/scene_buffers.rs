@@ -59,6 +59,9 @@ pub struct GpuScene {
     /// Whether some material is alpha-tested (glTF `MASK` or `BLEND`): the kernels'
     /// `ALPHA_TEST` override (`integrator/alpha.wgsl`).
     pub alpha_test: bool,
+    /// The classic ray tracer's features the scene uses ([`crate::classic::scene_features`]),
+    /// on by default in its kernel.
+    pub classic_features: u32,
 }
 
 impl GpuScene {
@@ -105,6 +108,7 @@ impl GpuScene {
             lobe_mask: crate::scene_data::lobe_mask(scene),
             alpha_test: data.alpha_test,
             motion_blur: moving.any(),
+            classic_features: crate::classic::scene_features(scene),
         };
         ctx.check()?;
         Ok(uploaded)
@@ -118,6 +122,7 @@ impl GpuScene {
         let uploader = Uploader { ctx };
         let materials = device_materials(scene);
         self.lobe_mask = crate::scene_data::lobe_mask(scene);
+        self.classic_features = crate::classic::scene_features(scene);
         self.materials = uploader.storage("materials", &materials)?;
         self.lights = uploader.storage("lights", &lights)?;
         self.light_count = lights.len() as u32;

@@ -161,6 +161,8 @@ fn gpu_material(m: &caustic_scene::Material) -> GpuMaterial {
         shininess: m.shininess,
         ambient: m.ambient.to_array(),
         specular: m.specular_color.to_array(),
+        transparency: crate::classic::transparency(m),
+        gloss: m.gloss,
         uv_transform_u: base_color.transform_u,
         base_color_texture: base_color.texture,
         uv_transform_v: base_color.transform_v,

@@ -31,7 +31,7 @@ const TRAVERSAL: [ShaderFile; 5] = [
     shader_file!("bvh/traverse.wgsl"),
 ];
 
-const PATH_TRACER: [ShaderFile; 21] = [
+const PATH_TRACER: [ShaderFile; 24] = [
     shader_file!("integrator/bindings.wgsl"),
     shader_file!("integrator/camera.wgsl"),
     shader_file!("integrator/environment.wgsl"),
@@ -49,6 +49,9 @@ const PATH_TRACER: [ShaderFile; 21] = [
     shader_file!("bsdf/bsdf.wgsl"),
     shader_file!("lights/sample.wgsl"),
     shader_file!("integrator/path.wgsl"),
+    shader_file!("classic/features.wgsl"),
+    shader_file!("classic/interface.wgsl"),
+    shader_file!("classic/lighting.wgsl"),
     shader_file!("integrator/whitted.wgsl"),
     shader_file!("integrator/passes.wgsl"),
     shader_file!("integrator/debug.wgsl"),
