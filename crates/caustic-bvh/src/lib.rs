@@ -43,7 +43,7 @@ pub use layout::{
     EMPTY_CHILD, GpuBvh, GpuNode, GpuTriangle, LEAF_BIT, MAX_TRIANGLES, decode_leaf, encode_leaf,
     flatten, flatten_with_shapes,
 };
-pub use motion::{GpuMotion, MAX_SAMPLED_TURN, PrimitiveMotions, build_with_motion, flatten_with_motion, shapes_and_motions};
+pub use motion::{GpuMotion, MAX_SAMPLED_STEPS, MAX_SAMPLED_TURN, PrimitiveMotions, build_with_motion, flatten_with_motion, shapes_and_motions};
 pub use shape::{GpuShape, SHAPE_BIT, ShapeInput, ShapeKind, intersect_shape};
 pub use split::MAX_BINS;
 pub use traverse::{MIN_DIRECTION, ON_PLANE_EXIT, SLAB_EXIT_SCALE, STACK_SIZE};

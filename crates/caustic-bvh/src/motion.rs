@@ -21,6 +21,10 @@ use crate::triangle::Ray;
 /// Largest turn between two sampled times of [`GpuMotion::swept_bounds`] (radians).
 pub const MAX_SAMPLED_TURN: f32 = std::f32::consts::PI / 16.0;
 
+/// Most sampled times of [`GpuMotion::swept_bounds`] (four turns); faster motions are bounded
+/// by the ball they sweep.
+pub const MAX_SAMPLED_STEPS: u32 = 128;
+
 /// A rigid motion on the device (64 bytes), stored after the shapes in the shapes buffer
 /// and read there by `motion_at` in WGSL as a `BvhShape`'s three rows.
 #[repr(C)]
@@ -66,9 +70,15 @@ impl GpuMotion {
     /// shutter, and so their convex hull: the union of their positions at evenly spaced times,
     /// at most [`MAX_SAMPLED_TURN`] of rotation apart, grown by the most a point's circular
     /// path strays from the chord between two samples (radius x turn^2 / 8, the bound of
-    /// linear interpolation's error) and by a few ulps. Exact for a pure translation.
+    /// linear interpolation's error) and by a few ulps. Exact for a pure translation. Past
+    /// [`MAX_SAMPLED_STEPS`] samples (several turns) it is the box swept by the ball about the
+    /// pivot that holds the points, which any rotation keeps them in.
     pub fn swept_bounds(&self, points: &[Vec3]) -> Aabb {
-        let steps = (self.angle.abs() / MAX_SAMPLED_TURN).ceil().max(1.0) as u32;
+        let steps = (self.angle.abs() / MAX_SAMPLED_TURN).ceil().max(1.0);
+        if steps > MAX_SAMPLED_STEPS as f32 {
+            return self.swept_ball(points);
+        }
+        let steps = steps as u32;
         let mut bounds = Aabb::empty();
         for k in 0..=steps {
             let time = k as f32 / steps as f32;
@@ -79,6 +89,15 @@ impl GpuMotion {
         let turn = self.angle.abs() / steps as f32;
         let slack = radius * turn * turn / 8.0 + 4.0 * f32::EPSILON * bounds.min.abs().max(bounds.max.abs()).max_element();
         Aabb { min: bounds.min - Vec3::splat(slack), max: bounds.max + Vec3::splat(slack) }
+    }
+
+    /// The box swept by the ball about the pivot through the farthest of `points`.
+    fn swept_ball(&self, points: &[Vec3]) -> Aabb {
+        let pivot = Vec3::from(self.pivot);
+        let radius = points.iter().map(|&p| (p - pivot).length()).fold(0.0, f32::max);
+        let end = pivot + Vec3::from(self.translation);
+        let slack = radius * (1.0 + 4.0 * f32::EPSILON) + 4.0 * f32::EPSILON * pivot.abs().max(end.abs()).max_element();
+        Aabb { min: pivot.min(end) - Vec3::splat(slack), max: pivot.max(end) + Vec3::splat(slack) }
     }
 }
 
@@ -186,13 +205,14 @@ mod tests {
 
     #[test]
     fn every_primitive_box_holds_it_at_every_time() {
-        // Triangles and a box-bounded shape under motions turning from 0 to three full turns;
+        // Triangles and a box-bounded shape under motions turning from 0 to three full turns, and
+        // one spinning thousands of turns (bounded by its swept ball);
         // every leaf's box (as stored in its parent) must hold its primitives' corners at
         // 1000 random times of the shutter.
         let mut state = 7u32;
         let mut triangles = Vec::new();
         let mut moving = PrimitiveMotions::default();
-        for (i, angle) in [0.0, 0.3, 2.0, -6.0, 19.0].into_iter().enumerate() {
+        for (i, angle) in [0.0, 0.3, 2.0, -6.0, 19.0, 3.0e4].into_iter().enumerate() {
             moving.motions.push(motion(angle));
             for _ in 0..20 {
                 let base = Vec3::new(lcg(&mut state), lcg(&mut state), lcg(&mut state)) * 8.0;
