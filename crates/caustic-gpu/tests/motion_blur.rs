@@ -130,6 +130,20 @@ fn a_spinning_lit_sphere_looks_still() {
 }
 
 #[test]
+fn a_spinning_lit_floor_looks_still() {
+    // Two triangles larger than the view spinning about their normal under a close point
+    // light: n.l varies over the square, so the image stays the still one only if each hit
+    // point is carried to where it is at the path's time.
+    let lit = "ambient 0 0 0\ndiffuse 0.8 0.8 0.8\npoint 1 1 -8 1 1 1\n";
+    let square: String = [(-20, -20), (20, -20), (20, 20), (-20, 20)].iter().map(|(x, y)| format!("vertex {x} {y} -{DEPTH}\n")).collect();
+    let still = render(&scene(&format!("{lit}{square}tri 0 1 2\ntri 0 2 3\n")));
+    let spinning = render(&scene(&format!("{lit}shutter 0 1\npushTransform\ntranslate 0 0 -{DEPTH}\nmotion 0 0 0 200 0 0 1\npopTransform\n{square}tri 0 1 2\ntri 0 2 3\n")));
+    let error = rel_mse(&still, &spinning);
+    println!("square spinning 200 degrees about its normal vs still, lit by a point light: relMSE {error:.3e}");
+    assert!(error < 1e-4, "a spinning floor shades as the still one");
+}
+
+#[test]
 fn an_instantaneous_shutter_is_the_static_render() {
     let still = render(&scene(&format!("sphere 0 0 -{DEPTH} 1\nsphere 2 1 -{DEPTH} 0.5\n")));
     let at_open = render(&scene(&format!("shutter 0 0\nsphere 0 0 -{DEPTH} 1\nmotion 3 0 0 45 0 1 0\nsphere 2 1 -{DEPTH} 0.5\n")));
