@@ -85,6 +85,9 @@ fn classic_direct(si: SurfaceInteraction, view: vec3<f32>, rng: ptr<function, Rn
     var sum = vec3<f32>(0.0);
     for (var i = 0u; i < frame.light_count; i++) {
         var light = lights[i];
+        if !classic_lights_with(light) {
+            continue;
+        }
         if !light_is_extended(light) {
             sum += classic_light_sample(si, view, light, vec2<f32>(0.5));
         } else if !feature_on(FEATURE_SOFT_SHADOWS) {

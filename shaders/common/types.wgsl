@@ -114,7 +114,9 @@ struct TriangleShading {
     material: u32,
     n1: vec3<f32>,
     // Bit 0: has per-vertex normals (else the flat geometric normal is used); bit 1: its
-    // material is alpha-tested (FLAG_ALPHA_TESTED, integrator/alpha.wgsl).
+    // material is alpha-tested (FLAG_ALPHA_TESTED, integrator/alpha.wgsl); bit 2: half of a
+    // quad light (FLAG_QUAD_LIGHT); bit 3: in the light list when emissive (FLAG_LIGHT_LISTED,
+    // lights/sample.wgsl emitter_light_pdf).
     flags: u32,
     n2: vec3<f32>,
     // Index of this triangle's extension entry (integrator/material.wgsl: per-vertex tangents
@@ -213,8 +215,12 @@ struct TextureRef {
 // spot: as point, plus the cone: axis (the way it shines) x cone scale in e2, cone offset in
 // area (caustic_scene::spot_scale_offset);
 // directional: unit direction towards the light in v0, spread (tangent of the half-angle of
-// the cone of arrival directions, 0 for parallel light) in area. `radiance` is the emitted radiance
-// (area lights) or the colour (point, directional).
+// the cone of arrival directions, 0 for parallel light) in area;
+// sphere (an emissive analytic sphere): centre in v0, radius in e1.x, area 4 pi r^2;
+// disk: centre in v0, semi-axes in e1, e2 (emitting towards cross(e1, e2)), area.
+// environment: the latitude-longitude map (integrator/environment.wgsl), always the last
+// light; area holds its power.
+// `radiance` is the emitted radiance (area lights) or the colour (point, directional).
 struct Light {
     v0: vec3<f32>,
     cdf: f32,
@@ -231,6 +237,9 @@ const LIGHT_QUAD: u32 = 1u;
 const LIGHT_POINT: u32 = 2u;
 const LIGHT_DIRECTIONAL: u32 = 3u;
 const LIGHT_SPOT: u32 = 4u;
+const LIGHT_SPHERE: u32 = 5u;
+const LIGHT_DISK: u32 = 6u;
+const LIGHT_ENVIRONMENT: u32 = 7u;
 
 // Running sum of one pixel's samples with Kahan compensation; w counts samples.
 struct AccumTexel {
@@ -282,6 +291,8 @@ const PI: f32 = 3.14159265358979;
 const INV_PI: f32 = 0.318309886183791;
 const FLAG_VERTEX_NORMALS: u32 = 1u;
 const FLAG_ALPHA_TESTED: u32 = 2u;
+const FLAG_QUAD_LIGHT: u32 = 4u;
+const FLAG_LIGHT_LISTED: u32 = 8u;
 const ALPHA_OPAQUE: u32 = 0u;
 const ALPHA_MASK: u32 = 1u;
 const ALPHA_BLEND: u32 = 2u;

@@ -1,4 +1,8 @@
-// Radiance arriving from directions that leave the scene.
+// Radiance arriving from directions that leave the scene, and importance sampling of the
+// latitude-longitude map. The map's texture has one column more than the map: texel (x, y)
+// holds the radiance in rgb and the row's conditional CDF at its right edge in alpha; the
+// last column's alpha holds the marginal CDF at each row's end (luminance x sin(theta),
+// caustic_gpu::environment_sampling, this file's CPU twin).
 
 fn environment_radiance(direction: vec3<f32>) -> vec3<f32> {
     if frame.environment_mode == 0u {
@@ -7,9 +11,15 @@ fn environment_radiance(direction: vec3<f32>) -> vec3<f32> {
     return environment_map_lookup(direction);
 }
 
+// Size of the map itself, without the CDF column.
+fn environment_size() -> vec2<u32> {
+    let size = textureDimensions(environment_map);
+    return vec2<u32>(size.x - 1u, size.y);
+}
+
 // Bilinear lookup in the latitude-longitude map: u = 0.5 + atan2(x, -z) / 2pi, v = acos(y) / pi.
 fn environment_map_lookup(direction: vec3<f32>) -> vec3<f32> {
-    let size = textureDimensions(environment_map);
+    let size = environment_size();
     let u = 0.5 + atan2(direction.x, -direction.z) * (0.5 * INV_PI);
     let v = acos(clamp(direction.y, -1.0, 1.0)) * INV_PI;
     let texel = vec2<f32>(u * f32(size.x) - 0.5, v * f32(size.y) - 0.5);
@@ -22,4 +32,65 @@ fn environment_map_lookup(direction: vec3<f32>) -> vec3<f32> {
     let top = mix(textureLoad(environment_map, vec2<i32>(x0, y0), 0), textureLoad(environment_map, vec2<i32>(x1, y0), 0), f.x);
     let bottom = mix(textureLoad(environment_map, vec2<i32>(x0, y1), 0), textureLoad(environment_map, vec2<i32>(x1, y1), 0), f.x);
     return mix(top, bottom, f.y).rgb;
+}
+
+// The CDF value stored at texel (x, y): a row's conditional CDF, or the marginal CDF in the
+// last column (x = map width).
+fn environment_cdf(x: u32, y: u32) -> f32 {
+    return textureLoad(environment_map, vec2<i32>(i32(x), i32(y)), 0).a;
+}
+
+// Index in 0..count of the first CDF entry above u (binary search), along a row (`row` = the
+// row, x varies) or down the marginal column (`row` = 0xffffffff, y varies).
+fn environment_search(row: u32, count: u32, u: f32) -> u32 {
+    var lo = 0u;
+    var hi = count - 1u;
+    let column = environment_size().x;
+    while lo < hi {
+        let mid = (lo + hi) / 2u;
+        let value = select(environment_cdf(mid, row), environment_cdf(column, mid), row == 0xffffffffu);
+        if value > u {
+            hi = mid;
+        } else {
+            lo = mid + 1u;
+        }
+    }
+    return lo;
+}
+
+// Probability of texel (x, y): marginal x conditional, differences of the stored CDFs.
+fn environment_texel_probability(x: u32, y: u32) -> f32 {
+    let column = environment_size().x;
+    let marginal = environment_cdf(column, y) - select(0.0, environment_cdf(column, max(y, 1u) - 1u), y > 0u);
+    let conditional = environment_cdf(x, y) - select(0.0, environment_cdf(max(x, 1u) - 1u, y), x > 0u);
+    return marginal * conditional;
+}
+
+// Solid-angle density of environment_sample's direction `direction`.
+fn environment_pdf(direction: vec3<f32>) -> f32 {
+    let size = environment_size();
+    let u = 0.5 + atan2(direction.x, -direction.z) * (0.5 * INV_PI);
+    let v = acos(clamp(direction.y, -1.0, 1.0)) * INV_PI;
+    let x = min(u32(max(u * f32(size.x), 0.0)), size.x - 1u);
+    let y = min(u32(max(v * f32(size.y), 0.0)), size.y - 1u);
+    let sin_theta = sqrt(max(0.0, 1.0 - direction.y * direction.y));
+    if sin_theta <= 0.0 {
+        return 0.0;
+    }
+    return environment_texel_probability(x, y) * f32(size.x * size.y) / (2.0 * PI * PI * sin_theta);
+}
+
+// A direction drawn in proportion to the map's luminance x solid angle: a row by the marginal
+// CDF, a texel in it by the row's conditional CDF, a point uniform within the texel.
+fn environment_sample(u: vec2<f32>) -> vec3<f32> {
+    let size = environment_size();
+    let y = environment_search(0xffffffffu, size.y, u.x);
+    let row_start = select(0.0, environment_cdf(size.x, max(y, 1u) - 1u), y > 0u);
+    let fy = clamp((u.x - row_start) / (environment_cdf(size.x, y) - row_start), 0.0, 1.0);
+    let x = environment_search(y, size.x, u.y);
+    let start = select(0.0, environment_cdf(max(x, 1u) - 1u, y), x > 0u);
+    let fx = clamp((u.y - start) / (environment_cdf(x, y) - start), 0.0, 1.0);
+    let phi = ((f32(x) + fx) / f32(size.x) - 0.5) * 2.0 * PI;
+    let theta = (f32(y) + fy) / f32(size.y) * PI;
+    return vec3<f32>(sin(theta) * sin(phi), cos(theta), -sin(theta) * cos(phi));
 }

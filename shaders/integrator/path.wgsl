@@ -72,6 +72,18 @@ fn next_events(si: SurfaceInteraction, local: Frame3, wo: vec3<f32>, rng: ptr<fu
     return sum / f32(count);
 }
 
+// Weight of emission a BSDF-sampled ray found (an emitter or the environment), which light
+// sampling draws with density pdf_light: NEE found it already unless the bounce was delta,
+// NEE is off or pdf_light is 0 (not in the light list: textured emitters, boxes,
+// ellipsoids, texels of zero luminance), else the MIS weight against all the vertex's light
+// samples, or 0 without MIS.
+fn emission_weight(bounce: u32, after_delta: bool, bsdf_pdf: f32, pdf_light: f32) -> f32 {
+    if bounce == 0u || after_delta || next_event_mode() == NEE_OFF || pdf_light <= 0.0 {
+        return 1.0;
+    }
+    return select(0.0, power_heuristic(bsdf_pdf, light_sample_count() * pdf_light), next_event_mode() == NEE_MIS);
+}
+
 fn trace_path(primary: Ray, rng: ptr<function, Rng>) -> vec3<f32> {
     var ray = primary;
     var radiance = vec3<f32>(0.0);
@@ -88,7 +100,8 @@ fn trace_path(primary: Ray, rng: ptr<function, Rng>) -> vec3<f32> {
         let hit = closest_hit(ray, 3.0e38);
         inspect_ray(bounce, ray, hit, throughput, radiance);
         if hit.triangle == NO_HIT {
-            radiance += throughput * environment_radiance(ray.direction);
+            let pdf_light = environment_light_pdf(ray.direction);
+            radiance += throughput * environment_radiance(ray.direction) * emission_weight(bounce, after_delta, bsdf_pdf, pdf_light);
             inspect_end(END_ESCAPED, radiance);
             break;
         }
@@ -96,14 +109,7 @@ fn trace_path(primary: Ray, rng: ptr<function, Rng>) -> vec3<f32> {
         let si = surface_interaction(ray, hit);
         throughput *= medium_transmittance(si, hit.t);
         if si.front_face && any(si.material.emission > vec3<f32>(0.0)) {
-            // Emissive shapes are not in the light list: BSDF sampling alone finds them.
-            // NEE found this emitter already unless the bounce was delta or NEE is off.
-            var weight = 1.0;
-            if bounce > 0u && !after_delta && (hit.triangle & SHAPE_BIT) == 0u && next_event_mode() != NEE_OFF {
-                let cos_light = dot(si.ng, -ray.direction);
-                let mis = power_heuristic(bsdf_pdf, light_sample_count() * light_pdf(si.material.emission, hit.t, cos_light));
-                weight = select(0.0, mis, next_event_mode() == NEE_MIS);
-            }
+            let weight = emission_weight(bounce, after_delta, bsdf_pdf, emitter_light_pdf(ray, hit));
             radiance += throughput * si.material.emission * weight;
         }
         if bounce >= max_bounces {

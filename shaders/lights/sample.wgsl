@@ -1,5 +1,6 @@
-// Lights chosen in proportion to their power: emissive triangles and quads (area lights),
-// point, spot and directional lights (delta lights, which BSDF sampling can never hit).
+// Lights chosen by a defensive mixture of power and a uniform choice (selection_pdf):
+// emissive triangles, quads, spheres and disks (area lights), point, spot and directional
+// lights (delta lights, which BSDF sampling can never hit), and last the environment map.
 
 struct LightSample {
     // Unit direction from the shading point to the light point.
@@ -68,6 +69,22 @@ fn sample_one_light(light: Light, p: vec3<f32>, u: vec2<f32>) -> LightSample {
         }
         return LightSample(wi, FAR_AWAY, light.radiance, 1.0, true);
     }
+    if light.kind == LIGHT_ENVIRONMENT {
+        let wi = environment_sample(u);
+        let pdf = environment_pdf(wi);
+        let radiance = select(vec3<f32>(0.0), environment_map_lookup(wi), pdf > 0.0);
+        return LightSample(wi, FAR_AWAY, radiance, pdf, false);
+    }
+    if light.kind == LIGHT_SPHERE || light.kind == LIGHT_DISK {
+        var shape: ShapeLightSample;
+        if light.kind == LIGHT_SPHERE {
+            shape = sample_sphere_light(light.v0, light.e1.x, p, u);
+        } else {
+            shape = sample_disk_light(light.v0, light.e1, light.e2, p, u);
+        }
+        let radiance = select(vec3<f32>(0.0), light.radiance, shape.pdf > 0.0);
+        return LightSample(shape.wi, shape.distance, radiance, shape.pdf, false);
+    }
     let b = select(square_to_triangle(u), u, light.kind == LIGHT_QUAD);
     let q = light.v0 + b.x * light.e1 + b.y * light.e2;
     let to_light = q - p;
@@ -78,6 +95,13 @@ fn sample_one_light(light: Light, p: vec3<f32>, u: vec2<f32>) -> LightSample {
         return LightSample(wi, distance, vec3<f32>(0.0), 0.0, false);
     }
     return LightSample(wi, distance, light.radiance, area_to_solid_angle(1.0 / light.area, distance, cos_light), false);
+}
+
+// Whether the classic ray tracer lights with `light`: the lights a scene declares and its
+// emissive triangles, not emissive spheres and disks (their emission stays a colour, the
+// CSE167 convention) nor the environment (it shows in the classic image through reflections).
+fn classic_lights_with(light: Light) -> bool {
+    return light.kind <= LIGHT_SPOT;
 }
 
 // The share of a spot light's colour sent towards -wi (glTF's smooth cone falloff; the CPU
@@ -91,12 +115,64 @@ fn spot_cone(light: Light, wi: vec3<f32>) -> f32 {
     return t * t;
 }
 
-// Solid-angle density with which sample_light would have produced a hit on an emissive
-// triangle or quad of radiance `radiance`: selection probability / area =
-// luminance(radiance) / total power, since selection is proportional to area x luminance.
-fn light_pdf(radiance: vec3<f32>, distance: f32, cos_light: f32) -> f32 {
-    let pdf_area = luminance(radiance) / frame.total_light_power;
-    return area_to_solid_angle(pdf_area, distance, cos_light);
+// Share of light samples drawn uniformly over the lights rather than by power (the CPU twin
+// is caustic_gpu::scene_data::UNIFORM_SELECTION): a small light that outshines the rest
+// near it keeps a selection probability of at least this / light count (no fireflies).
+const UNIFORM_SELECTION: f32 = 0.5;
+
+// Probability of selecting a light of the given power (area x luminance, or the delta
+// lights' equivalents), as scene_data::with_power_cdf computes it.
+fn selection_pdf(power: f32) -> f32 {
+    return (1.0 - UNIFORM_SELECTION) * power / frame.total_light_power + UNIFORM_SELECTION / f32(frame.light_count);
+}
+
+// Solid-angle density with which sample_light draws `direction` from the environment map,
+// the last light when present; 0 when the environment is not in the light list (a constant
+// colour, or a black map).
+fn environment_light_pdf(direction: vec3<f32>) -> f32 {
+    if frame.light_count == 0u || lights[frame.light_count - 1u].kind != LIGHT_ENVIRONMENT {
+        return 0.0;
+    }
+    return lights[frame.light_count - 1u].select_pdf * environment_pdf(direction);
+}
+
+// Solid-angle density with which sample_light draws the emitter point that `ray` hit
+// (selection x the point's density, as seen from the ray's origin); 0 for emitters that are
+// not in the light list (boxes, ellipsoids: BSDF sampling alone finds them).
+fn emitter_light_pdf(ray: Ray, hit: Hit) -> f32 {
+    if frame.light_count == 0u {
+        return 0.0;
+    }
+    if (hit.triangle & SHAPE_BIT) != 0u {
+        let shape = bvh_shapes[hit.slot];
+        let attributes = shading[frame.triangle_count + shape.id];
+        if (attributes.flags & FLAG_LIGHT_LISTED) == 0u {
+            return 0.0;
+        }
+        let lum = luminance(materials[attributes.material].emission);
+        let w = shape.world_to_object;
+        if shape.kind == SHAPE_SPHERE {
+            // Uniform scale (FLAG_LIGHT_LISTED): radius 1 / |row|, centre -r^2 L^T t.
+            let radius = 1.0 / length(w[0].xyz);
+            let centre = -radius * radius * (w[0].xyz * w[0].w + w[1].xyz * w[1].w + w[2].xyz * w[2].w);
+            return selection_pdf(4.0 * PI * radius * radius * lum) * sphere_light_pdf(centre, radius, ray.origin);
+        }
+        // Disk: area pi |T x T y| = pi |row 2 of T^-1| / |det T^-1|.
+        let area = PI * length(w[2].xyz) / abs(dot(w[0].xyz, cross(w[1].xyz, w[2].xyz)));
+        let normal = shape_normal_to_world(shape, vec3<f32>(0.0, 0.0, 1.0));
+        return selection_pdf(area * lum) / area * area_to_solid_angle(1.0, hit.t, abs(dot(normal, ray.direction)));
+    }
+    let tri = bvh_triangles[hit.slot];
+    let attributes = shading[hit.triangle];
+    if (attributes.flags & FLAG_LIGHT_LISTED) == 0u {
+        return 0.0;
+    }
+    let edges = cross(tri.v1 - tri.v0, tri.v2 - tri.v0);
+    // A quad light's two triangles are halves of one light.
+    let area = select(0.5, 1.0, (attributes.flags & FLAG_QUAD_LIGHT) != 0u) * length(edges);
+    let power = area * luminance(materials[attributes.material].emission);
+    let cos_light = abs(dot(edges, ray.direction)) / length(edges);
+    return area_to_solid_angle(selection_pdf(power) / area, hit.t, cos_light);
 }
 
 fn luminance(c: vec3<f32>) -> f32 {

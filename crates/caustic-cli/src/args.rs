@@ -140,8 +140,9 @@ pub struct SceneOverrides {
     /// Random seed: the same seed, scene and spp give the same image.
     #[arg(long, default_value_t = 0, value_name = "N")]
     pub seed: u32,
-    /// Environment for escaping rays: a colour (`1` or `r,g,b`) or an .hdr/.exr lat-long map.
-    #[arg(long, value_name = "COLOR|FILE")]
+    /// Environment for escaping rays: a colour (`1` or `r,g,b`), an .hdr/.exr lat-long map, a
+    /// gradient sky `sky:ZENITH:HORIZON` or the CIE overcast sky `overcast:ZENITH`.
+    #[arg(long, value_name = "COLOR|FILE|sky:Z:H|overcast:Z")]
     pub environment: Option<String>,
     /// Integrator: pathtracer, raytracer, direct or analyticdirect (default: the scene's,
     /// pathtracer for glTF and mesh files).
@@ -516,19 +517,18 @@ fn parse_integrator(text: &str) -> Result<Integrator, String> {
     })
 }
 
-/// Reads `--environment`: one number (grey), three comma-separated numbers, or a map file.
+/// Reads `--environment`: one number (grey), three comma-separated numbers, a sky model
+/// (`sky:ZENITH:HORIZON` or `overcast:ZENITH`, colours as before), or a map file.
 fn parse_environment(text: &str) -> anyhow::Result<Environment> {
-    let numbers: Result<Vec<f32>, _> = text.split(',').map(|s| s.trim().parse::<f32>()).collect();
-    let color = match numbers.as_deref() {
-        Ok([grey]) => Some(Vec3::splat(*grey)),
-        Ok([r, g, b]) => Some(Vec3::new(*r, *g, *b)),
-        _ => None,
-    };
-    if let Some(color) = color {
-        if !color.is_finite() || color.min_element() < 0.0 {
-            bail!("--environment {text}: radiance must be finite and not negative");
-        }
-        return Ok(Environment::Constant(color));
+    let sky: Vec<&str> = text.split(':').collect();
+    match sky.as_slice() {
+        ["sky", zenith, horizon] => return Ok(Environment::Map(EnvironmentMap::gradient_sky(environment_color(text, zenith)?, environment_color(text, horizon)?))),
+        ["overcast", zenith] => return Ok(Environment::Map(EnvironmentMap::overcast_sky(environment_color(text, zenith)?))),
+        ["sky" | "overcast", ..] => bail!("--environment {text}: expected sky:ZENITH:HORIZON or overcast:ZENITH (colours `1` or `r,g,b`)"),
+        _ => {}
+    }
+    if text.split(',').all(|s| s.trim().parse::<f32>().is_ok()) {
+        return Ok(Environment::Constant(environment_color(text, text)?));
     }
     let path = Path::new(text);
     if !path.exists() {
@@ -536,4 +536,18 @@ fn parse_environment(text: &str) -> anyhow::Result<Environment> {
     }
     let map = EnvironmentMap::load(path).with_context(|| format!("--environment {text}"))?;
     Ok(Environment::Map(map))
+}
+
+/// A radiance colour of `--environment {text}`: one number (grey) or `r,g,b`, finite, >= 0.
+fn environment_color(text: &str, part: &str) -> anyhow::Result<Vec3> {
+    let numbers: Result<Vec<f32>, _> = part.split(',').map(|s| s.trim().parse::<f32>()).collect();
+    let color = match numbers.as_deref() {
+        Ok([grey]) => Vec3::splat(*grey),
+        Ok([r, g, b]) => Vec3::new(*r, *g, *b),
+        _ => bail!("--environment {text}: `{part}` is not a colour (`1` or `r,g,b`)"),
+    };
+    if !color.is_finite() || color.min_element() < 0.0 {
+        bail!("--environment {text}: radiance must be finite and not negative");
+    }
+    Ok(color)
 }

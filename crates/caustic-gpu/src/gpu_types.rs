@@ -140,6 +140,13 @@ pub const FLAG_VERTEX_NORMALS: u32 = 1;
 /// Flag of [`TriangleShading::flags`]: the triangle's material is alpha-tested (glTF `MASK`
 /// or `BLEND`), so traversal tests its opacity at candidate hits (`integrator/alpha.wgsl`).
 pub const FLAG_ALPHA_TESTED: u32 = 2;
+/// Flag of [`TriangleShading::flags`]: the triangle is half of a quad light (the light's
+/// area is twice the triangle's, `lights/sample.wgsl` `emitter_light_pdf`).
+pub const FLAG_QUAD_LIGHT: u32 = 4;
+/// Flag of [`TriangleShading::flags`]: the primitive is in the light list whenever it is
+/// emissive (mesh triangles without an emissive texture, quad lights, spheres of uniform
+/// scale, disks), so a BSDF-sampled hit on it is MIS-weighted against light sampling.
+pub const FLAG_LIGHT_LISTED: u32 = 8;
 
 /// A material as the kernels see it (`Material` in WGSL).
 #[repr(C)]

@@ -13,6 +13,7 @@ pub mod classic;
 pub mod classic_reference;
 mod context;
 pub mod debug_image;
+pub mod environment_sampling;
 mod error;
 pub mod features;
 pub mod filter;

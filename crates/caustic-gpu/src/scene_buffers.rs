@@ -162,8 +162,9 @@ fn upload_environment(ctx: &GpuContext, environment: &Environment) -> Result<(wg
     let (width, height, texels, color) = match environment {
         Environment::Constant(c) => (1, 1, vec![[c.x, c.y, c.z, 1.0]], Some(*c)),
         Environment::Map(map) => {
-            let texels = map.texels.iter().map(|t| [t[0], t[1], t[2], 1.0]).collect();
-            (map.width, map.height, texels, None)
+            // One column more: the sampling tables ride in the alpha channel.
+            let texels = crate::environment_sampling::EnvironmentDistribution::new(map).texture_texels(map);
+            (map.width + 1, map.height, texels, None)
         }
     };
     let max = ctx.limits.max_texture_dimension_2d;

@@ -3,7 +3,7 @@
 //! per shape), materials (the scene's, then one emitter per quad light) and the light list
 //! with its power CDF.
 
-use crate::gpu_types::{ALPHA_BLEND, ALPHA_MASK, ALPHA_OPAQUE, FLAG_ALPHA_TESTED, FLAG_VERTEX_NORMALS, GpuLight, GpuMaterial, GpuTextureRef, TriangleShading};
+use crate::gpu_types::{ALPHA_BLEND, ALPHA_MASK, ALPHA_OPAQUE, FLAG_ALPHA_TESTED, FLAG_LIGHT_LISTED, FLAG_QUAD_LIGHT, FLAG_VERTEX_NORMALS, GpuLight, GpuMaterial, GpuTextureRef, TriangleShading};
 use caustic_bvh::ShapeInput;
 use caustic_bsdf::params::BsdfParams;
 use caustic_scene::{AlphaMode, ColorSpace, Light, MipFilter, Scene, Shape, ShadingModel, ShapeKind, Texture, TextureFilter, TextureSlot, WrapMode, luminance};
@@ -19,6 +19,19 @@ pub const LIGHT_POINT: u32 = 2;
 pub const LIGHT_DIRECTIONAL: u32 = 3;
 /// A spot light.
 pub const LIGHT_SPOT: u32 = 4;
+/// An emissive analytic sphere (of uniform scale), sampled by the cone it subtends.
+pub const LIGHT_SPHERE: u32 = 5;
+/// An emissive analytic disk (an ellipse under its transform), sampled by area.
+pub const LIGHT_DISK: u32 = 6;
+/// The environment map, sampled by its luminance ([`crate::environment_sampling`]); always the
+/// last light.
+pub const LIGHT_ENVIRONMENT: u32 = 7;
+
+/// Share of light samples chosen uniformly over the lights rather than by power
+/// (`UNIFORM_SELECTION` in `shaders/lights/sample.wgsl`): a defensive mixture, so a small light
+/// that dominates its surroundings but not the scene's power (the Veach MIS scene's panel
+/// lights) keeps a selection probability of at least this / light count.
+pub const UNIFORM_SELECTION: f64 = 0.5;
 
 /// Device-ready scene data.
 pub struct SceneData {
@@ -52,7 +65,7 @@ impl SceneData {
             alpha_test: scene.materials.iter().any(|m| m.alpha_mode != AlphaMode::Opaque),
         };
         data.add_quad_geometry(scene);
-        data.shading.extend(scene.shapes.iter().map(|s| TriangleShading { material: s.material, ..Default::default() }));
+        data.shading.extend(scene.shapes.iter().map(|s| TriangleShading { material: s.material, flags: shape_light_flag(s), ..Default::default() }));
         data.add_extensions(extensions);
         (data.lights, data.total_light_power) = device_lights(scene);
         data
@@ -81,7 +94,7 @@ impl SceneData {
             let far = corner + edge_a + edge_b;
             for triangle in [[corner, corner + edge_a, far], [corner, far, corner + edge_b]] {
                 self.triangles.push(triangle);
-                self.shading.push(TriangleShading { material, ..Default::default() });
+                self.shading.push(TriangleShading { material, flags: FLAG_QUAD_LIGHT | FLAG_LIGHT_LISTED, ..Default::default() });
             }
         }
     }
@@ -116,7 +129,9 @@ pub(crate) fn device_lights(scene: &Scene) -> (Vec<GpuLight>, f32) {
         .iter()
         .filter(|e| !textured.iter().any(|range| range.contains(&e.triangle)))
         .map(|e| area_light(LIGHT_TRIANGLE, e.vertices[0], e.vertices[1] - e.vertices[0], e.vertices[2] - e.vertices[0], e.radiance))
+        .chain(scene.shapes.iter().filter_map(|s| shape_light(s, scene)))
         .chain(scene.lights.iter().map(light))
+        .chain(environment_light(scene))
         .collect();
     with_power_cdf(lights, radius)
 }
@@ -136,6 +151,48 @@ fn textured_emitters(scene: &Scene) -> Vec<std::ops::Range<u32>> {
         first = end;
     }
     out
+}
+
+/// [`FLAG_LIGHT_LISTED`] for the shapes [`shape_light`] samples when emissive: still disks,
+/// and still spheres whose transform is a uniform scale (a true sphere; an ellipsoid's visible
+/// cone has no simple sampler, and moving emitters are not where a light sample would look,
+/// so BSDF sampling alone finds those), else 0.
+fn shape_light_flag(shape: &Shape) -> u32 {
+    let m = glam::Mat3::from_mat4(shape.object_to_world);
+    let uniform = |a: Vec3, b: Vec3| a.dot(b).abs() <= 1e-4 * a.length_squared() && (a.length_squared() / b.length_squared() - 1.0).abs() <= 1e-4;
+    let sampled = match shape.kind {
+        ShapeKind::Disk => true,
+        ShapeKind::Sphere => uniform(m.x_axis, m.y_axis) && uniform(m.y_axis, m.z_axis) && uniform(m.x_axis, m.z_axis),
+        ShapeKind::Box | ShapeKind::Plane => false,
+    };
+    if sampled && shape.motion.is_none() { FLAG_LIGHT_LISTED } else { 0 }
+}
+
+/// The light of an emissive sphere or disk that [`shape_light_flag`] lists: a sphere's centre
+/// and radius, a disk's centre and semi-axes ordered so that their cross product is the
+/// emitting side (the transform's normal).
+fn shape_light(shape: &Shape, scene: &Scene) -> Option<GpuLight> {
+    let radiance = scene.materials.get(shape.material as usize)?.emission;
+    if shape_light_flag(shape) == 0 || radiance.max_element() <= 0.0 {
+        return None;
+    }
+    let (centre, m) = (shape.object_to_world.w_axis.truncate(), glam::Mat3::from_mat4(shape.object_to_world));
+    let light = GpuLight { v0: centre.to_array(), radiance: radiance.to_array(), ..Default::default() };
+    if shape.kind == ShapeKind::Sphere {
+        let radius = m.x_axis.length();
+        return Some(GpuLight { e1: [radius, 0.0, 0.0], area: 4.0 * std::f32::consts::PI * radius * radius, kind: LIGHT_SPHERE, ..light });
+    }
+    let (a, b) = if m.determinant() < 0.0 { (m.y_axis, m.x_axis) } else { (m.x_axis, m.y_axis) };
+    let area = std::f32::consts::PI * a.as_dvec3().cross(b.as_dvec3()).length() as f32;
+    Some(GpuLight { e1: a.to_array(), e2: b.to_array(), area, kind: LIGHT_DISK, ..light })
+}
+
+/// The environment map as a light (its luminance integral over the sphere in `area`); none for
+/// a constant environment, which BSDF sampling alone finds.
+fn environment_light(scene: &Scene) -> Option<GpuLight> {
+    let caustic_scene::Environment::Map(map) = &scene.environment else { return None };
+    let integral = crate::environment_sampling::EnvironmentDistribution::new(map).integral() as f32;
+    Some(GpuLight { area: integral, kind: LIGHT_ENVIRONMENT, ..Default::default() })
 }
 
 fn shape_input(shape: &Shape) -> ShapeInput {
@@ -292,7 +349,8 @@ fn mesh_shading(scene: &Scene) -> (Vec<TriangleShading>, Vec<TriangleShading>) {
         let material = scene.materials.get(mesh.material as usize);
         let extended = material.is_some_and(|m| m.normal_texture.is_some() || m.texture_slots().any(|(_, slot)| slot.tex_coord == 1));
         let alpha_tested = material.is_some_and(|m| m.alpha_mode != AlphaMode::Opaque);
-        let flags = if has_normals { FLAG_VERTEX_NORMALS } else { 0 } | if alpha_tested { FLAG_ALPHA_TESTED } else { 0 };
+        let listed = material.is_some_and(|m| m.emissive_texture.is_none()) && mesh.motion.is_none();
+        let flags = if has_normals { FLAG_VERTEX_NORMALS } else { 0 } | if alpha_tested { FLAG_ALPHA_TESTED } else { 0 } | if listed { FLAG_LIGHT_LISTED } else { 0 };
         for tri in &mesh.indices {
             let corner = |k: usize| tri[k] as usize;
             let normal = |k: usize| if has_normals { mesh.normals[corner(k)].to_array() } else { [0.0; 3] };
@@ -371,29 +429,32 @@ fn light(light: &Light) -> GpuLight {
 /// Power of a light up to the common factor pi: area x luminance for area lights, 4 x
 /// luminance for a point light (flux 4 pi I) and for a spot light (an upper bound: the cone
 /// sends less), radius^2 x luminance for a directional light (the flux through a disk the
-/// size of the scene).
+/// size of the scene), radius^2 / 4 x the integral of luminance over the sphere for the
+/// environment (the flux of a uniform sky of the same mean through that disk).
 fn power(light: &GpuLight, scene_radius: f32) -> f32 {
     let lum = luminance(Vec3::from(light.radiance));
     match light.kind {
         LIGHT_POINT | LIGHT_SPOT => 4.0 * lum,
         LIGHT_DIRECTIONAL => scene_radius * scene_radius * lum,
+        LIGHT_ENVIRONMENT => scene_radius * scene_radius * light.area / 4.0,
         _ => light.area * lum,
     }
 }
 
-/// Fills in each light's selection probability (proportional to power) and CDF; lights
-/// without power are dropped.
+/// Fills in each light's selection probability and CDF, a mixture of power-proportional
+/// and uniform selection ([`UNIFORM_SELECTION`]); lights without power are dropped.
 fn with_power_cdf(lights: Vec<GpuLight>, scene_radius: f32) -> (Vec<GpuLight>, f32) {
     let lights: Vec<GpuLight> = lights.into_iter().filter(|l| power(l, scene_radius) > 0.0).collect();
     let total: f64 = lights.iter().map(|l| f64::from(power(l, scene_radius))).sum();
+    let count = lights.len() as f64;
     let mut running = 0.0f64;
     let mut out: Vec<GpuLight> = lights
         .into_iter()
         .map(|mut l| {
-            let p = f64::from(power(&l, scene_radius));
+            let p = (1.0 - UNIFORM_SELECTION) * f64::from(power(&l, scene_radius)) / total + UNIFORM_SELECTION / count;
             running += p;
-            l.cdf = (running / total) as f32;
-            l.select_pdf = (p / total) as f32;
+            l.cdf = running as f32;
+            l.select_pdf = p as f32;
             l
         })
         .collect();

@@ -31,7 +31,7 @@ const TRAVERSAL: [ShaderFile; 5] = [
     shader_file!("bvh/traverse.wgsl"),
 ];
 
-const PATH_TRACER: [ShaderFile; 24] = [
+const PATH_TRACER: [ShaderFile; 25] = [
     shader_file!("integrator/bindings.wgsl"),
     shader_file!("integrator/camera.wgsl"),
     shader_file!("integrator/environment.wgsl"),
@@ -47,6 +47,7 @@ const PATH_TRACER: [ShaderFile; 24] = [
     shader_file!("bsdf/ggx.wgsl"),
     shader_file!("bsdf/dielectric.wgsl"),
     shader_file!("bsdf/bsdf.wgsl"),
+    shader_file!("lights/shapes.wgsl"),
     shader_file!("lights/sample.wgsl"),
     shader_file!("integrator/path.wgsl"),
     shader_file!("classic/features.wgsl"),
@@ -79,6 +80,12 @@ pub fn bsdf_library() -> Vec<&'static ShaderFile> {
 /// for kernel tests.
 pub fn material_library() -> Vec<&'static ShaderFile> {
     COMMON.iter().chain(PATH_TRACER.iter().filter(|f| f.name == "integrator/material.wgsl")).collect()
+}
+
+/// [`common_library`] and `lights/shapes.wgsl` (sampling spheres and disks as lights), for
+/// kernel tests.
+pub fn light_library() -> Vec<&'static ShaderFile> {
+    COMMON.iter().chain(PATH_TRACER.iter().filter(|f| f.name == "lights/shapes.wgsl")).collect()
 }
 
 /// The files of one program, in order.

@@ -49,6 +49,36 @@ impl EnvironmentMap {
     }
 }
 
+/// Width of the latitude-longitude maps the sky models are baked into (height half of it):
+/// fine enough that bilinear lookups of these smooth skies stay within 1e-4 of the formulas.
+const SKY_WIDTH: u32 = 512;
+
+impl EnvironmentMap {
+    /// A vertical gradient sky: `horizon` at the horizon blending linearly in cos(theta) to
+    /// `zenith` straight up, L = horizon + (zenith - horizon) cos(theta); below the horizon
+    /// the horizon colour (an endless ground of it). Baked into a lat-long map, so it is
+    /// importance-sampled like any map.
+    pub fn gradient_sky(zenith: Vec3, horizon: Vec3) -> EnvironmentMap {
+        EnvironmentMap::bake(|up| horizon + (zenith - horizon) * up.max(0.0))
+    }
+
+    /// The CIE standard overcast sky (Moon and Spencer 1942): luminance (1 + 2 cos theta) / 3
+    /// of the zenith's, `zenith` straight up and a third of it at the horizon; black below the
+    /// horizon. A horizontal plane receives irradiance 7/9 pi x zenith.
+    pub fn overcast_sky(zenith: Vec3) -> EnvironmentMap {
+        EnvironmentMap::bake(|up| if up >= 0.0 { zenith * (1.0 + 2.0 * up) / 3.0 } else { Vec3::ZERO })
+    }
+
+    /// A [`SKY_WIDTH`] x [`SKY_WIDTH`]/2 map of a radiance that depends on the cosine of the
+    /// angle to +Y only, evaluated at each texel's centre.
+    fn bake(radiance: impl Fn(f32) -> Vec3) -> EnvironmentMap {
+        let (width, height) = (SKY_WIDTH, SKY_WIDTH / 2);
+        let rows: Vec<[f32; 3]> = (0..height).map(|y| radiance((std::f32::consts::PI * (y as f32 + 0.5) / height as f32).cos()).to_array()).collect();
+        let texels = rows.iter().flat_map(|row| std::iter::repeat_n(*row, width as usize)).collect();
+        EnvironmentMap { width, height, texels }
+    }
+}
+
 /// Names of a cubemap's faces in OpenGL order (+X, -X, +Y, -Y, +Z, -Z).
 const CUBE_FACES: [&str; 6] = ["posx", "negx", "posy", "negy", "posz", "negz"];
 

@@ -39,7 +39,7 @@ pub const COMMANDS: &[CommandInfo] = &[
     c("russianroulette", "on|off", "Russian roulette in the path tracer"),
     c("importancesampling", "hemisphere|cosine|brdf", "bounce direction sampling (default hemisphere)"),
     c("gamma", "gamma", "display gamma of LDR output (default 1)"),
-    c("environment", "r g b | grey | file", "radiance of escaping rays: a colour or an equirectangular .hdr/.exr map"),
+    c("environment", "r g b | grey | file | sky zr zg zb hr hg hb | overcast r g b", "radiance of escaping rays: a colour, an equirectangular .hdr/.exr map, a zenith-to-horizon gradient sky or the CIE overcast sky"),
     c("maxverts", "count", "announce the number of vertices (a hint)"),
     c("maxvertnorms", "count", "announce the number of vertices with normals (a hint)"),
     // Actions

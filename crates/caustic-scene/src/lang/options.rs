@@ -82,8 +82,18 @@ impl Interpreter {
                 w.scene.camera.focus_distance = focus;
             }
             "environment" => {
-                a.expect(&[1, 3])?;
-                w.scene.environment = if a.len() == 3 {
+                let first = if a.len() > 0 { a.text(0)? } else { "" };
+                let sky = ["sky", "overcast"].iter().position(|k| *k == first).map_or(0, |k| k + 1);
+                a.expect(match sky {
+                    1 => &[7],
+                    2 => &[4],
+                    _ => &[1, 3],
+                })?;
+                w.scene.environment = if sky == 1 {
+                    Environment::Map(EnvironmentMap::gradient_sky(a.color(1)?, a.color(4)?))
+                } else if sky == 2 {
+                    Environment::Map(EnvironmentMap::overcast_sky(a.color(1)?))
+                } else if a.len() == 3 {
                     Environment::Constant(a.color(0)?)
                 } else if a.text(0)?.parse::<f64>().is_ok() {
                     let grey = a.f32_in(0, |v| v >= 0.0, ">= 0")?;
