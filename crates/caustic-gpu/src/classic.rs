@@ -36,7 +36,7 @@ pub fn is_extended(light: &GpuLight) -> bool {
 /// The `FEATURE_*` bits `scene` uses: shadows, smooth normals and environment reflections
 /// always; soft shadows with an extended light; reflection where a material has a specular
 /// colour or reflectance; refraction and light transparency where one is transparent; glossy
-/// reflection where a reflecting material has gloss.
+/// reflection where a reflecting or transparent material has gloss.
 pub fn scene_features(scene: &Scene) -> u32 {
     let mut bits = FEATURE_SHADOWS | FEATURE_SMOOTH_NORMALS | FEATURE_ENVIRONMENT_REFLECTIONS;
     let (lights, _) = crate::scene_data::device_lights(scene);

@@ -185,7 +185,10 @@ fn value_name(info: &FeatureInfo, v: u16) -> String {
 fn valid_values(info: &FeatureInfo) -> String {
     match info.kind {
         FeatureKind::Toggle(_) => "on or off".to_string(),
-        FeatureKind::Choice { values, .. } => format!("on, off, {}", values.join(", ")),
+        FeatureKind::Choice { values, .. } => {
+            let aliases = if values.contains(&"off") { "on" } else { "on, off" };
+            format!("{aliases}, {}", values.join(", "))
+        }
         FeatureKind::Count => format!("a whole number from 1 to {MAX_SAMPLES}"),
     }
 }

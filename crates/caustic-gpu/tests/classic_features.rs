@@ -388,3 +388,13 @@ fn feature_switches_parse_and_default_to_what_the_scene_uses() {
     assert_eq!(forced.mask & caustic_gpu::features::FEATURE_GLOSSY, caustic_gpu::features::FEATURE_GLOSSY);
     assert_eq!(forced.mask & caustic_gpu::features::FEATURE_REFRACTION, 0);
 }
+
+#[test]
+fn docs_list_every_feature() {
+    let table = caustic_gpu::features::markdown_table();
+    let docs = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/FEATURES.md")).expect("docs/FEATURES.md");
+    if !docs.contains(&table) {
+        println!("docs/FEATURES.md should hold this table:\n{table}");
+    }
+    assert!(docs.contains(&table), "docs/FEATURES.md shows the feature table of caustic_gpu::features");
+}
