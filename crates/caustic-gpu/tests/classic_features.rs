@@ -7,8 +7,8 @@
 use caustic_gpu::classic_reference::{classic_fresnel, pixel_centre_ray, spawn_origin, ClassicReference};
 use caustic_gpu::features::{ClassicFeatures, FEATURES};
 use caustic_gpu::{GpuContext, GpuScene, PathTracer, RenderSettings};
-use caustic_scene::{Attenuation, Camera, Environment, EnvironmentMap, Integrator, Light, Material, Mesh, Scene, ShadingModel, Shape};
-use glam::{Mat4, Vec3};
+use caustic_scene::{Attenuation, Camera, ColorSpace, Environment, EnvironmentMap, Integrator, Light, Material, Mesh, Scene, ShadingModel, Shape, Texture, TextureFilter, TextureSlot};
+use glam::{Mat4, Vec2, Vec3};
 
 fn features(list: &[&str]) -> ClassicFeatures {
     let mut f = ClassicFeatures::default();
@@ -398,3 +398,40 @@ fn docs_list_every_feature() {
     }
     assert!(docs.contains(&table), "docs/FEATURES.md shows the feature table of caustic_gpu::features");
 }
+
+/// A square facing the camera, textured with a magnified 2 x 2 checker read with `filter`, lit
+/// head-on (each pixel is its texel colour).
+fn texture_scene(filter: TextureFilter) -> Scene {
+    let texels = vec![[255, 40, 40, 255], [40, 255, 40, 255], [40, 40, 255, 255], [255, 255, 40, 255]];
+    let texture = Texture { name: "checker".into(), width: 2, height: 2, color_space: ColorSpace::Srgb, texels };
+    let mut square = quad(Vec3::new(-1.0, -1.0, 0.0), Vec3::new(2.0, 0.0, 0.0), Vec3::new(0.0, 2.0, 0.0), 0);
+    square.uvs = vec![Vec2::new(0.0, 1.0), Vec2::ONE, Vec2::X, Vec2::ZERO];
+    Scene {
+        meshes: vec![square],
+        materials: vec![Material { base_color_texture: Some(TextureSlot { filter, ..TextureSlot::new(0) }), ..Material::diffuse("checker", Vec3::ONE) }],
+        textures: vec![texture],
+        lights: vec![Light::Directional { direction: Vec3::Z, color: Vec3::ONE, spread: 0.0 }],
+        camera: Camera { eye: Vec3::new(0.0, 0.0, 2.5), target: Vec3::ZERO, fov_y: 40f32.to_radians(), ..Camera::default() },
+        resolution: (64, 64),
+        ..Scene::default()
+    }
+}
+
+fn mean_difference(a: &[[f32; 3]], b: &[[f32; 3]]) -> f32 {
+    a.iter().zip(b).map(|(p, q)| (Vec3::from(*p) - Vec3::from(*q)).abs().max_element()).sum::<f32>() / a.len() as f32
+}
+
+#[test]
+fn the_texture_filter_switch_replaces_the_materials_filter() {
+    let ctx = context();
+    let nearest = render(&ctx, &texture_scene(TextureFilter::Nearest), &[], 1, 8);
+    let bilinear = render(&ctx, &texture_scene(TextureFilter::Bilinear), &[], 1, 8);
+    let forced_nearest = render(&ctx, &texture_scene(TextureFilter::Bilinear), &["texture-filter=nearest"], 1, 8);
+    let forced_bilinear = render(&ctx, &texture_scene(TextureFilter::Nearest), &["texture-filter=bilinear"], 1, 8);
+    let apart = mean_difference(&nearest, &bilinear);
+    let (to_nearest, to_bilinear) = (mean_difference(&forced_nearest, &nearest), mean_difference(&forced_bilinear, &bilinear));
+    println!("nearest and bilinear materials differ by {apart:.4}; forced nearest vs nearest material {to_nearest:.6}, forced bilinear vs bilinear material {to_bilinear:.6}");
+    assert!(apart > 0.02, "the two filters give different pictures");
+    assert!(to_nearest < 1e-5 && to_bilinear < 1e-5, "the switch gives the forced filter's picture");
+}
+
