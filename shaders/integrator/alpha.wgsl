@@ -11,26 +11,26 @@
 override ALPHA_TEST: bool = false;
 
 // Whether the triangle `triangle` (scene index) is there where `ray` meets it at barycentric
-// (u, v).
+// (u, v). Fields are read one by one, not as whole structs: this runs inside the traversal
+// loop, at every candidate hit.
 fn alpha_visible(ray: Ray, triangle: u32, u: f32, v: f32) -> bool {
-    let attributes = shading[triangle];
-    if (attributes.flags & FLAG_ALPHA_TESTED) == 0u {
+    if (shading[triangle].flags & FLAG_ALPHA_TESTED) == 0u {
         return true;
     }
-    let m = materials[attributes.material];
-    var alpha = m.alpha;
-    if m.base_color_texture != 0u {
-        let r = base_color_ref(m);
-        let w = 1.0 - u - v;
-        var uv = w * attributes.uv0 + u * attributes.uv1 + v * attributes.uv2;
-        if (r.bits & TEXTURE_SET_1) != 0u {
-            let ext = shading[attributes.extension];
-            uv = w * ext.uv0 + u * ext.uv1 + v * ext.uv2;
-        }
-        alpha *= sample_ref(r, uv, 0.0).a;
+    let material = shading[triangle].material;
+    var alpha = materials[material].alpha;
+    let texture = materials[material].base_color_texture;
+    if texture != 0u {
+        let bits = materials[material].texture_wrap;
+        let entry = select(triangle, shading[triangle].extension, (bits & TEXTURE_SET_1) != 0u);
+        let uv = (1.0 - u - v) * shading[entry].uv0 + u * shading[entry].uv1 + v * shading[entry].uv2;
+        let moved = vec2<f32>(dot(materials[material].uv_transform_u, vec3<f32>(uv, 1.0)), dot(materials[material].uv_transform_v, vec3<f32>(uv, 1.0)));
+        let wrapped = vec2<f32>(wrap_coordinate(moved.x, bits & 3u), wrap_coordinate(moved.y, (bits >> 2u) & 3u));
+        // Alpha is linear: no sRGB decoding, which would cost three powers per texel.
+        alpha *= sample_level(4u * (texture - 1u), 0u, wrapped, (bits & TEXTURE_NEAREST) != 0u, false).a;
     }
-    if m.alpha_mode == ALPHA_MASK {
-        return alpha >= m.alpha_cutoff;
+    if materials[material].alpha_mode == ALPHA_MASK {
+        return alpha >= materials[material].alpha_cutoff;
     }
     return alpha_hash(ray, triangle) < alpha;
 }

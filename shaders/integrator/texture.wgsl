@@ -29,19 +29,21 @@ fn level_size(header: u32, level: u32) -> vec2<u32> {
     return max(vec2<u32>(textures[header + 1u], textures[header + 2u]) >> vec2<u32>(level), vec2<u32>(1u));
 }
 
-// Texel (x, y), clamped to the level, of the level whose texels start at word `start`.
-fn texel(header: u32, start: u32, size: vec2<u32>, x: i32, y: i32) -> vec4<f32> {
+// Texel (x, y), clamped to the level, of the level whose texels start at word `start`; sRGB
+// texels decoded to linear when `decode` (alpha is linear either way).
+fn texel(header: u32, start: u32, size: vec2<u32>, x: i32, y: i32, decode: bool) -> vec4<f32> {
     let index = u32(clamp(y, 0, i32(size.y) - 1)) * size.x + u32(clamp(x, 0, i32(size.x) - 1));
     let c = unpack4x8unorm(textures[start + index]);
-    if (textures[header + 3u] & TEXTURE_SRGB) != 0u {
+    if decode && (textures[header + 3u] & TEXTURE_SRGB) != 0u {
         return vec4<f32>(srgb_to_linear(c.r), srgb_to_linear(c.g), srgb_to_linear(c.b), c.a);
     }
     return c;
 }
 
 // Mip level `level` at wrapped `uv`: the texel `uv` falls in (nearest), else the four
-// nearest weighted by distance (bilinear). The CPU twin is caustic_scene::Texture::sample.
-fn sample_level(header: u32, level: u32, uv: vec2<f32>, nearest: bool) -> vec4<f32> {
+// nearest weighted by distance (bilinear); sRGB decoded when `decode` (the alpha test reads
+// alpha alone and skips it). The CPU twin is caustic_scene::Texture::sample.
+fn sample_level(header: u32, level: u32, uv: vec2<f32>, nearest: bool, decode: bool) -> vec4<f32> {
     var start = textures[header];
     for (var k = 0u; k < level; k++) {
         let above = level_size(header, k);
@@ -51,15 +53,15 @@ fn sample_level(header: u32, level: u32, uv: vec2<f32>, nearest: bool) -> vec4<f
     let extent = vec2<f32>(size);
     if nearest {
         let at = max(floor(uv * extent), vec2<f32>(0.0));
-        return texel(header, start, size, i32(at.x), i32(at.y));
+        return texel(header, start, size, i32(at.x), i32(at.y), decode);
     }
     let at = max(uv * extent - 0.5, vec2<f32>(0.0));
     let base = floor(at);
     let f = at - base;
     let x = i32(base.x);
     let y = i32(base.y);
-    let top = mix(texel(header, start, size, x, y), texel(header, start, size, x + 1, y), f.x);
-    let bottom = mix(texel(header, start, size, x, y + 1), texel(header, start, size, x + 1, y + 1), f.x);
+    let top = mix(texel(header, start, size, x, y, decode), texel(header, start, size, x + 1, y, decode), f.x);
+    let bottom = mix(texel(header, start, size, x, y + 1, decode), texel(header, start, size, x + 1, y + 1, decode), f.x);
     return mix(top, bottom, f.y);
 }
 
@@ -71,14 +73,14 @@ fn sample_texture(index: u32, uv: vec2<f32>, nearest: bool, mip: u32, lod: f32) 
     let levels = textures[header + 3u] >> 8u;
     let clamped = clamp(lod, 0.0, f32(levels - 1u));
     if mip == 0u {
-        return sample_level(header, 0u, uv, nearest);
+        return sample_level(header, 0u, uv, nearest, true);
     }
     if mip == 1u {
-        return sample_level(header, u32(floor(clamped + 0.5)), uv, nearest);
+        return sample_level(header, u32(floor(clamped + 0.5)), uv, nearest, true);
     }
     let below = u32(floor(clamped));
     let above = min(below + 1u, levels - 1u);
-    return mix(sample_level(header, below, uv, nearest), sample_level(header, above, uv, nearest), clamped - f32(below));
+    return mix(sample_level(header, below, uv, nearest, true), sample_level(header, above, uv, nearest, true), clamped - f32(below));
 }
 
 // Bit of TextureRef.bits selecting TEXCOORD_1.

@@ -573,3 +573,39 @@ fn attenuation_test_columns_match_beer_lambert() {
     println!("AttenuationTest: largest relative difference from the slab radiance {worst:.4} (a dim red channel; every channel within 0.005 + 2%: margin {:.4})", -worst_excess);
     assert!(worst_excess <= 0.0, "a channel differs by more than 0.005 + 2% of the expected radiance: excess {worst_excess}");
 }
+
+/// The device form of the glTF fields: per-texture references (set bit 7 for `TEXCOORD_1`),
+/// extension entries holding tangents (handedness bits) and `TEXCOORD_1`, the alpha flag and
+/// mode, and the absorption coefficient (zero when thin-walled).
+#[test]
+fn scene_data_carries_textures_tangents_alpha_and_absorption() {
+    let mut plane = square("plane", 1.0, 0.0, 0);
+    plane.uvs1 = vec![Vec2::new(0.5, 0.25); 4];
+    plane.tangents[2].w = -1.0;
+    let volume = Material { thickness: 1.0, attenuation_color: Vec3::new(0.5, 0.25, 1.0), attenuation_distance: 2.0, ..Material::default() };
+    let textured = Material {
+        normal_texture: nearest(0),
+        emissive_texture: Some(TextureSlot { tex_coord: 1, ..TextureSlot::new(0) }),
+        alpha_mode: AlphaMode::Mask { cutoff: 0.3 },
+        ..volume.clone()
+    };
+    let thin = Material { thickness: 0.0, ..volume };
+    let mut s = scene(vec![plane, square("thin", 1.0, -1.0, 1)], vec![textured, thin], vec![texture(1, 1, ColorSpace::Linear, vec![[128, 128, 255, 255]])], 0.0);
+    s.resolution = (8, 8);
+    let data = caustic_gpu::SceneData::new(&s);
+    let (first, second) = (data.shading[0], data.shading[2]);
+    let extension = data.shading[first.extension as usize];
+    println!("shading entries {}, first triangle's extension {} (flags {:#b}), second mesh's {}", data.shading.len(), first.extension, extension.flags, second.extension);
+    assert_eq!((first.extension as usize, second.extension), (4, 0), "extensions follow the 4 triangles");
+    assert_eq!(extension.flags, 0b100, "corner 2 of triangle [0, 1, 2] has handedness -1");
+    assert_eq!((extension.n0, extension.uv[1]), ([1.0, 0.0, 0.0], [0.5, 0.25]));
+    assert_eq!(first.flags & caustic_gpu::gpu_types::FLAG_ALPHA_TESTED, caustic_gpu::gpu_types::FLAG_ALPHA_TESTED);
+    assert_eq!(second.flags & caustic_gpu::gpu_types::FLAG_ALPHA_TESTED, 0);
+    let (m, t) = (data.materials[0], data.materials[1]);
+    assert_eq!((m.normal_map.texture, m.normal_map.bits >> 7, m.emissive_map.bits >> 7, m.metallic_roughness_map.texture), (1, 0, 1, 0));
+    assert_eq!((m.alpha_mode, m.alpha_cutoff), (caustic_gpu::gpu_types::ALPHA_MASK, 0.3));
+    let want = Vec3::new(2f32.ln(), 4f32.ln(), 0.0) / 2.0;
+    println!("absorption {:?} (expected {want}), thin-walled {:?}", m.absorption, t.absorption);
+    assert!((Vec3::from(m.absorption) - want).abs().max_element() < 1e-6 && t.absorption == [0.0; 3]);
+    assert!(data.alpha_test);
+}
