@@ -30,6 +30,7 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
         environment_arg: args.overrides.environment.clone(),
         adapter: args.adapter.clone(),
         seed: args.overrides.seed,
+        features: args.overrides.classic_features(),
         exposure: args.display.exposure,
         tone_map: args.display.tone_map.unwrap_or_default(),
         debug: args.debug,

@@ -27,6 +27,8 @@ pub(crate) struct Controls {
     pub max_depth: Option<u32>,
     pub spp_target: u32,
     pub seed: u32,
+    /// The classic ray tracer's feature switches (from the command line).
+    pub features: caustic_gpu::features::ClassicFeatures,
     pub exposure: f32,
     pub tone_map: ToneMap,
     /// Render resolution = the scene's divided by this.
@@ -123,6 +125,7 @@ impl ViewerApp {
             max_depth: options.max_depth,
             spp_target: options.spp.max(1),
             seed: options.seed,
+            features: options.features,
             exposure: options.exposure,
             tone_map: options.tone_map,
             divisor: 1,
@@ -213,6 +216,7 @@ impl ViewerApp {
             spp,
             max_depth: self.controls.max_depth,
             seed: self.controls.seed,
+            features: self.controls.features,
             integrator: self.controls.integrator,
             camera: scene.camera.clone(),
             environment: match self.controls.environment {
@@ -519,6 +523,7 @@ fn render_settings(controls: &Controls) -> RenderSettings {
         integrator: controls.integrator,
         max_depth: controls.max_depth,
         seed: controls.seed,
+        features: controls.features,
         debug: controls.debug,
         // A few submits per frame: stopping overshoots the budget by at most one of them.
         target_submit: Duration::from_secs_f32(controls.frame_ms / 4e3),

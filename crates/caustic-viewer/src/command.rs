@@ -21,6 +21,8 @@ pub struct Reproduction {
     pub max_depth: Option<u32>,
     /// Seed.
     pub seed: u32,
+    /// The classic ray tracer's `--feature` switches.
+    pub features: caustic_gpu::features::ClassicFeatures,
     /// Integrator.
     pub integrator: Integrator,
     /// The camera as shown.
@@ -81,6 +83,9 @@ impl Reproduction {
         add("--max-depth", self.max_depth.map_or("-1".to_string(), |d| d.to_string()));
         add("--seed", self.seed.to_string());
         add("--integrator", integrator_name(self.integrator).to_string());
+        for feature in self.features.chosen() {
+            add("--feature", feature);
+        }
         add("--eye", vector(self.camera.eye));
         add("--target", vector(self.camera.target));
         add("--up", vector(self.camera.up));
@@ -149,6 +154,7 @@ mod tests {
             spp: 16,
             max_depth: None,
             seed: 3,
+            features: Default::default(),
             integrator: Integrator::RayTracer,
             camera: Camera { eye: Vec3::new(0.1, -2.5, 1e-7), target: Vec3::ZERO, up: Vec3::Y, fov_y: 0.7, ..Camera::default() },
             environment: Some(environment_color(Vec3::new(0.5, 0.25, 1.0))),

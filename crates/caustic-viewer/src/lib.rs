@@ -54,6 +54,8 @@ pub struct ViewerOptions {
     pub spp: u32,
     /// Seed.
     pub seed: u32,
+    /// The classic ray tracer's `--feature` switches.
+    pub features: caustic_gpu::features::ClassicFeatures,
     /// Exposure in stops.
     pub exposure: f32,
     /// Tone map.
