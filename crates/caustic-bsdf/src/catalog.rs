@@ -60,6 +60,10 @@ pub fn reference_cases() -> Vec<Case> {
     out
 }
 
+/// Exponent pairs (nu, nv) of the Ashikhmin-Shirley lobe the tests cover: isotropic wide and
+/// medium, anisotropic both ways, and sharp.
+pub const ASHIKHMIN_EXPONENTS: [(f32, f32); 5] = [(1.0, 1.0), (20.0, 20.0), (100.0, 10.0), (10.0, 100.0), (1000.0, 50.0)];
+
 /// Outgoing directions' polar angles (degrees) the tests use.
 pub const TEST_ANGLES: [f32; 3] = [10.0, 45.0, 80.0];
 

@@ -11,6 +11,7 @@
 //! [`params::BsdfParams`] (the material numbers the GPU reads); [`chi_square`] tests that a
 //! sampler draws what its pdf says.
 
+pub mod ashikhmin;
 pub mod bsdf;
 pub mod catalog;
 pub mod chi_square;

@@ -31,7 +31,7 @@ const TRAVERSAL: [ShaderFile; 5] = [
     shader_file!("bvh/traverse.wgsl"),
 ];
 
-const PATH_TRACER: [ShaderFile; 25] = [
+const PATH_TRACER: [ShaderFile; 26] = [
     shader_file!("integrator/bindings.wgsl"),
     shader_file!("integrator/camera.wgsl"),
     shader_file!("integrator/environment.wgsl"),
@@ -43,6 +43,7 @@ const PATH_TRACER: [ShaderFile; 25] = [
     shader_file!("bsdf/common.wgsl"),
     shader_file!("bsdf/lambert.wgsl"),
     shader_file!("bsdf/phong.wgsl"),
+    shader_file!("bsdf/ashikhmin.wgsl"),
     shader_file!("bsdf/microfacet.wgsl"),
     shader_file!("bsdf/ggx.wgsl"),
     shader_file!("bsdf/dielectric.wgsl"),

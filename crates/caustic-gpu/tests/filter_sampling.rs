@@ -1,7 +1,8 @@
 //! Filter importance sampling (`shaders/common/filter.wgsl`) on the device: the offsets drawn
 //! for each filter follow |f(x) f(y)| (chi-square against the exact integrals of |f| over a
 //! 16 x 16 grid of the support), the GPU draws equal the CPU twin's, the weights
-//! f / (pdf x integral of f) average to 1, and the tabulated pdf is close to |f| itself.
+//! f / (pdf x integral of f) average to 1, the tabulated pdf is close to |f| itself, and the
+//! default box filter places every sample exactly where the film did before filters.
 
 use caustic_bsdf::chi_square::{corrected_level, ChiSquareTest};
 use caustic_gpu::filter::{sample_filter_1d, FilterKind, PixelFilter, FILTER_BINS};
@@ -78,6 +79,14 @@ fn sampled_offsets_follow_the_filters_and_match_the_cpu_twin() {
             let (x, wx) = sample_filter_1d(&table, &filter, d.u[0]);
             let (y, wy) = sample_filter_1d(&table, &filter, d.u[1]);
             twin_error = twin_error.max((x - d.offset[0]).abs()).max((y - d.offset[1]).abs()).max((wx * wy - d.weight).abs());
+        }
+        if filter == PixelFilter::default() {
+            // The default box puts the sample where the film put it before filters existed:
+            // pixel corner + u, with weight 1.
+            let shift = draws.iter().map(|d| (d.offset[0] + 0.5 - d.u[0]).abs().max((d.offset[1] + 0.5 - d.u[1]).abs())).fold(0f32, f32::max);
+            let weights = draws.iter().map(|d| (d.weight - 1.0).abs()).fold(0f32, f32::max);
+            println!("{filter}: film position differs from the unfiltered pixel + u by at most {shift:.1e}, weight from 1 by {weights:.1e}");
+            assert!(shift < 1e-6 && weights < 1e-6, "the box filter moved samples");
         }
         let result = ChiSquareTest::default().run(&observed, &expected, n as u64);
         let mean_weight = weight_sum / n as f64;
