@@ -220,6 +220,8 @@ struct TextureRef {
 // disk: centre in v0, semi-axes in e1, e2 (emitting towards cross(e1, e2)), area.
 // environment: the latitude-longitude map (integrator/environment.wgsl), always the last
 // light; area holds its power.
+// segment: start in v0, end - start in e1, attenuation (constant, linear, quadratic) in e2,
+// length in area, colours at the ends in radiance and color_end.
 // `radiance` is the emitted radiance (area lights) or the colour (point, directional).
 struct Light {
     v0: vec3<f32>,
@@ -230,6 +232,9 @@ struct Light {
     kind: u32,
     radiance: vec3<f32>,
     select_pdf: f32,
+    // Colour at a segment light's far end (radiance: the near end's); LIGHT_FLAG_* bits.
+    color_end: vec3<f32>,
+    light_flags: u32,
 }
 
 const LIGHT_TRIANGLE: u32 = 0u;
@@ -240,6 +245,9 @@ const LIGHT_SPOT: u32 = 4u;
 const LIGHT_SPHERE: u32 = 5u;
 const LIGHT_DISK: u32 = 6u;
 const LIGHT_ENVIRONMENT: u32 = 7u;
+const LIGHT_SEGMENT: u32 = 8u;
+// Light flag: the classic ray tracer lights with it (declared lights, emissive triangles).
+const LIGHT_FLAG_CLASSIC: u32 = 1u;
 
 // Running sum of one pixel's samples with Kahan compensation; w counts samples.
 struct AccumTexel {

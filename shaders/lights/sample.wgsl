@@ -60,6 +60,14 @@ fn sample_one_light(light: Light, p: vec3<f32>, u: vec2<f32>) -> LightSample {
         let falloff = light.e1.x + distance * (light.e1.y + distance * light.e1.z);
         return LightSample(wi, distance, light.radiance * spot_cone(light, wi) / falloff, 1.0, true);
     }
+    if light.kind == LIGHT_SEGMENT {
+        // A point of the segment drawn uniformly, its colour interpolated along it.
+        let to_light = light.v0 + u.x * light.e1 - p;
+        let distance = length(to_light);
+        let falloff = light.e2.x + distance * (light.e2.y + distance * light.e2.z);
+        let color = mix(light.radiance, light.color_end, u.x);
+        return LightSample(to_light / distance, distance, color / falloff, 1.0, true);
+    }
     if light.kind == LIGHT_DIRECTIONAL {
         // Spread: a direction drawn uniformly from the cone of half-angle atan(spread).
         var wi = light.v0;
@@ -97,11 +105,12 @@ fn sample_one_light(light: Light, p: vec3<f32>, u: vec2<f32>) -> LightSample {
     return LightSample(wi, distance, light.radiance, area_to_solid_angle(1.0 / light.area, distance, cos_light), false);
 }
 
-// Whether the classic ray tracer lights with `light`: the lights a scene declares and its
-// emissive triangles, not emissive spheres and disks (their emission stays a colour, the
-// CSE167 convention) nor the environment (it shows in the classic image through reflections).
+// Whether the classic ray tracer lights with `light` (LIGHT_FLAG_CLASSIC): the lights a scene
+// declares (sphereLight and diskLight included) and its emissive triangles, not other emissive
+// spheres and disks (their emission stays a colour, the CSE167 convention) nor the
+// environment (it shows in the classic image through reflections).
 fn classic_lights_with(light: Light) -> bool {
-    return light.kind <= LIGHT_SPOT;
+    return (light.light_flags & LIGHT_FLAG_CLASSIC) != 0u;
 }
 
 // The share of a spot light's colour sent towards -wi (glTF's smooth cone falloff; the CPU

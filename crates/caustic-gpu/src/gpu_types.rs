@@ -281,12 +281,17 @@ pub struct GpuLight {
     pub area: f32,
     /// Edge v2 - v0.
     pub e2: [f32; 3],
-    /// Kind: 0 triangle, 1 quad, 2 point, 3 directional (`scene_data::LIGHT_*`).
+    /// Kind: 0 triangle, 1 quad, 2 point, 3 directional, 4 spot, 5 sphere, 6 disk,
+    /// 7 environment, 8 segment (`scene_data::LIGHT_*`).
     pub kind: u32,
     /// Emitted radiance.
     pub radiance: [f32; 3],
     /// Probability of selecting this light.
     pub select_pdf: f32,
+    /// Colour at a segment light's far end (`radiance` is the near end's).
+    pub color_end: [f32; 3],
+    /// `LIGHT_FLAG_*` bits (`scene_data`): bit 0, the classic ray tracer lights with it.
+    pub flags: u32,
 }
 
 /// One pixel's running sample sum with Kahan compensation; `sum[3]` counts samples.

@@ -26,6 +26,11 @@ pub const LIGHT_DISK: u32 = 6;
 /// The environment map, sampled by its luminance ([`crate::environment_sampling`]); always the
 /// last light.
 pub const LIGHT_ENVIRONMENT: u32 = 7;
+/// A segment light: point lights along a segment, colour interpolated between its ends.
+pub const LIGHT_SEGMENT: u32 = 8;
+/// Light flag (`GpuLight::flags`): the classic ray tracer lights with it (the scene's declared
+/// lights and emissive triangles; not other emissive shapes, nor the environment).
+pub const LIGHT_FLAG_CLASSIC: u32 = 1;
 
 /// Share of light samples chosen uniformly over the lights rather than by power
 /// (`UNIFORM_SELECTION` in `shaders/lights/sample.wgsl`): a defensive mixture, so a small light
@@ -129,8 +134,8 @@ pub(crate) fn device_lights(scene: &Scene) -> (Vec<GpuLight>, f32) {
         .iter()
         .filter(|e| !textured.iter().any(|range| range.contains(&e.triangle)))
         .map(|e| area_light(LIGHT_TRIANGLE, e.vertices[0], e.vertices[1] - e.vertices[0], e.vertices[2] - e.vertices[0], e.radiance))
-        .chain(scene.shapes.iter().filter_map(|s| shape_light(s, scene)))
-        .chain(scene.lights.iter().map(light))
+        .chain(scene.shapes.iter().enumerate().filter_map(|(i, s)| shape_light(s, i, scene)))
+        .chain(scene.lights.iter().filter_map(light))
         .chain(environment_light(scene))
         .collect();
     with_power_cdf(lights, radius)
@@ -168,16 +173,19 @@ fn shape_light_flag(shape: &Shape) -> u32 {
     if sampled && shape.motion.is_none() { FLAG_LIGHT_LISTED } else { 0 }
 }
 
-/// The light of an emissive sphere or disk that [`shape_light_flag`] lists: a sphere's centre
-/// and radius, a disk's centre and semi-axes ordered so that their cross product is the
-/// emitting side (the transform's normal).
-fn shape_light(shape: &Shape, scene: &Scene) -> Option<GpuLight> {
+/// The light of an emissive sphere or disk (scene shape `index`) that [`shape_light_flag`]
+/// lists: a sphere's centre and radius, a disk's centre and semi-axes ordered so that their
+/// cross product is the emitting side (the transform's normal); flagged for the classic ray
+/// tracer when a [`Light::Shape`] declares it.
+fn shape_light(shape: &Shape, index: usize, scene: &Scene) -> Option<GpuLight> {
     let radiance = scene.materials.get(shape.material as usize)?.emission;
     if shape_light_flag(shape) == 0 || radiance.max_element() <= 0.0 {
         return None;
     }
     let (centre, m) = (shape.object_to_world.w_axis.truncate(), glam::Mat3::from_mat4(shape.object_to_world));
-    let light = GpuLight { v0: centre.to_array(), radiance: radiance.to_array(), ..Default::default() };
+    let declared = scene.lights.iter().any(|l| *l == Light::Shape { shape: index });
+    let flags = if declared { LIGHT_FLAG_CLASSIC } else { 0 };
+    let light = GpuLight { v0: centre.to_array(), radiance: radiance.to_array(), flags, ..Default::default() };
     if shape.kind == ShapeKind::Sphere {
         let radius = m.x_axis.length();
         return Some(GpuLight { e1: [radius, 0.0, 0.0], area: 4.0 * std::f32::consts::PI * radius * radius, kind: LIGHT_SPHERE, ..light });
@@ -390,11 +398,24 @@ fn area_light(kind: u32, v0: Vec3, e1: Vec3, e2: Vec3, radiance: Vec3) -> GpuLig
     // In f64: the squared length of the cross product overflows f32 for edges past ~4e9.
     let parallelogram = e1.as_dvec3().cross(e2.as_dvec3()).length() as f32;
     let area = if kind == LIGHT_TRIANGLE { 0.5 * parallelogram } else { parallelogram };
-    GpuLight { v0: v0.to_array(), e1: e1.to_array(), e2: e2.to_array(), area, kind, radiance: radiance.to_array(), ..Default::default() }
+    GpuLight { v0: v0.to_array(), e1: e1.to_array(), e2: e2.to_array(), area, kind, radiance: radiance.to_array(), flags: LIGHT_FLAG_CLASSIC, ..Default::default() }
 }
 
-fn light(light: &Light) -> GpuLight {
-    match *light {
+/// The device light of one of the scene's lights (flagged for the classic ray tracer); `None`
+/// for a declared shape light, which [`shape_light`] lists with the shapes.
+fn light(light: &Light) -> Option<GpuLight> {
+    let gpu = match *light {
+        Light::Shape { .. } => return None,
+        Light::Segment { start, end, color_start, color_end, attenuation: a } => GpuLight {
+            v0: start.to_array(),
+            e1: (end - start).to_array(),
+            e2: [a.constant, a.linear, a.quadratic],
+            area: (end - start).length(),
+            kind: LIGHT_SEGMENT,
+            radiance: color_start.to_array(),
+            color_end: color_end.to_array(),
+            ..Default::default()
+        },
         Light::Quad { corner, edge_a, edge_b, radiance } => area_light(LIGHT_QUAD, corner, edge_a, edge_b, radiance),
         Light::Point { position, color, attenuation: a, spread } => GpuLight {
             v0: position.to_array(),
@@ -423,18 +444,20 @@ fn light(light: &Light) -> GpuLight {
             radiance: color.to_array(),
             ..Default::default()
         },
-    }
+    };
+    Some(GpuLight { flags: LIGHT_FLAG_CLASSIC, ..gpu })
 }
 
 /// Power of a light up to the common factor pi: area x luminance for area lights, 4 x
 /// luminance for a point light (flux 4 pi I) and for a spot light (an upper bound: the cone
-/// sends less), radius^2 x luminance for a directional light (the flux through a disk the
+/// sends less), 4 x the mean luminance of its ends for a segment light, radius^2 x luminance for a directional light (the flux through a disk the
 /// size of the scene), radius^2 / 4 x the integral of luminance over the sphere for the
 /// environment (the flux of a uniform sky of the same mean through that disk).
 fn power(light: &GpuLight, scene_radius: f32) -> f32 {
     let lum = luminance(Vec3::from(light.radiance));
     match light.kind {
         LIGHT_POINT | LIGHT_SPOT => 4.0 * lum,
+        LIGHT_SEGMENT => 2.0 * (lum + luminance(Vec3::from(light.color_end))),
         LIGHT_DIRECTIONAL => scene_radius * scene_radius * lum,
         LIGHT_ENVIRONMENT => scene_radius * scene_radius * light.area / 4.0,
         _ => light.area * lum,

@@ -1,4 +1,5 @@
-//! Lights that are not emissive geometry: points, spots, directions and parallelograms.
+//! Lights that are not emissive geometry: points, spots, directions, parallelograms and
+//! segments, and emissive shapes declared as lights.
 
 use glam::Vec3;
 
@@ -75,6 +76,29 @@ pub enum Light {
         /// Emitted radiance.
         radiance: Vec3,
     },
+    /// A segment light from `start` to `end` (the classic tracer's linear light): point lights
+    /// spread evenly along it, their colour interpolated linearly from `color_start` to
+    /// `color_end`, each attenuated like a point light; in total as bright as a point light of
+    /// the mean colour. Sampled at one point per light sample (soft shadows).
+    Segment {
+        /// One end.
+        start: Vec3,
+        /// The other end.
+        end: Vec3,
+        /// Colour at `start`.
+        color_start: Vec3,
+        /// Colour at `end`.
+        color_end: Vec3,
+        /// Falloff with distance from the sampled point.
+        attenuation: Attenuation,
+    },
+    /// The emissive analytic sphere or disk `shape` (an index into [`crate::Scene::shapes`])
+    /// declared as a light (the language's `sphereLight`, `diskLight`): the path tracer samples
+    /// every emissive sphere and disk, the classic ray tracer only these.
+    Shape {
+        /// Index of the emitting shape.
+        shape: usize,
+    },
 }
 
 impl Light {
@@ -85,6 +109,8 @@ impl Light {
             Light::Spot { position, direction, color, .. } => ("spot light", vec![*position, *direction], *color),
             Light::Directional { direction, color, .. } => ("directional light", vec![*direction], *color),
             Light::Quad { corner, edge_a, edge_b, radiance } => ("quad light", vec![*corner, *edge_a, *edge_b], *radiance),
+            Light::Segment { start, end, color_start, color_end, .. } => ("segment light", vec![*start, *end, *color_end], *color_start),
+            Light::Shape { .. } => ("shape light", vec![], Vec3::ZERO),
         };
         let object = format!("{kind} {index}");
         if vectors.iter().any(|v| !v.is_finite()) || !color.is_finite() || color.min_element() < 0.0 {
@@ -106,7 +132,12 @@ impl Light {
                 return Err(crate::SceneError::invalid(object, "needs a direction and cone angles 0 <= inner <= outer <= pi/2"));
             }
         }
-        if let Light::Point { attenuation: a, .. } | Light::Spot { attenuation: a, .. } = self {
+        if let Light::Segment { start, end, color_end, .. } = *self {
+            if start == end || color_end.min_element() < 0.0 {
+                return Err(crate::SceneError::invalid(object, "needs two different ends and colours >= 0"));
+            }
+        }
+        if let Light::Point { attenuation: a, .. } | Light::Spot { attenuation: a, .. } | Light::Segment { attenuation: a, .. } = self {
             if a.constant < 0.0 || a.linear < 0.0 || a.quadratic < 0.0 || a.constant + a.linear + a.quadratic <= 0.0 {
                 return Err(crate::SceneError::invalid(object, "attenuation terms must be >= 0 and not all 0"));
             }

@@ -74,7 +74,7 @@ fn each_error_names_the_place_and_what_was_expected() {
         ("spp 0\n", "bad.test:1:5: spp: count must be between 1 and 4294967295, found 0"),
         ("maxverts -5\n", "bad.test:1:10: maxverts: count must be between 1 and 9223372036854775807, found -5"),
         ("supersample 0\n", "bad.test:1:13: supersample: n must be between 1 and 65535, found 0"),
-        ("environment 1 2\n", "bad.test:1:16: environment: expected 1 or 3 arguments (environment r g b | grey | file), found 2"),
+        ("environment 1 2\n", "bad.test:1:16: environment: expected 1 or 3 arguments (environment r g b | grey | file | sky zr zg zb hr hg hb | overcast r g b), found 2"),
         ("environment sky.hdr\n", "bad.test:1:13: environment: reading files is disabled in this session"),
         ("source other.test\n", "bad.test:1:8: source: other.test: reading files is disabled in this session"),
         ("reset now\n", "bad.test:1:7: reset: expected no arguments, found 1"),

@@ -5,11 +5,12 @@ use super::args::{Args, Res};
 use super::error::Location;
 use super::state::Site;
 use super::Interpreter;
-use crate::{Attenuation, Light};
+use crate::{Attenuation, Light, Shape};
 use glam::{DMat4, Vec3};
 
 impl Interpreter {
-    /// Executes the light commands (`point`, `directional`, `quadLight`, `attenuation`, `lightspread`).
+    /// Executes the light commands (`point`, `directional`, `quadLight`, `segmentLight`,
+    /// `sphereLight`, `diskLight`, `attenuation`, `lightspread`).
     /// Returns whether `a` is one of them.
     pub(super) fn light_command(&mut self, a: &Args, at: Location<'_>) -> Res<bool> {
         let w = &mut self.world;
@@ -67,6 +68,21 @@ impl Interpreter {
                 }
                 w.scene.lights.push(Light::Quad { corner, edge_a, edge_b, radiance });
             }
+            "segmentLight" => {
+                a.expect(&[12])?;
+                let (p0, p1) = (a.dvec3_f32(0)?, a.dvec3_f32(3)?);
+                let (start, end) = (w.current.transform_point3(p0).as_vec3(), w.current.transform_point3(p1).as_vec3());
+                let (color_start, color_end) = (a.color(6)?, a.color(9)?);
+                if !(start.is_finite() && end.is_finite()) {
+                    return a.fail("the segment is not finite after the current transform");
+                }
+                if start == end {
+                    return a.fail_at(3, "the segment has zero length: its ends must differ");
+                }
+                w.scene.lights.push(Light::Segment { start, end, color_start, color_end, attenuation: w.attenuation });
+                w.unused_attenuation = None;
+            }
+            "sphereLight" | "diskLight" => self.shape_light(a)?,
             "lightspread" => {
                 a.expect(&[1])?;
                 w.settings.light_spread = a.f32_in(0, |v| v >= 0.0, ">= 0")?;
@@ -77,3 +93,44 @@ impl Interpreter {
     }
 }
 
+impl Interpreter {
+    /// `sphereLight x y z radius r g b` and `diskLight x y z nx ny nz radius r g b`: an
+    /// emissive sphere or one-sided disk (facing along n) of radiance rgb under the current
+    /// transform, declared as a light. A sphere light must stay round (no non-uniform scale):
+    /// lights are sampled by the cone a sphere subtends.
+    fn shape_light(&mut self, a: &Args) -> Res<()> {
+        let sphere = a.name == "sphereLight";
+        a.expect(&[if sphere { 7 } else { 10 }])?;
+        let centre = a.dvec3_f32(0)?.as_vec3();
+        let radius_at = if sphere { 3 } else { 6 };
+        let radius = a.f32_in(radius_at, |r| r > 0.0, "> 0 (a light needs an area)")?;
+        let radiance = a.color(radius_at + 1)?;
+        let w = &mut self.world;
+        let transform = w.current.as_mat4();
+        let shape = if sphere {
+            Shape::sphere(transform, centre, radius, 0)
+        } else {
+            let normal = a.dvec3_f32(3)?.as_vec3();
+            if normal.length_squared() == 0.0 {
+                return a.fail_at(3, "the normal must not be zero");
+            }
+            Shape::disk(transform, centre, normal.normalize(), radius, 0)
+        };
+        let m = glam::Mat3::from_mat4(shape.object_to_world);
+        let det = m.determinant();
+        if !m.is_finite() || !det.is_finite() || det.abs() < 1e-30 {
+            return a.fail("the light's transform is degenerate or not finite (a zero or huge scale?)");
+        }
+        let round = |u: Vec3, v: Vec3| u.dot(v).abs() <= 1e-4 * u.length_squared() && (u.length_squared() / v.length_squared() - 1.0).abs() <= 1e-4;
+        if sphere && !(round(m.x_axis, m.y_axis) && round(m.y_axis, m.z_axis) && round(m.x_axis, m.z_axis)) {
+            return a.fail("a sphere light must stay a sphere: the current transform scales unevenly");
+        }
+        let material = w.scene.materials.len() as u32;
+        let mut emitter = crate::Material::diffuse(&format!("{} {material}", a.name), Vec3::ZERO);
+        emitter.emission = radiance;
+        w.scene.materials.push(emitter);
+        w.scene.shapes.push(Shape { material, ..shape });
+        w.scene.lights.push(Light::Shape { shape: w.scene.shapes.len() - 1 });
+        Ok(())
+    }
+}
