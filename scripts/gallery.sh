@@ -19,6 +19,7 @@ fresnel | refraction.scene
 glossy | glossy.scene | --feature glossy=off | --feature glossy=on --feature gloss-samples=4
 shading | shading.scene
 smooth-normals | smooth_normals.scene
+motion-blur | motion.scene
 '
 
 # CAUSTIC=path/to/caustic uses that binary instead of building one.

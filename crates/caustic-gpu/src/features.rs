@@ -22,6 +22,9 @@ pub const FEATURE_SMOOTH_NORMALS: u32 = 64;
 /// `CLASSIC_FEATURES` bit: reflected and refracted rays that leave the scene see the
 /// environment (off: black).
 pub const FEATURE_ENVIRONMENT_REFLECTIONS: u32 = 128;
+/// Feature bit of motion blur, for every integrator: off compiles the kernel without
+/// `MOTION_BLUR` (`bvh/motion.wgsl`), so moving objects stand still at shutter open.
+pub const FEATURE_MOTION_BLUR: u32 = 256;
 
 /// How a feature's value is chosen.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -71,7 +74,7 @@ const LIGHT_SAMPLES: usize = 11;
 const GLOSS_SAMPLES: usize = 12;
 
 /// Every feature, in `--feature` order.
-pub const FEATURES: [FeatureInfo; 13] = [
+pub const FEATURES: [FeatureInfo; 14] = [
     FeatureInfo { name: "shadows", kind: FeatureKind::Toggle(FEATURE_SHADOWS), what: "shadow rays towards every light sample", default: "on", cost: "one shadow ray per light sample" },
     FeatureInfo { name: "soft-shadows", kind: FeatureKind::Toggle(FEATURE_SOFT_SHADOWS), what: "area, sphere, disk and spread lights sampled at `light-samples` random points per pass (off: one fixed point, hard shadows)", default: "on where the scene has such a light", cost: "`light-samples` light samples per extended light" },
     FeatureInfo { name: "light-transparency", kind: FeatureKind::Toggle(FEATURE_LIGHT_TRANSPARENCY), what: "shadow rays pass transparent surfaces, tinted by each one's transmittance colour (off: blocked)", default: "on where a material is transparent", cost: "one closest-hit query per surface crossed (at most 8)" },
@@ -85,6 +88,7 @@ pub const FEATURES: [FeatureInfo; 13] = [
     FeatureInfo { name: "texture-filter", kind: FeatureKind::Choice { values: &["material", "nearest", "bilinear", "trilinear"], on: 0, off: 1 }, what: "texture lookups: each texture's own sampler, or nearest, bilinear, trilinear (mip-mapped) for all (also in the path tracer)", default: "material", cost: "trilinear reads 8 texels, bilinear 4, nearest 1" },
     FeatureInfo { name: "light-samples", kind: FeatureKind::Count, what: "samples per extended light and pass with soft shadows on", default: "the scene's `lightsamples` (1)", cost: "linear in the count" },
     FeatureInfo { name: "gloss-samples", kind: FeatureKind::Count, what: "reflected directions per glossy reflection and pass (as many as the 16-ray stack holds)", default: "the scene language's `glosssamples` (1)", cost: "linear in the count" },
+    FeatureInfo { name: "motion-blur", kind: FeatureKind::Toggle(FEATURE_MOTION_BLUR), what: "objects given a motion move over the shutter and each path sees them at its own time, in every integrator (off: they stand still at shutter open)", default: "on where something moves", cost: "one ray transform per moving primitive tested, boxes swept over the shutter (the motion scene: 1.45x the still frame's time)" },
 ];
 
 /// The switches a render asks for: each feature's chosen value, or the scene's default.

@@ -21,7 +21,8 @@ pub struct Kernel {
     pub sampler: u32,
     /// The `LOBE_MASK` override.
     pub lobe_mask: u32,
-    /// The `MOTION_BLUR` override (`bvh/motion.wgsl`).
+    /// The `MOTION_BLUR` override (`bvh/motion.wgsl`): the scene moves and the `motion-blur`
+    /// feature is not switched off.
     pub motion_blur: bool,
     /// The `ALPHA_TEST` override: traversal tests alpha-tested materials' opacity
     /// (`integrator/alpha.wgsl`).
@@ -39,7 +40,7 @@ impl Kernel {
             traversal: traversal(gpu, settings),
             sampler: settings.sampler.override_value() as u32,
             lobe_mask: gpu.lobe_mask,
-            motion_blur: gpu.motion_blur,
+            motion_blur: gpu.motion_blur && settings.features.constants(gpu.classic_features).mask & crate::features::FEATURE_MOTION_BLUR != 0,
             alpha_test: gpu.alpha_test,
             classic: classic_constants(gpu, settings),
         }

@@ -8,6 +8,7 @@
 //! each pixel the fraction of its area x shutter time the object covers (black sky, no light).
 
 use caustic_bvh::{GpuShape, Ray, ShapeInput, ShapeKind, intersect_shape};
+use caustic_gpu::features::ClassicFeatures;
 use caustic_gpu::{GpuContext, GpuScene, PathTracer, RenderSettings};
 use caustic_scene::Scene;
 use glam::Vec3;
@@ -39,9 +40,14 @@ fn render(scene: &Scene) -> Vec<f32> {
 
 /// Grey values of the image at `spp` samples per pixel, row-major.
 fn render_spp(scene: &Scene, spp: u32) -> Vec<f32> {
+    render_with(scene, spp, ClassicFeatures::default())
+}
+
+/// Grey values of the image at `spp` samples per pixel with the `features` switches.
+fn render_with(scene: &Scene, spp: u32, features: ClassicFeatures) -> Vec<f32> {
     let ctx = GpuContext::new(std::env::var("CAUSTIC_ADAPTER").ok().as_deref()).expect("device");
     let gpu = GpuScene::upload(&ctx, scene).expect("upload");
-    let settings = RenderSettings { integrator: scene.options.integrator, max_depth: Some(1), ..RenderSettings::default() };
+    let settings = RenderSettings { integrator: scene.options.integrator, max_depth: Some(1), features, ..RenderSettings::default() };
     let mut tracer = PathTracer::new(&ctx, scene, &gpu, &settings).expect("tracer");
     for _ in 0..spp {
         tracer.render_sample().expect("pass");
@@ -181,6 +187,18 @@ fn an_instantaneous_shutter_is_the_static_render() {
     let close_error = rel_mse(&moved, &at_close);
     println!("shutter 0 0 vs the static scene: relMSE {open_error:.3e}; shutter 1 1 vs the scene moved by its motion: relMSE {close_error:.3e}");
     assert!(open_error < 1e-10 && close_error < 1e-6);
+}
+
+#[test]
+fn switching_motion_blur_off_renders_the_still_frame() {
+    let body = format!("sphere 0 0 -{DEPTH} 1\nmotion 3 0 0 45 0 1 0\nsphere 2 1 -{DEPTH} 0.5\n");
+    let still = render(&scene(&format!("shutter 0 0\n{body}")));
+    let mut off = ClassicFeatures::default();
+    off.set("motion-blur=off").expect("a feature");
+    let switched_off = render_with(&scene(&format!("shutter 0 1\n{body}")), SPP, off);
+    let error = rel_mse(&still, &switched_off);
+    println!("--feature motion-blur=off on a moving scene vs its still frame at shutter open: relMSE {error:.3e}");
+    assert!(error < 1e-10, "motion blur off is the frame at shutter open");
 }
 
 /// The CPU twin: each pixel's coverage by the moving sphere, from 32 x 32 stratified pixel
