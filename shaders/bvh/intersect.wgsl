@@ -136,5 +136,35 @@ fn intersect_triangle(r: TraversalRay, v0: vec3<f32>, v1: vec3<f32>, v2: vec3<f3
     if !(t > 0.0 && t < t_max) {
         return miss;
     }
+    let sheared_x = abs(vec3<f32>(ax, bx, cx));
+    let sheared_y = abs(vec3<f32>(ay, by, cy));
+    let sheared_z = abs(vec3<f32>(az, bz, cz));
+    if t <= t_error_bound(sheared_x, sheared_y, sheared_z, vec3<f32>(u, v, w), 1.0 / det) {
+        return miss;
+    }
     return TriangleHit(t, v / det, w / det);
+}
+
+// gamma(n) = n eps / (1 - n eps), eps = 2^-24: relative error of n rounded operations.
+const GAMMA_2: f32 = 1.192093e-7;
+const GAMMA_3: f32 = 1.7881396e-7;
+const GAMMA_5: f32 = 2.980233e-7;
+
+// Rounding error bound of the watertight test's t (pbrt-v4, 6.8.4) from the sheared
+// vertex coordinates' magnitudes, the scaled barycentrics and 1 / det: a t at or below it
+// may belong to a hit behind the origin (a grazing ray leaving a surface far from the
+// world origin would hit the coplanar triangle beside its own). Twin of
+// caustic_bvh::t_error_bound, grouped the same way so nothing overflows.
+fn t_error_bound(x: vec3<f32>, y: vec3<f32>, z: vec3<f32>, edges: vec3<f32>, inv_det: f32) -> f32 {
+    let max_x = max(x.x, max(x.y, x.z));
+    let max_y = max(y.x, max(y.y, y.z));
+    let max_z = max(z.x, max(z.y, z.z));
+    let delta_z = GAMMA_3 * max_z;
+    let delta_x = GAMMA_5 * (max_x + max_z);
+    let delta_y = GAMMA_5 * (max_y + max_z);
+    let inv = abs(inv_det);
+    let delta_e = 2.0 * (GAMMA_2 * max_x * max_y + delta_y * max_x + delta_x * max_y);
+    let e = abs(edges);
+    let max_e_inv = max(e.x, max(e.y, e.z)) * inv;
+    return 3.0 * ((GAMMA_3 * max_z + delta_z) * max_e_inv + (delta_e * inv) * max_z);
 }

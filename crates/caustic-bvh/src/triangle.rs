@@ -64,7 +64,10 @@ fn largest_axis(v: Vec3) -> usize {
 /// 5. Miss if the signs are mixed: `(U<0 || V<0 || W<0) && (U>0 || V>0 || W>0)`.
 /// 6. `det = U + V + W`; miss if `det == 0` (ray in the triangle's plane or degenerate).
 /// 7. `Az = sz*A[kz]`, `Bz = sz*B[kz]`, `Cz = sz*C[kz]`; `T = U*Az + V*Bz + W*Cz`.
-/// 8. `inv = 1/det`, `t = T*inv`; miss unless `t > 0 && t < t_max` (NaN fails too).
+/// 8. `inv = 1/det`, `t = T*inv`; miss unless `t > 0 && t < t_max` (NaN fails too) and
+///    `t` exceeds [`t_error_bound`]: a hit that rounding alone could have put in front of
+///    the origin is not trusted (a ray leaving a surface at a grazing angle, far from the
+///    world origin, would otherwise hit the coplanar triangle beside its own).
 /// 9. `u = V*inv`, `v = W*inv`.
 pub fn intersect_triangle(ray: &Ray, v0: Vec3, v1: Vec3, v2: Vec3) -> Option<(f32, f32, f32)> {
     let d = ray.direction;
@@ -116,7 +119,39 @@ pub fn intersect_triangle(ray: &Ray, v0: Vec3, v1: Vec3, v2: Vec3) -> Option<(f3
     if !(t > 0.0 && t < ray.t_max) {
         return None;
     }
+    let sheared = [
+        Vec3::new(ax, bx, cx),
+        Vec3::new(ay, by, cy),
+        Vec3::new(az, bz, cz),
+    ];
+    if t <= t_error_bound(sheared, Vec3::new(u, v, w), inv_det) {
+        return None;
+    }
     Some((t, v * inv_det, w * inv_det))
+}
+
+/// `gamma(n) = n eps / (1 - n eps)` with `eps = 2^-24`: the relative error bound of `n`
+/// rounded operations (pbrt-v4, section 6.8.1), for n = 2, 3, 5.
+const GAMMA_2: f32 = 1.192_093e-7;
+const GAMMA_3: f32 = 1.788_139_6e-7;
+const GAMMA_5: f32 = 2.980_233e-7;
+
+/// Bound on the rounding error of the watertight test's `t` (pbrt-v4's triangle
+/// intersection, section 6.8.4): from the largest sheared x, y and z of the three vertices
+/// (`sheared` rows: x, y, z of `A`, `B`, `C`), the scaled barycentrics `edges` (`U`, `V`,
+/// `W`) and `1/det`. A computed `t` at or below it may belong to a hit behind the origin.
+/// Products are grouped so that nothing overflows at coordinates up to ~1e11.
+fn t_error_bound(sheared: [Vec3; 3], edges: Vec3, inv_det: f32) -> f32 {
+    let max_x = sheared[0].abs().max_element();
+    let max_y = sheared[1].abs().max_element();
+    let max_z = sheared[2].abs().max_element();
+    let delta_z = GAMMA_3 * max_z;
+    let delta_x = GAMMA_5 * (max_x + max_z);
+    let delta_y = GAMMA_5 * (max_y + max_z);
+    let inv = inv_det.abs();
+    let delta_e = 2.0 * (GAMMA_2 * max_x * max_y + delta_y * max_x + delta_x * max_y);
+    let max_e_inv = edges.abs().max_element() * inv;
+    3.0 * ((GAMMA_3 * max_z + delta_z) * max_e_inv + (delta_e * inv) * max_z)
 }
 
 /// `p*q - r*s` for an edge function whose `f32` evaluation rounded to exactly 0.
@@ -200,6 +235,51 @@ mod tests {
         assert!(
             intersect_triangle(&at_line, degenerate[0], degenerate[1], degenerate[2]).is_none()
         );
+    }
+
+    /// Grazing rays leaving a floor triangle (y = 0, edges 5.5e6: the Cornell box scaled by
+    /// 1e4) from points 1.5e-5 above it (the ray-origin offset near a coordinate plane),
+    /// half of them from the triangle itself, half from beside it, must not hit it: its
+    /// plane is behind them. Without the error bound 713 of the 20,000 rays did.
+    #[test]
+    fn grazing_rays_far_from_the_origin_do_not_hit_the_plane_they_leave() {
+        let size = 5.5e6;
+        let tri = [
+            Vec3::ZERO,
+            Vec3::new(size, 0.0, 0.0),
+            Vec3::new(0.0, 0.0, size),
+        ];
+        let mut state = 12345u32;
+        let mut uniform = || {
+            state = state.wrapping_mul(747_796_405).wrapping_add(2_891_336_453);
+            (state >> 8) as f32 / 16_777_216.0
+        };
+        let (rays, mut self_hits) = (20_000, 0);
+        for _ in 0..rays {
+            // Origins above the neighbour (x + z > size) or above `tri`, directions over it.
+            let origin = Vec3::new(
+                size * (0.6 + 0.4 * uniform()),
+                1.5e-5,
+                size * (0.6 + 0.4 * uniform()),
+            );
+            let target = Vec3::new(size * 0.3 * uniform(), 0.0, size * 0.3 * uniform());
+            let origin = if uniform() < 0.5 {
+                origin
+            } else {
+                Vec3::new(
+                    target.x + size * 0.1 * uniform(),
+                    1.5e-5,
+                    target.z + size * 0.1 * uniform(),
+                )
+            };
+            let along = (target - origin).normalize();
+            let direction = (along + Vec3::Y * (1e-7 * 10f32.powf(4.0 * uniform()))).normalize();
+            self_hits += usize::from(
+                intersect_triangle(&ray(origin, direction), tri[0], tri[1], tri[2]).is_some(),
+            );
+        }
+        println!("grazing rays at scale 1e4: {self_hits} of {rays} hit the plane behind them");
+        assert_eq!(self_hits, 0);
     }
 
     #[test]

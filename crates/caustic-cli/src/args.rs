@@ -386,9 +386,9 @@ pub struct BenchArgs {
     /// i32 triangle indices in the mesh's face order (-1 on a miss).
     #[arg(long, value_name = "FILE", requires = "rays")]
     pub hits: Option<PathBuf>,
-    /// How the 1-spp render's kernel finds hits: buffers (the BVH in storage buffers, the
-    /// default) or auto (small scenes' primitives tested in turn; see caustic_gpu::DataPath).
-    #[arg(long, default_value = "buffers", value_parser = parse_data_path)]
+    /// How the 1-spp render's kernel finds hits: auto (small scenes' primitives tested in
+    /// turn, the default; see caustic_gpu::DataPath) or buffers (the BVH in storage buffers).
+    #[arg(long, default_value = "auto", value_parser = parse_data_path)]
     pub data_path: caustic_gpu::DataPath,
     /// BVH split method: sah (binned surface area heuristic) or midpoint (the classic
     /// builder, for comparison).

@@ -41,9 +41,9 @@ pub struct ConvergeArgs {
     /// SVG plot of the errors against time (log-log).
     #[arg(long, value_name = "FILE")]
     pub plot: Option<PathBuf>,
-    /// How the kernel finds hits: buffers (the BVH in storage buffers, the default) or auto
-    /// (small scenes' primitives tested in turn; see caustic_gpu::DataPath).
-    #[arg(long, default_value = "buffers", value_parser = crate::args::parse_data_path)]
+    /// How the kernel finds hits: buffers (the BVH in storage buffers) or auto (the default:
+    /// small scenes' primitives tested in turn; see caustic_gpu::DataPath).
+    #[arg(long, default_value = "auto", value_parser = crate::args::parse_data_path)]
     pub data_path: caustic_gpu::DataPath,
     /// Sample generator: independent, sobol (Owen-scrambled), stratified (floor(sqrt(spp))
     /// strata per axis) or stratified:N.

@@ -81,9 +81,10 @@ impl Kernel {
 fn traversal(gpu: &GpuScene, settings: &RenderSettings) -> Option<String> {
     // The BVH-cost debug views show the BVH traversal's work, which the specialised one skips.
     let bvh_cost = matches!(settings.debug, Some(DebugView::NodeVisits | DebugView::PrimitiveTests));
-    // The specialised traversal has no alpha test: alpha-tested scenes walk the BVH.
+    // The specialised traversal has no alpha test and no motion: alpha-tested and moving
+    // scenes walk the BVH.
     match settings.data_path {
-        DataPath::Auto if !bvh_cost && !gpu.alpha_test => gpu.traversal.clone(),
+        DataPath::Auto if !bvh_cost && !gpu.alpha_test && !gpu.motion_blur => gpu.traversal.clone(),
         DataPath::Auto | DataPath::Buffers => None,
     }
 }

@@ -93,13 +93,12 @@ pub const MAX_STRATA: u32 = 256;
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum DataPath {
     /// Small scenes' primitives compiled into a generated traversal that tests them in turn
-    /// ([`GpuScene::traversal`]), larger scenes' BVH walked in storage buffers. Opt-in: 1.6x
-    /// faster on the Cornell box, but at scales of 1e4 and beyond it finds hits the BVH walk
-    /// culls (the Cornell box scaled by 1e4 renders 1.4-2.1% darker, and one furnace path of
-    /// 98,304 leaks through a seam; docs/PERFORMANCE.md), so it is not the default yet.
-    Auto,
-    /// Always the BVH in storage buffers: the general kernel (the default).
+    /// ([`GpuScene::traversal`], at most [`crate::specialize::BAKE_MAX_PRIMITIVES`]), larger
+    /// scenes' BVH walked in storage buffers (the default: faster on small scenes, the same
+    /// hits; docs/PERFORMANCE.md).
     #[default]
+    Auto,
+    /// Always the BVH in storage buffers: the general kernel.
     Buffers,
 }
 
@@ -114,7 +113,7 @@ impl Default for RenderSettings {
             rr_start: 3,
             first_sample: 0,
             target_submit: Duration::from_millis(100),
-            data_path: DataPath::Buffers,
+            data_path: DataPath::Auto,
             sampler: Sampler::Sobol,
             filter: PixelFilter::default(),
             features: ClassicFeatures::default(),
