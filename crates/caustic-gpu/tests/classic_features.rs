@@ -435,3 +435,18 @@ fn the_texture_filter_switch_replaces_the_materials_filter() {
     assert!(to_nearest < 1e-5 && to_bilinear < 1e-5, "the switch gives the forced filter's picture");
 }
 
+#[test]
+fn glosssamples_in_the_scene_language_sets_the_gloss_sample_count() {
+    let dir = std::env::temp_dir().join(format!("caustic-glosssamples-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("gloss.scene");
+    std::fs::write(&path, "size 8 8\ncamera 0 0 5 0 0 0 0 1 0 40\nglosssamples 6\nreflectance 1\ngloss 0.1\nsphere 0 0 0 1\n").unwrap();
+    let scene = caustic_scene::load_scene(&caustic_scene::SceneSource::parse(path.to_str().unwrap())).expect("loads");
+    let defaults = Scene::default();
+    println!("glosssamples 6 -> options.gloss_samples {}; default {}", scene.options.gloss_samples, defaults.options.gloss_samples);
+    assert_eq!((scene.options.gloss_samples, defaults.options.gloss_samples), (6, 1));
+    assert_eq!(features(&[]).gloss_samples(scene.options.gloss_samples), 6, "the scene's count by default");
+    assert_eq!(features(&["gloss-samples=2"]).gloss_samples(scene.options.gloss_samples), 2, "the command line's wins");
+    std::fs::remove_dir_all(&dir).ok();
+}
+

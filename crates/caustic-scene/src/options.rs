@@ -70,6 +70,9 @@ pub struct RenderOptions {
     pub light_samples: u32,
     /// Whether light samples are stratified over the light.
     pub light_stratify: bool,
+    /// Reflected directions per glossy reflection in the classic ray tracer (the scene
+    /// language's `glosssamples`).
+    pub gloss_samples: u32,
     /// Next-event estimation mode.
     pub next_event: NextEvent,
     /// Whether Russian roulette may end paths early.
@@ -94,6 +97,7 @@ impl Default for RenderOptions {
             spp: None,
             light_samples: 1,
             light_stratify: false,
+            gloss_samples: 1,
             next_event: NextEvent::default(),
             russian_roulette: true,
             importance_sampling: ImportanceSampling::default(),

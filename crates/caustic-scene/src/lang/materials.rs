@@ -128,6 +128,7 @@ impl Interpreter {
                 let n = a.int_in(0, 1, i64::from(u32::MAX))? as u32;
                 if a.name == "glosssamples" {
                     w.settings.gloss_samples = n;
+                    w.scene.options.gloss_samples = n;
                 } else {
                     w.settings.frost_samples = n;
                 }

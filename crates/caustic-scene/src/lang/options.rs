@@ -17,6 +17,7 @@ pub fn default_options() -> RenderOptions {
         spp: None,
         light_samples: 1,
         light_stratify: false,
+        gloss_samples: 1,
         next_event: NextEvent::Off,
         russian_roulette: false,
         importance_sampling: ImportanceSampling::Hemisphere,
