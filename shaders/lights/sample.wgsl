@@ -176,11 +176,18 @@ fn emitter_light_pdf(ray: Ray, hit: Hit) -> f32 {
     if (attributes.flags & FLAG_LIGHT_LISTED) == 0u {
         return 0.0;
     }
+    // The cross product divided by its largest component, as in unit_normal: its squared
+    // length overflows f32 for edges past ~4e9.
     let edges = cross(tri.v1 - tri.v0, tri.v2 - tri.v0);
+    let largest = max(abs(edges.x), max(abs(edges.y), abs(edges.z)));
+    if largest == 0.0 {
+        return 0.0;
+    }
+    let scaled = edges / largest;
     // A quad light's two triangles are halves of one light.
-    let area = select(0.5, 1.0, (attributes.flags & FLAG_QUAD_LIGHT) != 0u) * length(edges);
+    let area = select(0.5, 1.0, (attributes.flags & FLAG_QUAD_LIGHT) != 0u) * length(scaled) * largest;
     let power = area * luminance(materials[attributes.material].emission);
-    let cos_light = abs(dot(edges, ray.direction)) / length(edges);
+    let cos_light = abs(dot(scaled, ray.direction)) / length(scaled);
     return area_to_solid_angle(selection_pdf(power) / area, hit.t, cos_light);
 }
 
