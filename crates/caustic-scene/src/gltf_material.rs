@@ -70,9 +70,25 @@ impl<'a> MaterialReader<'a> {
         TextureSlot { tex_coord, transform, ..self.texture(&info.texture(), color_space) }
     }
 
-    /// The slot of a normal texture (which carries no `KHR_texture_transform` in gltf 1.4).
+    /// The slot of a normal texture. gltf 1.4 gives no typed `KHR_texture_transform` for
+    /// it, only the raw extension object, which is read here the same way; a malformed one is
+    /// ignored with a warning.
     fn normal_slot(&mut self, normal: &gltf::material::NormalTexture) -> TextureSlot {
-        TextureSlot { tex_coord: self.tex_coord(normal.tex_coord()), ..self.texture(&normal.texture(), ColorSpace::Linear) }
+        let raw = normal.extensions().and_then(|e| e.get("KHR_texture_transform"));
+        let parsed = raw.map(|value| gltf::json::deserialize::from_value::<gltf::json::extensions::texture::TextureTransform>(value.clone()));
+        let transform = match parsed {
+            Some(Ok(t)) => Some(t),
+            Some(Err(e)) => {
+                warn(self.path, &format!("normalTexture: malformed KHR_texture_transform ({e}): ignored"));
+                None
+            }
+            None => None,
+        };
+        let tex_coord = self.tex_coord(transform.as_ref().and_then(|t| t.tex_coord).unwrap_or(normal.tex_coord()));
+        let transform = transform.map_or(glam::Affine2::IDENTITY, |t| {
+            crate::texture_transform(Vec2::from(t.offset.0), t.rotation.0, Vec2::from(t.scale.0))
+        });
+        TextureSlot { tex_coord, transform, ..self.texture(&normal.texture(), ColorSpace::Linear) }
     }
 
     /// A texture coordinate set this renderer keeps (0 or 1); others fall back to 0 with a

@@ -66,7 +66,7 @@ fn textures_and_material_extensions_map() {
             "pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 0.5],
                 "baseColorTexture": {"index": 0, "extensions": {"KHR_texture_transform": {"offset": [0.5, 0], "rotation": 1.5707964, "scale": [2, 2], "texCoord": 1}}},
                 "metallicRoughnessTexture": {"index": 0}},
-            "normalTexture": {"index": 0, "scale": 0.5}, "emissiveTexture": {"index": 1}, "emissiveFactor": [1, 1, 1],
+            "normalTexture": {"index": 0, "scale": 0.5, "extensions": {"KHR_texture_transform": {"offset": [0.25, 0], "scale": [3, 3]}}}, "emissiveTexture": {"index": 1}, "emissiveFactor": [1, 1, 1],
             "extensions": {"KHR_materials_volume": {"thicknessFactor": 0.2, "attenuationDistance": 2, "attenuationColor": [0.5, 0.25, 1]},
                 "KHR_materials_specular": {"specularColorFactor": [0.5, 0.5, 0.5]}}}],
         "extensionsUsed": ["KHR_texture_transform", "KHR_materials_volume", "KHR_materials_specular"],
@@ -86,7 +86,10 @@ fn textures_and_material_extensions_map() {
     let moved = base.transform.transform_point2(Vec2::new(1.0, 0.0));
     assert!((moved - Vec2::new(0.5, -2.0)).length() < 1e-5, "offset + rotate(scale(uv)): {moved}");
     assert_eq!(m.metallic_roughness_texture.map(|s| (s.texture, s.tex_coord)), Some((1, 0)));
-    assert_eq!((m.normal_texture.map(|s| s.texture), m.normal_scale), (Some(1), 0.5));
+    let normal = m.normal_texture.expect("normal texture");
+    assert_eq!((normal.texture, normal.tex_coord, m.normal_scale), (1, 0, 0.5));
+    let moved = normal.transform.transform_point2(Vec2::new(1.0, 0.0));
+    assert!((moved - Vec2::new(3.25, 0.0)).length() < 1e-5, "the normal map's own KHR_texture_transform: {moved}");
     assert_eq!(m.emissive_texture.map(|s| s.texture), Some(2));
     assert_eq!((m.alpha, m.alpha_mode, m.double_sided), (0.5, AlphaMode::Mask { cutoff: 0.3 }, true));
     assert_eq!((m.thickness, m.attenuation_distance, m.attenuation_color), (0.2, 2.0, Vec3::new(0.5, 0.25, 1.0)));
