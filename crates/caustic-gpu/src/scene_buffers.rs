@@ -169,7 +169,11 @@ fn upload_environment(ctx: &GpuContext, environment: &Environment) -> Result<(wg
     };
     let max = ctx.limits.max_texture_dimension_2d;
     if width > max || height > max {
-        return Err(GpuError::Scene(format!("the environment map is {width}x{height}; this device allows at most {max} texels a side")));
+        let size = match environment {
+            Environment::Map(map) => format!("{}x{} (its texture is one column wider, {width}, for the sampling tables)", map.width, map.height),
+            Environment::Constant(_) => format!("{width}x{height}"),
+        };
+        return Err(GpuError::Scene(format!("the environment map is {size}; this device allows at most {max} texels a side")));
     }
     let texture = ctx.device.create_texture_with_data(
         &ctx.queue,
