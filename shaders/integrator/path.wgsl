@@ -51,20 +51,20 @@ fn next_event(si: SurfaceInteraction, local: Frame3, wo: vec3<f32>, rng: ptr<fun
         inspect_light_occluded();
         return vec3<f32>(0.0);
     }
-    let mis = power_heuristic(light_sample_count() * ls.pdf, pdf_bsdf(si.material, eta, wo, wi_local, sampling_mode()));
+    let mis = power_heuristic(f32(light_sample_count()) * ls.pdf, pdf_bsdf(si.material, eta, wo, wi_local, sampling_mode()));
     let weight = select(mis, 1.0, ls.is_delta || next_event_mode() == NEE_ON);
     return inspect_light_result(weight, f * ls.radiance * (weight / ls.pdf));
 }
 
 // Light samples per path vertex (the scene's `lightsamples`, CSE168 hw4).
-fn light_sample_count() -> f32 {
-    return f32(max(frame.pixel_sampling.light_samples, 1u));
+fn light_sample_count() -> u32 {
+    return max(frame.pixel_sampling.light_samples, 1u);
 }
 
 // Direct light at a surface: the mean of light_sample_count() light samples, each weighted by
 // the multi-sample power heuristic against the one BSDF sample (Veach: counts times pdfs).
 fn next_events(si: SurfaceInteraction, local: Frame3, wo: vec3<f32>, rng: ptr<function, Rng>) -> vec3<f32> {
-    let count = max(frame.pixel_sampling.light_samples, 1u);
+    let count = light_sample_count();
     var sum = vec3<f32>(0.0);
     for (var i = 0u; i < count; i++) {
         sum += next_event(si, local, wo, rng);
@@ -81,7 +81,7 @@ fn emission_weight(bounce: u32, after_delta: bool, bsdf_pdf: f32, pdf_light: f32
     if bounce == 0u || after_delta || next_event_mode() == NEE_OFF || pdf_light <= 0.0 {
         return 1.0;
     }
-    return select(0.0, power_heuristic(bsdf_pdf, light_sample_count() * pdf_light), next_event_mode() == NEE_MIS);
+    return select(0.0, power_heuristic(bsdf_pdf, f32(light_sample_count()) * pdf_light), next_event_mode() == NEE_MIS);
 }
 
 fn trace_path(primary: Ray, rng: ptr<function, Rng>) -> vec3<f32> {
