@@ -82,3 +82,68 @@ fn ashikhmin_sample(wo: vec3<f32>, u: vec2<f32>, rs: vec3<f32>, nu: f32, nv: f32
     }
     return BsdfSample(wi, pdf, ashikhmin_eval(wo, wi, rs, nu, nv) / pdf, 1.0, false);
 }
+
+// The whole model, the mixture's anisotropic Phong slot (twin of
+// caustic_bsdf::ashikhmin::AnisotropicPhong): the specular lobe above plus the paper's coupled
+// diffuse term 28 rd / (23 pi) (1 - rs) (1 - (1 - cos_i / 2)^5) (1 - (1 - cos_o / 2)^5),
+// sampled as a mixture of the half-vector sampler (probability anisotropic_specular_share)
+// and cosine-weighted directions.
+
+// Estimated albedos (luminance) of the specular part at outgoing cosine wo_z and of the
+// diffuse part: the mixture selects the slot by their sum.
+fn anisotropic_albedo_estimate(rs: vec3<f32>, rd: vec3<f32>, wo_z: f32) -> vec2<f32> {
+    return vec2<f32>(rgb_luminance(fresnel_schlick(rs, max(wo_z, 0.0))), rgb_luminance(rd * (vec3<f32>(1.0) - rs)));
+}
+
+fn anisotropic_specular_share(rs: vec3<f32>, rd: vec3<f32>, wo_z: f32) -> f32 {
+    let a = anisotropic_albedo_estimate(rs, rd, wo_z);
+    return select(0.0, a.x / (a.x + a.y), a.x + a.y > 0.0);
+}
+
+fn anisotropic_phong_eval(wo: vec3<f32>, wi: vec3<f32>, rs: vec3<f32>, rd: vec3<f32>, nu: f32, nv: f32) -> vec3<f32> {
+    if wo.z <= 0.0 || wi.z <= 0.0 {
+        return vec3<f32>(0.0);
+    }
+    let fade_o = 1.0 - pow(1.0 - 0.5 * wo.z, 5.0);
+    let fade_i = 1.0 - pow(1.0 - 0.5 * wi.z, 5.0);
+    let diffuse = rd * (vec3<f32>(1.0) - rs) * (28.0 / (23.0 * PI) * fade_o * fade_i * wi.z);
+    return ashikhmin_eval(wo, wi, rs, nu, nv) + diffuse;
+}
+
+fn anisotropic_phong_pdf(wo: vec3<f32>, wi: vec3<f32>, rs: vec3<f32>, rd: vec3<f32>, nu: f32, nv: f32) -> f32 {
+    if wo.z <= 0.0 || wi.z <= 0.0 {
+        return 0.0;
+    }
+    let share = anisotropic_specular_share(rs, rd, wo.z);
+    return share * ashikhmin_pdf(wo, wi, nu, nv) + (1.0 - share) * wi.z * INV_PI;
+}
+
+fn anisotropic_phong_sample(wo: vec3<f32>, u_lobe: f32, u: vec2<f32>, rs: vec3<f32>, rd: vec3<f32>, nu: f32, nv: f32) -> BsdfSample {
+    if wo.z <= 0.0 {
+        return no_sample();
+    }
+    var wi = square_to_cosine_hemisphere(u);
+    if u_lobe < anisotropic_specular_share(rs, rd, wo.z) {
+        wi = reflect_about(wo, ashikhmin_half_vector(u, nu, nv));
+    }
+    let pdf = anisotropic_phong_pdf(wo, wi, rs, rd, nu, nv);
+    if wi.z <= 0.0 || !(pdf > 0.0 && pdf < 3.0e38) {
+        return no_sample();
+    }
+    return BsdfSample(wi, pdf, anisotropic_phong_eval(wo, wi, rs, rd, nu, nv) / pdf, 1.0, false);
+}
+
+// The shading frame of an anisotropic surface: normal n, tangent (the local x axis, along
+// which the exponent nu acts) the projection of the material's world-space axis onto the
+// tangent plane, bitangent n x tangent. Where the axis is (nearly) along n or zero, the
+// tangent of frame_from_normal(n), as for isotropic surfaces. Twin of
+// caustic_bsdf::Frame::with_tangent_axis.
+fn anisotropic_frame(n: vec3<f32>, axis: vec3<f32>) -> Frame3 {
+    let projected = axis - n * dot(n, axis);
+    let len = length(projected);
+    if !(len > 1.0e-4 * length(axis)) {
+        return frame_from_normal(n);
+    }
+    let t = projected / len;
+    return Frame3(t, cross(n, t), n);
+}

@@ -1,5 +1,6 @@
 // The path tracer's BSDF: a weighted sum of lobes in fixed slots (0 diffuse, 1 diffuse
-// transmission, 2 modified Phong, 3 GGX specular, 4 glossy mirror, 5 dielectric), weights and
+// transmission, 2 modified Phong, 3 GGX specular, 4 glossy mirror, 5 dielectric, 6 anisotropic
+// Phong: Ashikhmin-Shirley in the frame of anisotropic_frame), weights and
 // parameters from the Material; one lobe sampled per call with probability proportional to
 // its estimated albedo. Twin of crates/caustic-bsdf/src/bsdf.rs, slot for slot.
 // `eta` is the dielectric's index on the far side over wo's side (ior from outside).
@@ -8,15 +9,25 @@
 const SAMPLING_HEMISPHERE: u32 = 0u;
 const SAMPLING_COSINE: u32 = 1u;
 const SAMPLING_BSDF: u32 = 2u;
-const LOBE_SLOTS: u32 = 6u;
+const LOBE_SLOTS: u32 = 7u;
 
 // The slots the scene's materials use, a bit each (crate::specialize::lobe_mask): the loops
 // skip the others, so a pipeline compiled for a scene of diffuse surfaces runs no code of
 // the other lobes.
-override LOBE_MASK: u32 = 0x3fu;
+override LOBE_MASK: u32 = 0x7fu;
 
 fn lobe_in_scene(slot: u32) -> bool {
     return (LOBE_MASK & (1u << slot)) != 0u;
+}
+
+// The local shading frame of material m at shading normal n: a material with the anisotropic
+// Phong lobe orients its tangent by its axis (anisotropic_frame); others use frame_from_normal
+// (their lobes are isotropic, so any tangent gives the same result).
+fn shading_frame(m: Material, n: vec3<f32>) -> Frame3 {
+    if lobe_in_scene(6u) && m.anisotropic_weight > 0.0 {
+        return anisotropic_frame(n, m.anisotropic_axis);
+    }
+    return frame_from_normal(n);
 }
 
 // The share of light the coat lets through to the diffuse base at cosine cos_theta.
@@ -31,6 +42,7 @@ fn lobe_weight(m: Material, wo: vec3<f32>, slot: u32) -> vec3<f32> {
         case 2u: { return m.phong; }
         case 3u: { return vec3<f32>(m.specular_weight); }
         case 4u: { return vec3<f32>(m.mirror); }
+        case 6u: { return vec3<f32>(m.anisotropic_weight); }
         default: { return m.dielectric; }
     }
 }
@@ -40,6 +52,10 @@ fn lobe_selection(m: Material, wo: vec3<f32>, slot: u32) -> f32 {
     var s = rgb_luminance(lobe_weight(m, wo, slot));
     if slot == 3u {
         s *= rgb_luminance(fresnel_schlick(m.specular_f0, wo.z));
+    }
+    if slot == 6u {
+        let a = anisotropic_albedo_estimate(m.anisotropic_rs, m.anisotropic_rd, wo.z);
+        s *= a.x + a.y;
     }
     return s;
 }
@@ -51,6 +67,7 @@ fn lobe_eval(m: Material, eta: f32, wo: vec3<f32>, wi: vec3<f32>, slot: u32) -> 
         case 2u: { return vec3<f32>(phong_eval(wo, wi, m.phong_exponent)); }
         case 3u: { return conductor_eval(m.specular_alpha, m.specular_f0, wo, wi); }
         case 4u: { return conductor_eval(m.mirror_alpha, vec3<f32>(1.0), wo, wi); }
+        case 6u: { return anisotropic_phong_eval(wo, wi, m.anisotropic_rs, m.anisotropic_rd, m.anisotropic_nu, m.anisotropic_nv); }
         default: { return vec3<f32>(dielectric_eval(m.dielectric_alpha, eta, wo, wi)); }
     }
 }
@@ -61,7 +78,7 @@ fn lobe_replaced(m: Material, slot: u32, sampling: u32) -> bool {
         return false;
     }
     switch slot {
-        case 0u, 2u: { return true; }
+        case 0u, 2u, 6u: { return true; }
         case 3u: { return m.specular_alpha >= ALPHA_SMOOTH; }
         case 4u: { return m.mirror_alpha >= ALPHA_SMOOTH; }
         default: { return false; }
@@ -81,6 +98,7 @@ fn lobe_pdf(m: Material, eta: f32, wo: vec3<f32>, wi: vec3<f32>, slot: u32, samp
         case 2u: { return phong_pdf(wo, wi, m.phong_exponent); }
         case 3u: { return conductor_pdf(m.specular_alpha, wo, wi); }
         case 4u: { return conductor_pdf(m.mirror_alpha, wo, wi); }
+        case 6u: { return anisotropic_phong_pdf(wo, wi, m.anisotropic_rs, m.anisotropic_rd, m.anisotropic_nu, m.anisotropic_nv); }
         default: { return dielectric_pdf(m.dielectric_alpha, eta, wo, wi); }
     }
 }
@@ -96,6 +114,7 @@ fn lobe_sample(m: Material, eta: f32, wo: vec3<f32>, u_lobe: f32, u: vec2<f32>, 
         case 2u: { return phong_sample(wo, u, m.phong_exponent); }
         case 3u: { return conductor_sample(m.specular_alpha, m.specular_f0, wo, u); }
         case 4u: { return conductor_sample(m.mirror_alpha, vec3<f32>(1.0), wo, u); }
+        case 6u: { return anisotropic_phong_sample(wo, u_lobe, u, m.anisotropic_rs, m.anisotropic_rd, m.anisotropic_nu, m.anisotropic_nv); }
         default: { return dielectric_sample(m.dielectric_alpha, eta, wo, u_lobe, u); }
     }
 }

@@ -195,6 +195,16 @@ struct Material {
     alpha_mode: u32,
     metallic_roughness_model: u32,
     _gltf_pad: u32,
+    // Anisotropic Phong lobe (slot 6, bsdf/ashikhmin.wgsl; scene language `anisotropic`):
+    // Schlick F0 rs and the slot's weight; coupled diffuse rd and the exponent nu along the
+    // tangent; the world-space axis whose projection onto the tangent plane is the tangent
+    // (anisotropic_frame) and the exponent nv along the bitangent.
+    anisotropic_rs: vec3<f32>,
+    anisotropic_weight: f32,
+    anisotropic_rd: vec3<f32>,
+    anisotropic_nu: f32,
+    anisotropic_axis: vec3<f32>,
+    anisotropic_nv: f32,
 }
 
 // A material's use of a texture (integrator/texture.wgsl): the KHR_texture_transform rows

@@ -116,7 +116,7 @@ fn trace_path(primary: Ray, rng: ptr<function, Rng>) -> vec3<f32> {
             inspect_end(END_MAX_DEPTH, radiance);
             break;
         }
-        let local = frame_from_normal(si.ns);
+        let local = shading_frame(si.material, si.ns);
         let wo = vec3<f32>(dot(-ray.direction, local.t), dot(-ray.direction, local.b), dot(-ray.direction, si.ns));
         radiance += throughput * next_events(si, local, wo, rng);
         let u_lobe = next_f32(rng);

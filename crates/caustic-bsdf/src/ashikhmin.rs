@@ -101,3 +101,75 @@ impl Bxdf for AshikhminShirley {
         sample_at(self, wo, wi)
     }
 }
+
+/// The whole Ashikhmin-Shirley model, the mixture's anisotropic Phong slot: the specular lobe
+/// [`AshikhminShirley`] plus the paper's coupled diffuse term (its equation 5),
+/// f_d = 28 rd / (23 pi) (1 - rs) (1 - (1 - cos theta_i / 2)^5) (1 - (1 - cos theta_o / 2)^5),
+/// which gives the substrate the light the Fresnel-weighted coat does not reflect, so the sum
+/// stays reciprocal and below 1 (the diffuse albedo alone is exactly
+/// rd (1 - rs)(1 - (1 - cos theta_o / 2)^5)). Sampled as a mixture: the specular half-vector
+/// sampler with probability [`AnisotropicPhong::specular_share`], cosine-weighted otherwise.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AnisotropicPhong {
+    /// The specular lobe (rs, nu, nv).
+    pub specular: AshikhminShirley,
+    /// Diffuse reflectance of the substrate, per channel.
+    pub rd: Vec3,
+}
+
+impl AnisotropicPhong {
+    /// Estimated albedos (luminance) of the specular part at outgoing cosine `wo_z` (Schlick's
+    /// reflectance at the view angle) and of the diffuse part (rd (1 - rs)); the mixture
+    /// selects this slot by their sum.
+    pub fn albedo_estimate(&self, wo_z: f32) -> (f32, f32) {
+        let specular = crate::luminance(fresnel_schlick(self.specular.rs, wo_z.max(0.0)));
+        let diffuse = crate::luminance(self.rd * (Vec3::ONE - self.specular.rs));
+        (specular, diffuse)
+    }
+
+    /// Probability of sampling the specular part for outgoing cosine `wo_z` (1 for a black
+    /// substrate, 0 for a surface with neither part).
+    pub fn specular_share(&self, wo_z: f32) -> f32 {
+        let (s, d) = self.albedo_estimate(wo_z);
+        if s + d > 0.0 { s / (s + d) } else { 0.0 }
+    }
+
+    /// The coupled diffuse term times cos theta_i.
+    fn diffuse_eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
+        if wo.z <= 0.0 || wi.z <= 0.0 {
+            return Vec3::ZERO;
+        }
+        let fade = |c: f32| 1.0 - (1.0 - 0.5 * c).powi(5);
+        self.rd * (Vec3::ONE - self.specular.rs) * (28.0 / (23.0 * PI) * fade(wo.z) * fade(wi.z) * wi.z)
+    }
+}
+
+impl Bxdf for AnisotropicPhong {
+    fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
+        self.specular.eval(wo, wi) + self.diffuse_eval(wo, wi)
+    }
+
+    fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+        if wo.z <= 0.0 || wi.z <= 0.0 {
+            return 0.0;
+        }
+        let share = self.specular_share(wo.z);
+        share * self.specular.pdf(wo, wi) + (1.0 - share) * wi.z / PI
+    }
+
+    fn sample(&self, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
+        if wo.z <= 0.0 {
+            return None;
+        }
+        let wi = if u_lobe < self.specular_share(wo.z) {
+            let wi = reflect(wo, self.specular.sample_half_vector(u));
+            if wi.z <= 0.0 {
+                return None;
+            }
+            wi
+        } else {
+            crate::cosine_hemisphere(u)
+        };
+        sample_at(self, wo, wi)
+    }
+}

@@ -2,6 +2,7 @@
 //! with probability proportional to its estimated albedo (one-sample MIS over the lobes).
 //! Twin of `shaders/bsdf/bsdf.wgsl` (`eval_bsdf`, `pdf_bsdf`, `sample_bsdf`), slot for slot.
 
+use crate::ashikhmin::{AnisotropicPhong, AshikhminShirley};
 use crate::conductor::Conductor;
 use crate::lambert::Lambert;
 use crate::params::BsdfParams;
@@ -27,8 +28,12 @@ pub enum Sampling {
 /// The largest f32 below 1 (as `0.99999994` in WGSL), where a rescaled `u_lobe` is clamped.
 const ONE_MINUS_EPSILON: f32 = 1.0 - f32::EPSILON / 2.0;
 
-/// Number of lobe slots (diffuse, translucent, Phong, GGX specular, mirror, dielectric).
-pub const LOBE_SLOTS: usize = 6;
+/// Number of lobe slots (diffuse, translucent, Phong, GGX specular, mirror, dielectric,
+/// anisotropic Phong).
+pub const LOBE_SLOTS: usize = 7;
+
+/// The anisotropic Phong slot.
+const ANISOTROPIC_SLOT: usize = 6;
 
 /// One lobe of a [`Bsdf`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -43,6 +48,8 @@ pub enum Lobe {
     Conductor(Conductor),
     /// Dielectric interface.
     Dielectric(RoughDielectric),
+    /// Ashikhmin-Shirley anisotropic Phong (specular and coupled diffuse).
+    Anisotropic(AnisotropicPhong),
 }
 
 impl Lobe {
@@ -53,13 +60,14 @@ impl Lobe {
             Lobe::Phong(l) => l,
             Lobe::Conductor(l) => l,
             Lobe::Dielectric(l) => l,
+            Lobe::Anisotropic(l) => l,
         }
     }
 
     /// Whether `sampling` replaces this lobe's own sampler (non-delta reflection lobes).
     fn replaced_by(&self, sampling: Sampling) -> bool {
         let reflective = match self {
-            Lobe::Lambert(_) | Lobe::Phong(_) => true,
+            Lobe::Lambert(_) | Lobe::Phong(_) | Lobe::Anisotropic(_) => true,
             Lobe::Conductor(c) => !c.is_smooth(),
             Lobe::Translucent(_) | Lobe::Dielectric(_) => false,
         };
@@ -85,6 +93,10 @@ impl Bsdf {
             Lobe::Conductor(Conductor { alpha: params.specular_alpha, f0: params.specular_f0 }),
             Lobe::Conductor(Conductor { alpha: params.mirror_alpha, f0: Vec3::ONE }),
             Lobe::Dielectric(RoughDielectric { alpha: params.dielectric_alpha, eta }),
+            Lobe::Anisotropic(AnisotropicPhong {
+                specular: AshikhminShirley { rs: params.anisotropic_rs, nu: params.anisotropic_nu, nv: params.anisotropic_nv },
+                rd: params.anisotropic_rd,
+            }),
         ];
         Bsdf { params, lobes }
     }
@@ -104,15 +116,22 @@ impl Bsdf {
     /// Each slot's weight for outgoing direction `wo` (the coat's Fresnel term depends on it).
     pub fn weights(&self, wo: Vec3) -> [Vec3; LOBE_SLOTS] {
         let p = &self.params;
-        [p.diffuse * self.coat_transmission(wo.z), p.translucent, p.phong, Vec3::splat(p.specular_weight), Vec3::splat(p.mirror), p.dielectric]
+        let (coated, mirror, anisotropic) = (p.diffuse * self.coat_transmission(wo.z), Vec3::splat(p.mirror), Vec3::splat(p.anisotropic));
+        [coated, p.translucent, p.phong, Vec3::splat(p.specular_weight), mirror, p.dielectric, anisotropic]
     }
 
     /// Probability of sampling each slot: its weight's luminance, times the Schlick
-    /// reflectance at `wo` for the GGX specular lobe; normalised (all 0 for a black surface).
+    /// reflectance at `wo` for the GGX specular lobe and the estimated albedo
+    /// ([`AnisotropicPhong::albedo_estimate`]) for the anisotropic one; normalised (all 0 for
+    /// a black surface).
     pub fn selection(&self, wo: Vec3) -> [f32; LOBE_SLOTS] {
         let w = self.weights(wo);
         let mut s = w.map(luminance);
         s[3] *= luminance(fresnel_schlick(self.params.specular_f0, wo.z));
+        if let Lobe::Anisotropic(a) = &self.lobes[ANISOTROPIC_SLOT] {
+            let (specular, diffuse) = a.albedo_estimate(wo.z);
+            s[ANISOTROPIC_SLOT] *= specular + diffuse;
+        }
         let total: f32 = s.iter().sum();
         if total > 0.0 { s.map(|x| x / total) } else { [0.0; LOBE_SLOTS] }
     }

@@ -57,7 +57,27 @@ pub fn reference_cases() -> Vec<Case> {
     }
     let layered = BsdfParams::phong(Vec3::splat(0.5), Vec3::splat(0.3), 20.0).with_layers(0.2, 0.3, 0.3, 0.4, 1.33);
     add("phong + gloss 0.3 + frost 0.4".into(), layered, 1.33, Sampling::Bsdf);
+    out.extend(anisotropic_cases());
     out
+}
+
+/// The anisotropic Phong slot (Ashikhmin-Shirley specular + coupled diffuse) in the mixture:
+/// a brushed metal stretched along x, a plastic stretched along y, an isotropic one, and one
+/// under a glossy-mirror layer, all drawn by the mixture's lobe choice; and the brightest
+/// plausible substrate (rd = 1 under a 4% coat, wide lobe) for the energy tests.
+pub fn anisotropic_cases() -> Vec<Case> {
+    let metal = BsdfParams::anisotropic_phong(Vec3::new(0.9, 0.6, 0.3), Vec3::ZERO, 100.0, 10.0);
+    let plastic = BsdfParams::anisotropic_phong(Vec3::splat(0.05), Vec3::new(0.2, 0.5, 0.8), 10.0, 100.0);
+    let isotropic = BsdfParams::anisotropic_phong(Vec3::splat(0.5), Vec3::splat(0.3), 20.0, 20.0);
+    let layered = BsdfParams::anisotropic_phong(Vec3::splat(0.3), Vec3::splat(0.5), 1000.0, 50.0).with_layers(0.3, 0.2, 0.0, 0.0, 1.0);
+    let case = |name: &str, params: BsdfParams| Case { name: name.to_string(), params, eta: 1.5, sampling: Sampling::Bsdf };
+    vec![
+        case("anisotropic metal nu=100 nv=10", metal),
+        case("anisotropic plastic nu=10 nv=100", plastic),
+        case("anisotropic nu=nv=20 rd=0.3", isotropic),
+        case("anisotropic nu=1000 nv=50 + gloss 0.2", layered),
+        case("anisotropic white rd=1 rs=0.04 nu=5 nv=1", BsdfParams::anisotropic_phong(Vec3::splat(0.04), Vec3::ONE, 5.0, 1.0)),
+    ]
 }
 
 /// Exponent pairs (nu, nv) of the Ashikhmin-Shirley lobe the tests cover: isotropic wide and

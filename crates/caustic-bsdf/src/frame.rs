@@ -28,6 +28,21 @@ impl Frame {
         Frame { s, t, n }
     }
 
+    /// The frame around unit normal `n` whose tangent (local +x, where the anisotropic lobe's
+    /// exponent nu acts) is the projection of the world-space `axis` onto the tangent plane,
+    /// with bitangent `n x tangent`; [`Frame::from_normal`] where the axis is zero or within
+    /// 1e-4 (relative) of the normal's line. Twin of `anisotropic_frame` in
+    /// `shaders/bsdf/ashikhmin.wgsl`.
+    pub fn with_tangent_axis(n: Vec3, axis: Vec3) -> Frame {
+        let projected = axis - n * n.dot(axis);
+        let len = projected.length();
+        if !(len > 1e-4 * axis.length()) {
+            return Frame::from_normal(n);
+        }
+        let s = projected / len;
+        Frame { s, t: n.cross(s), n }
+    }
+
     /// World direction `v` in local coordinates.
     pub fn to_local(&self, v: Vec3) -> Vec3 {
         Vec3::new(v.dot(self.s), v.dot(self.t), v.dot(self.n))

@@ -39,6 +39,17 @@ pub struct BsdfParams {
     pub dielectric_alpha: f32,
     /// Index of refraction of the inside.
     pub ior: f32,
+    /// Weight of the anisotropic Phong lobe (Ashikhmin-Shirley specular + coupled diffuse;
+    /// scene language `anisotropic`).
+    pub anisotropic: f32,
+    /// Its specular reflectance at normal incidence rs (Schlick F0), per channel.
+    pub anisotropic_rs: Vec3,
+    /// Its coupled diffuse reflectance rd.
+    pub anisotropic_rd: Vec3,
+    /// Its exponent nu along the shading frame's tangent (x).
+    pub anisotropic_nu: f32,
+    /// Its exponent nv along the bitangent (y).
+    pub anisotropic_nv: f32,
 }
 
 impl Default for BsdfParams {
@@ -58,6 +69,11 @@ impl Default for BsdfParams {
             dielectric: Vec3::ZERO,
             dielectric_alpha: 0.0,
             ior: 1.5,
+            anisotropic: 0.0,
+            anisotropic_rs: Vec3::ZERO,
+            anisotropic_rd: Vec3::ZERO,
+            anisotropic_nu: 1.0,
+            anisotropic_nv: 1.0,
         }
     }
 }
@@ -94,6 +110,13 @@ impl BsdfParams {
     pub fn translucent(reflect: Vec3, transmit: Vec3) -> BsdfParams {
         let (diffuse, translucent) = energy_conserving(reflect, transmit);
         BsdfParams { diffuse, translucent, ..BsdfParams::default() }
+    }
+
+    /// The Ashikhmin-Shirley anisotropic Phong model alone (scene language `anisotropic`):
+    /// specular reflectance `rs`, exponents `nu` (along the tangent) and `nv`, coupled
+    /// diffuse `rd` ([`crate::ashikhmin::AnisotropicPhong`]; it conserves energy by itself).
+    pub fn anisotropic_phong(rs: Vec3, rd: Vec3, nu: f32, nv: f32) -> BsdfParams {
+        BsdfParams { anisotropic: 1.0, anisotropic_rs: rs, anisotropic_rd: rd, anisotropic_nu: nu, anisotropic_nv: nv, ..BsdfParams::default() }
     }
 
     /// The glTF metallic-roughness model with `KHR_materials_specular`, `_ior` and
@@ -138,6 +161,7 @@ impl BsdfParams {
         out.phong *= base;
         out.specular_weight *= base;
         out.dielectric *= base;
+        out.anisotropic *= base;
         out.mirror = r;
         out.mirror_alpha = gloss.clamp(0.0, 1.0);
         if t > 0.0 {

@@ -155,6 +155,7 @@ fn reflection_is_reciprocal() {
         Bsdf::new(BsdfParams::diffuse_ggx(Vec3::splat(0.4), Vec3::splat(0.5), 0.3), 1.5),
         Bsdf::new(BsdfParams::metallic_roughness(Vec3::splat(0.8), 0.3, 0.5, 1.0, Vec3::ONE, 1.5, 0.0), 1.5),
         Bsdf::new(BsdfParams::phong(Vec3::splat(0.3), Vec3::splat(0.6), 30.0), 1.5),
+        Bsdf::new(BsdfParams::anisotropic_phong(Vec3::new(0.6, 0.3, 0.1), Vec3::splat(0.5), 80.0, 8.0), 1.5),
     ];
     let mut rng = Pcg(3);
     let mut worst = 0.0f32;
@@ -202,6 +203,9 @@ fn degenerate_parameters_give_finite_values() {
         ("shininess 1e6", BsdfParams::phong(Vec3::splat(0.5), Vec3::splat(0.5), 1.0e6)),
         ("frost 0 ior 1e3", BsdfParams { dielectric: Vec3::ONE, ior: 1.0e3, ..BsdfParams::default() }),
         ("black", BsdfParams::lambert(Vec3::ZERO)),
+        ("anisotropic nu 0 nv 1e6", BsdfParams::anisotropic_phong(Vec3::splat(0.5), Vec3::splat(0.5), 0.0, 1.0e6)),
+        ("anisotropic nu = nv = 1e6, rs 1", BsdfParams::anisotropic_phong(Vec3::ONE, Vec3::ZERO, 1.0e6, 1.0e6)),
+        ("anisotropic black", BsdfParams::anisotropic_phong(Vec3::ZERO, Vec3::ZERO, 10.0, 10.0)),
     ];
     for (name, params) in extremes {
         let bsdf = Bsdf::new(params, params.ior);

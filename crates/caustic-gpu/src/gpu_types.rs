@@ -243,6 +243,20 @@ pub struct GpuMaterial {
     pub metallic_roughness_model: u32,
     /// Rounds the glTF block to 16 bytes.
     pub _gltf_pad: u32,
+    /// Anisotropic Phong lobe (slot 6, `shaders/bsdf/ashikhmin.wgsl`): specular reflectance
+    /// at normal incidence rs.
+    pub anisotropic_rs: [f32; 3],
+    /// Weight of the anisotropic Phong slot (0: unused).
+    pub anisotropic_weight: f32,
+    /// Coupled diffuse reflectance rd of the anisotropic Phong slot.
+    pub anisotropic_rd: [f32; 3],
+    /// Its exponent nu along the tangent.
+    pub anisotropic_nu: f32,
+    /// World-space axis whose projection onto the tangent plane is the shading tangent of
+    /// anisotropic surfaces (`anisotropic_frame`; zero: the default frame's tangent).
+    pub anisotropic_axis: [f32; 3],
+    /// Its exponent nv along the bitangent.
+    pub anisotropic_nv: f32,
 }
 
 /// [`GpuMaterial::alpha_mode`]: alpha ignored.

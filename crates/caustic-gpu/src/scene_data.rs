@@ -245,7 +245,8 @@ fn gpu_material(m: &caustic_scene::Material) -> GpuMaterial {
         alpha_cutoff,
         alpha: m.alpha,
         alpha_mode,
-        metallic_roughness_model: u32::from(m.model == ShadingModel::Lambert && m.reflectance == 0.0 && m.transparency == 0.0),
+        metallic_roughness_model: u32::from(m.model == ShadingModel::Lambert && m.reflectance == 0.0 && m.transparency == 0.0 && m.anisotropy.is_none()),
+        anisotropic_axis: m.anisotropy.map_or([0.0; 3], |a| a.axis.to_array()),
         ..material_with_bsdf(&bsdf_params(m))
     }
 }
@@ -310,9 +311,14 @@ pub(crate) fn pack_textures(textures: &[Texture]) -> Vec<u32> {
 /// default fields; modified Phong; CSE168's diffuse + GGX; thin translucent with the specular
 /// colour as transmittance; `Flat` and `Checkers` diffuse), then the scene language's
 /// `reflectance` (glossy mirror, `gloss` as alpha) and `transparency` (dielectric, `frost` as
-/// alpha) layers take their share. Roughness is perceptual: alpha = roughness^2.
+/// alpha) layers take their share. A material with an `anisotropy` is the Ashikhmin-Shirley
+/// model instead of its shading model's lobes (its own coupled diffuse replaces the base).
+/// Roughness is perceptual: alpha = roughness^2.
 pub fn bsdf_params(m: &caustic_scene::Material) -> BsdfParams {
     let alpha = m.roughness * m.roughness;
+    if let Some(a) = m.anisotropy {
+        return BsdfParams::anisotropic_phong(a.rs, a.rd, a.nu, a.nv).with_layers(m.reflectance, m.gloss, m.transparency, m.frost, m.ior);
+    }
     let base = match m.model {
         ShadingModel::Lambert => BsdfParams::metallic_roughness(m.base_color, m.metallic, m.roughness, m.specular, m.specular_tint, m.ior, m.transmission),
         ShadingModel::Phong | ShadingModel::BlinnPhong => BsdfParams::phong(m.base_color, m.specular_color, m.shininess),
@@ -341,6 +347,11 @@ pub fn material_with_bsdf(p: &BsdfParams) -> GpuMaterial {
         mirror_alpha: p.mirror_alpha,
         dielectric_alpha: p.dielectric_alpha,
         ior: p.ior,
+        anisotropic_rs: p.anisotropic_rs.to_array(),
+        anisotropic_weight: p.anisotropic,
+        anisotropic_rd: p.anisotropic_rd.to_array(),
+        anisotropic_nu: p.anisotropic_nu,
+        anisotropic_nv: p.anisotropic_nv,
         ..Default::default()
     }
 }

@@ -35,7 +35,7 @@ pub use environment::{Environment, EnvironmentMap};
 pub use error::SceneError;
 pub use load::{load_scene, load_scene_with, LoadOptions, SceneSource};
 pub use light::{spot_cone, spot_scale_offset, Attenuation, Light};
-pub use material::{normal_mapped, AlphaMode, Material, ShadingModel};
+pub use material::{normal_mapped, AlphaMode, Anisotropy, Material, ShadingModel};
 pub use mesh::Mesh;
 pub use motion::Motion;
 pub use options::{ImportanceSampling, Integrator, NextEvent, RenderOptions, RenderPass};

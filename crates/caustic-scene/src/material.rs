@@ -64,6 +64,50 @@ pub struct Material {
     pub thickness: f32,
     /// `KHR_materials_specular` colour factor: tints the dielectric specular reflection.
     pub specular_tint: Vec3,
+    /// The Ashikhmin-Shirley anisotropic Phong model (scene language `anisotropic`), which
+    /// replaces the shading model's lobes in the path tracer; `None`: not anisotropic.
+    pub anisotropy: Option<Anisotropy>,
+}
+
+/// The parameters of the Ashikhmin-Shirley anisotropic Phong model ("An Anisotropic Phong
+/// BRDF Model", 2000): a Fresnel-weighted specular lobe whose exponents differ along the
+/// tangent and the bitangent, over a coupled diffuse substrate (`docs/MATERIALS.md`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Anisotropy {
+    /// Specular reflectance at normal incidence Rs, each channel in [0, 1].
+    pub rs: Vec3,
+    /// Diffuse reflectance of the substrate Rd, each channel in [0, 1].
+    pub rd: Vec3,
+    /// Phong exponent along the tangent (>= 0): the highlight is narrow along it when large.
+    pub nu: f32,
+    /// Phong exponent along the bitangent (>= 0).
+    pub nv: f32,
+    /// World-space direction whose projection onto each surface's tangent plane is the
+    /// tangent (where it is along the normal, the renderer's default tangent is used).
+    pub axis: Vec3,
+}
+
+impl Anisotropy {
+    /// The default tangent axis: world +x.
+    pub const DEFAULT_AXIS: Vec3 = Vec3::X;
+
+    /// Checks ranges and finiteness, naming the offending parameter.
+    pub fn validate(&self) -> Result<(), String> {
+        let unit = |c: Vec3| c.is_finite() && c.min_element() >= 0.0 && c.max_element() <= 1.0;
+        if !unit(self.rs) {
+            return Err("anisotropic Rs must be in [0, 1]".into());
+        }
+        if !unit(self.rd) {
+            return Err("anisotropic Rd must be in [0, 1]".into());
+        }
+        if !(self.nu.is_finite() && self.nu >= 0.0 && self.nv.is_finite() && self.nv >= 0.0) {
+            return Err("anisotropic exponents nu, nv must be finite and >= 0".into());
+        }
+        if !self.axis.is_finite() || self.axis == Vec3::ZERO {
+            return Err("anisotropic axis must be finite and non-zero".into());
+        }
+        Ok(())
+    }
 }
 
 /// How a material's opacity is used (glTF `alphaMode`).
@@ -157,6 +201,9 @@ impl Material {
         if !self.ior.is_finite() || self.ior <= 0.0 {
             return bad("ior");
         }
+        if let Some(Err(what)) = self.anisotropy.map(|a| a.validate()) {
+            return Err(crate::SceneError::invalid(format!("material '{}'", self.name), what));
+        }
         self.validate_gltf_fields()
     }
 
@@ -229,6 +276,7 @@ impl Default for Material {
             attenuation_distance: f32::INFINITY,
             thickness: 0.0,
             specular_tint: Vec3::ONE,
+            anisotropy: None,
         }
     }
 }

@@ -80,6 +80,8 @@ pub const COMMANDS: &[CommandInfo] = &[
     c("glosssamples", "count", "rays per glossy reflection"),
     c("frost", "amount", "blur of refractions"),
     c("frostsamples", "count", "rays per frosted refraction"),
+    c("anisotropic", "rs_r rs_g rs_b nu nv [rd_r rd_g rd_b]", "Ashikhmin-Shirley anisotropic Phong: specular reflectance Rs, exponents along the tangent (nu) and bitangent (nv), diffuse Rd (default 0)"),
+    c("anisotropyaxis", "x y z", "world direction whose projection onto the surface is the anisotropic tangent (default 1 0 0)"),
     // Lights
     c("directional", "x y z r g b", "directional light; (x, y, z) points towards the light"),
     c("point", "x y z r g b", "point light"),

@@ -4,7 +4,7 @@
 use super::args::{Args, Res};
 use super::error::Location;
 use super::Interpreter;
-use crate::{Material, ShadingModel};
+use crate::{Anisotropy, Material, ShadingModel};
 use glam::Vec3;
 
 /// The material state before any material command: the CSE167 defaults (ambient 0.2, all
@@ -40,7 +40,7 @@ pub(super) fn model_name(model: ShadingModel) -> &'static str {
     MODELS.iter().find(|(_, m)| *m == model).map_or("material", |(name, _)| name)
 }
 
-pub(super) const MATERIAL_KEY_LEN: usize = 23;
+pub(super) const MATERIAL_KEY_LEN: usize = 35;
 
 /// The bit patterns of every field but the name: materials with equal keys are shared.
 pub(super) fn material_key(m: &Material) -> [u32; MATERIAL_KEY_LEN] {
@@ -50,10 +50,13 @@ pub(super) fn material_key(m: &Material) -> [u32; MATERIAL_KEY_LEN] {
     let [a0, a1, a2] = v(m.ambient);
     let [s0, s1, s2] = v(m.specular_color);
     let model = MODELS.iter().position(|(_, x)| *x == m.model).unwrap_or(usize::MAX) as u32;
+    let a = m.anisotropy.unwrap_or(Anisotropy { rs: Vec3::ZERO, rd: Vec3::ZERO, nu: 0.0, nv: 0.0, axis: Vec3::ZERO });
+    let ([r0, r1, r2], [d0, d1, d2], [x0, x1, x2]) = (v(a.rs), v(a.rd), v(a.axis));
     [
         b0, b1, b2, e0, e1, e2, a0, a1, a2, s0, s1, s2,
         m.metallic.to_bits(), m.roughness.to_bits(), m.specular.to_bits(), m.ior.to_bits(), m.transmission.to_bits(),
         model, m.shininess.to_bits(), m.reflectance.to_bits(), m.transparency.to_bits(), m.gloss.to_bits(), m.frost.to_bits(),
+        u32::from(m.anisotropy.is_some()), r0, r1, r2, d0, d1, d2, a.nu.to_bits(), a.nv.to_bits(), x0, x1, x2,
     ]
 }
 
@@ -123,6 +126,28 @@ impl Interpreter {
                     w.set_material(|m| m.frost = v);
                 }
             }
+            "anisotropic" => {
+                a.expect(&[5, 8])?;
+                let rs = unit_color(a, 0, "Rs")?;
+                let nu = a.f32_in(3, |v| v >= 0.0, ">= 0")?;
+                let nv = a.f32_in(4, |v| v >= 0.0, ">= 0")?;
+                let rd = if a.len() == 8 { unit_color(a, 5, "Rd")? } else { Vec3::ZERO };
+                w.set_material(|m| {
+                    let axis = m.anisotropy.map_or(Anisotropy::DEFAULT_AXIS, |old| old.axis);
+                    m.anisotropy = Some(Anisotropy { rs, rd, nu, nv, axis });
+                });
+            }
+            "anisotropyaxis" => {
+                a.expect(&[3])?;
+                let axis = a.dvec3_f32(0)?.as_vec3();
+                if axis == Vec3::ZERO {
+                    return a.fail_at(0, "the axis must not be zero");
+                }
+                let Some(old) = w.material.anisotropy else {
+                    return a.fail("needs an anisotropic material first: put it after `anisotropic`");
+                };
+                w.set_material(|m| m.anisotropy = Some(Anisotropy { axis, ..old }));
+            }
             "glosssamples" | "frostsamples" => {
                 a.expect(&[1])?;
                 let n = a.int_in(0, 1, i64::from(u32::MAX))? as u32;
@@ -139,3 +164,11 @@ impl Interpreter {
     }
 }
 
+/// Arguments `i..i + 3` as the reflectance called `what`: each channel in [0, 1].
+fn unit_color(a: &Args, i: usize, what: &str) -> Res<Vec3> {
+    let rgb = a.color(i)?;
+    match (0..3).find(|&k| rgb[k] > 1.0) {
+        Some(k) => a.fail_at(i + k, format!("{what} must be between 0 and 1 in each channel, found {}", rgb[k])),
+        None => Ok(rgb),
+    }
+}
