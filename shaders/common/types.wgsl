@@ -245,6 +245,13 @@ struct Light {
     // Colour at a segment light's far end (radiance: the near end's); LIGHT_FLAG_* bits.
     color_end: vec3<f32>,
     light_flags: u32,
+    // Quad lights' corner colours (lights/sample.wgsl quad_light_radiance): radiance at v0,
+    // color_end at v0 + e1, color_far at v0 + e1 + e2, color_side at v0 + e2; and the
+    // emitter material of the quad's two triangles, by which a hit on them finds the light.
+    color_far: vec3<f32>,
+    emitter_material: u32,
+    color_side: vec3<f32>,
+    _quad_pad: u32,
 }
 
 const LIGHT_TRIANGLE: u32 = 0u;

@@ -71,8 +71,11 @@ fn analytic_direct(ray: Ray) -> vec3<f32> {
         }
         // The winding (e1 x e2 towards p) makes the formula's sum negative for lights that
         // face the point.
+        // A quad with corner colours: its mean colour (the bilinear colour at its centre),
+        // exact for a constant quad and an approximation otherwise (docs/LIGHTS.md).
+        let radiance = select(light.radiance, quad_light_radiance(light, vec2<f32>(0.5)), light.kind == LIGHT_QUAD);
         if dot(cross(light.e1, light.e2), light.v0 - si.p) < 0.0 {
-            irradiance += light.radiance * max(-polygon_irradiance(si.p, si.ns, polygon, count), 0.0);
+            irradiance += radiance * max(-polygon_irradiance(si.p, si.ns, polygon, count), 0.0);
         }
     }
     let emitted = select(vec3<f32>(0.0), si.material.emission, si.front_face);

@@ -55,6 +55,9 @@ fn surface_interaction_open(ray: Ray, hit: Hit) -> SurfaceInteraction {
             n = normal_mapped(n, tangent, select(1.0, -1.0, handedness < 0.0), texel, material.normal_scale);
         }
     }
+    if (attributes.flags & FLAG_QUAD_LIGHT) != 0u {
+        material.emission = quad_light_emission(attributes.material, p, material.emission);
+    }
     let ns = select(-n, n, dot(n, ng) >= 0.0);
     return SurfaceInteraction(p, ng, ns, front_face, material);
 }

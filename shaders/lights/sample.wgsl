@@ -80,7 +80,7 @@ fn sample_one_light(light: Light, p: vec3<f32>, u: vec2<f32>) -> LightSample {
     if light.kind == LIGHT_ENVIRONMENT {
         let wi = environment_sample(u);
         let pdf = environment_pdf(wi);
-        let radiance = select(vec3<f32>(0.0), environment_map_lookup(wi), pdf > 0.0);
+        let radiance = select(vec3<f32>(0.0), environment_radiance(wi), pdf > 0.0);
         return LightSample(wi, FAR_AWAY, radiance, pdf, false);
     }
     if light.kind == LIGHT_SPHERE || light.kind == LIGHT_DISK {
@@ -102,7 +102,37 @@ fn sample_one_light(light: Light, p: vec3<f32>, u: vec2<f32>) -> LightSample {
     if cos_light <= 0.0 || distance <= 0.0 {
         return LightSample(wi, distance, vec3<f32>(0.0), 0.0, false);
     }
-    return LightSample(wi, distance, light.radiance, area_to_solid_angle(1.0 / light.area, distance, cos_light), false);
+    let radiance = select(light.radiance, quad_light_radiance(light, b), light.kind == LIGHT_QUAD);
+    return LightSample(wi, distance, radiance, area_to_solid_angle(1.0 / light.area, distance, cos_light), false);
+}
+
+// A quad light's radiance at v0 + st.x e1 + st.y e2: its corner colours interpolated
+// bilinearly, first along e1, then along e2 (the CPU twin is caustic_scene::Light::
+// quad_radiance_at).
+fn quad_light_radiance(light: Light, st: vec2<f32>) -> vec3<f32> {
+    let near = mix(light.radiance, light.color_end, st.x);
+    let far = mix(light.color_side, light.color_far, st.x);
+    return mix(near, far, st.y);
+}
+
+// The radiance a quad light's triangle (FLAG_QUAD_LIGHT, of emitter material `material`)
+// sends from its point p: the light's corner colours interpolated at p's (s, t), found by
+// searching the light list from its end (the declared lights come last); the emitter's mean
+// colour `fallback` if the light is not listed (a black quad).
+fn quad_light_emission(material: u32, p: vec3<f32>, fallback: vec3<f32>) -> vec3<f32> {
+    for (var i = frame.light_count; i > 0u; i--) {
+        let light = lights[i - 1u];
+        if light.kind == LIGHT_QUAD && light.emitter_material == material {
+            // (s, t) of p in the parallelogram: the coordinates of p - v0 in (e1, e2), with
+            // one factor of the normal divided by its largest component (no f32 overflow).
+            let n = cross(light.e1, light.e2);
+            let scaled = n / max(abs(n.x), max(abs(n.y), abs(n.z)));
+            let d = p - light.v0;
+            let st = vec2<f32>(dot(cross(d, light.e2), scaled), dot(cross(light.e1, d), scaled)) / dot(n, scaled);
+            return quad_light_radiance(light, clamp(st, vec2<f32>(0.0), vec2<f32>(1.0)));
+        }
+    }
+    return fallback;
 }
 
 // Whether the classic ray tracer lights with `light` (LIGHT_FLAG_CLASSIC): the lights a scene

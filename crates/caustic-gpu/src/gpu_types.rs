@@ -306,6 +306,16 @@ pub struct GpuLight {
     pub color_end: [f32; 3],
     /// `LIGHT_FLAG_*` bits (`scene_data`): bit 0, the classic ray tracer lights with it.
     pub flags: u32,
+    /// Quad lights' corner colours (`shaders/lights/sample.wgsl` `quad_light_radiance`):
+    /// `radiance` is the colour at `v0`, `color_end` at `v0 + e1`, this at `v0 + e1 + e2`.
+    pub color_far: [f32; 3],
+    /// A quad light's emitter material (the material of its two triangles), by which a hit
+    /// on them finds the light's corner colours.
+    pub emitter_material: u32,
+    /// A quad light's colour at `v0 + e2`.
+    pub color_side: [f32; 3],
+    /// Rounds the corner-colour block to 16 bytes.
+    pub _quad_pad: u32,
 }
 
 /// One pixel's running sample sum with Kahan compensation; `sum[3]` counts samples.

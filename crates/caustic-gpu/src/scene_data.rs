@@ -108,7 +108,7 @@ impl SceneData {
 /// The materials the kernels read: the scene's, then one emitter per quad light.
 pub(crate) fn device_materials(scene: &Scene) -> Vec<GpuMaterial> {
     let quad_emitters = scene.lights.iter().filter_map(|light| match *light {
-        Light::Quad { radiance, .. } => Some(GpuMaterial { emission: radiance.to_array(), ..Default::default() }),
+        Light::Quad { radiance, .. } => Some(GpuMaterial { emission: mean_color(&radiance).to_array(), ..Default::default() }),
         _ => None,
     });
     scene.materials.iter().map(gpu_material).chain(quad_emitters).collect()
@@ -138,7 +138,22 @@ pub(crate) fn device_lights(scene: &Scene) -> (Vec<GpuLight>, f32) {
         .chain(scene.lights.iter().filter_map(light))
         .chain(environment_light(scene))
         .collect();
-    with_power_cdf(lights, radius)
+    with_power_cdf(with_quad_emitters(lights, scene.materials.len() as u32), radius)
+}
+
+/// Points each quad light at its emitter material, the `device_materials` entry after the
+/// scene's materials in the order of the quads.
+fn with_quad_emitters(mut lights: Vec<GpuLight>, first: u32) -> Vec<GpuLight> {
+    for (k, light) in lights.iter_mut().filter(|l| l.kind == LIGHT_QUAD).enumerate() {
+        light.emitter_material = first + k as u32;
+    }
+    lights
+}
+
+/// The mean of a quad light's corner colours: its emitter material's colour and, times its
+/// area, its power.
+fn mean_color(radiance: &[Vec3; 4]) -> Vec3 {
+    (radiance[0] + radiance[1] + radiance[2] + radiance[3]) * 0.25
 }
 
 /// The scene triangle indices of meshes whose material has an emissive texture: their
@@ -427,7 +442,12 @@ fn light(light: &Light) -> Option<GpuLight> {
             color_end: color_end.to_array(),
             ..Default::default()
         },
-        Light::Quad { corner, edge_a, edge_b, radiance } => area_light(LIGHT_QUAD, corner, edge_a, edge_b, radiance),
+        Light::Quad { corner, edge_a, edge_b, radiance: [c0, c1, c2, c3] } => GpuLight {
+            color_end: c1.to_array(),
+            color_far: c2.to_array(),
+            color_side: c3.to_array(),
+            ..area_light(LIGHT_QUAD, corner, edge_a, edge_b, c0)
+        },
         Light::Point { position, color, attenuation: a, spread } => GpuLight {
             v0: position.to_array(),
             e1: [a.constant, a.linear, a.quadratic],
@@ -459,7 +479,8 @@ fn light(light: &Light) -> Option<GpuLight> {
     Some(GpuLight { flags: LIGHT_FLAG_CLASSIC, ..gpu })
 }
 
-/// Power of a light up to the common factor pi: area x luminance for area lights, 4 x
+/// Power of a light up to the common factor pi: area x luminance for area lights (of the
+/// mean corner colour for quads), 4 x
 /// luminance for a point light (flux 4 pi I) and for a spot light (an upper bound: the cone
 /// sends less), 4 x the mean luminance of its ends for a segment light, radius^2 x luminance for a directional light (the flux through a disk the
 /// size of the scene), radius^2 / 4 x the integral of luminance over the sphere for the
@@ -469,6 +490,10 @@ fn power(light: &GpuLight, scene_radius: f32) -> f32 {
     match light.kind {
         LIGHT_POINT | LIGHT_SPOT => 4.0 * lum,
         LIGHT_SEGMENT => 2.0 * (lum + luminance(Vec3::from(light.color_end))),
+        LIGHT_QUAD => {
+            let corners = [light.radiance, light.color_end, light.color_far, light.color_side].map(Vec3::from);
+            light.area * luminance(mean_color(&corners))
+        }
         LIGHT_DIRECTIONAL => scene_radius * scene_radius * lum,
         LIGHT_ENVIRONMENT => scene_radius * scene_radius * light.area / 4.0,
         _ => light.area * lum,

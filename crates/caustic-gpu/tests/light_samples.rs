@@ -18,7 +18,7 @@ fn lit_floor(light_samples: u32) -> Scene {
         indices: vec![[0, 2, 1], [0, 3, 2]],
         ..Mesh::default()
     };
-    let light = Light::Quad { corner: Vec3::new(-0.5, 1.0, -0.5), edge_a: Vec3::X, edge_b: Vec3::Z, radiance: Vec3::splat(5.0) };
+    let light = Light::Quad { corner: Vec3::new(-0.5, 1.0, -0.5), edge_a: Vec3::X, edge_b: Vec3::Z, radiance: [Vec3::splat(5.0); 4] };
     let mut scene = Scene {
         name: "lit floor".into(),
         meshes: vec![floor],

@@ -101,7 +101,7 @@ fn polygon_irradiance(p: Vec3, corners: &[Vec3], radiance: f32) -> f32 {
 fn quad_light_matches_lamberts_polygon_formula() {
     let corner = Vec3::new(-0.4, 1.2, -0.3);
     let (edge_a, edge_b) = (Vec3::new(0.8, 0.0, 0.0), Vec3::new(0.0, 0.0, 0.6));
-    let light = Light::Quad { corner, edge_a, edge_b, radiance: Vec3::splat(4.0) };
+    let light = Light::Quad { corner, edge_a, edge_b, radiance: [Vec3::splat(4.0); 4] };
     assert!(edge_a.cross(edge_b).y < 0.0, "the quad faces down onto the plane");
     let scene = plane_scene(vec![light]);
     let eye = scene.camera.eye;
@@ -122,7 +122,7 @@ fn quad_light_matches_lamberts_polygon_formula() {
 fn analytic_direct_is_the_exact_polygon_irradiance() {
     let corner = Vec3::new(-0.4, 1.2, -0.3);
     let (edge_a, edge_b) = (Vec3::new(0.8, 0.0, 0.0), Vec3::new(0.0, 0.0, 0.6));
-    let mut scene = plane_scene(vec![Light::Quad { corner, edge_a, edge_b, radiance: Vec3::splat(4.0) }]);
+    let mut scene = plane_scene(vec![Light::Quad { corner, edge_a, edge_b, radiance: [Vec3::splat(4.0); 4] }]);
     scene.camera.eye = Vec3::new(0.0, 1.0, 0.0);
     let ctx = GpuContext::new(std::env::var("CAUSTIC_ADAPTER").ok().as_deref()).expect("device");
     let gpu = GpuScene::upload(&ctx, &scene).expect("upload");

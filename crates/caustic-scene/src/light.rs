@@ -65,7 +65,8 @@ pub enum Light {
         spread: f32,
     },
     /// A one-sided emitting parallelogram `corner + s edge_a + t edge_b`, s, t in [0, 1]
-    /// (the CSE168 `quadLight`); it emits towards `edge_a x edge_b`.
+    /// (the CSE168 `quadLight`); it emits towards `edge_a x edge_b`, its radiance interpolated
+    /// bilinearly over (s, t) from the colours at its corners ([`Light::quad_radiance_at`]).
     Quad {
         /// One corner.
         corner: Vec3,
@@ -73,8 +74,9 @@ pub enum Light {
         edge_a: Vec3,
         /// Second edge.
         edge_b: Vec3,
-        /// Emitted radiance.
-        radiance: Vec3,
+        /// Emitted radiance at the corners `corner`, `corner + edge_a`,
+        /// `corner + edge_a + edge_b` and `corner + edge_b` (all equal: a constant light).
+        radiance: [Vec3; 4],
     },
     /// A segment light from `start` to `end` (the classic tracer's linear light): point lights
     /// spread evenly along it, their colour interpolated linearly from `color_start` to
@@ -102,13 +104,21 @@ pub enum Light {
 }
 
 impl Light {
+    /// A quad light's radiance at `corner + s edge_a + t edge_b`: its corner colours
+    /// interpolated bilinearly, first along `edge_a`, then along `edge_b` (the CPU twin of
+    /// `quad_light_radiance` in `shaders/lights/sample.wgsl`); `None` for other lights.
+    pub fn quad_radiance_at(&self, s: f32, t: f32) -> Option<Vec3> {
+        let Light::Quad { radiance: r, .. } = self else { return None };
+        Some(r[0].lerp(r[1], s).lerp(r[3].lerp(r[2], s), t))
+    }
+
     /// Checks finiteness and non-negative colours, naming the light by its index.
     pub fn validate(&self, index: usize) -> Result<(), crate::SceneError> {
         let (kind, vectors, color) = match self {
             Light::Point { position, color, .. } => ("point light", vec![*position], *color),
             Light::Spot { position, direction, color, .. } => ("spot light", vec![*position, *direction], *color),
             Light::Directional { direction, color, .. } => ("directional light", vec![*direction], *color),
-            Light::Quad { corner, edge_a, edge_b, radiance } => ("quad light", vec![*corner, *edge_a, *edge_b], *radiance),
+            Light::Quad { corner, edge_a, edge_b, radiance: r } => ("quad light", vec![*corner, *edge_a, *edge_b, r[1], r[2], r[3]], r[0].min(r[1]).min(r[2]).min(r[3])),
             Light::Segment { start, end, color_start, color_end, .. } => ("segment light", vec![*start, *end, *color_end], *color_start),
             Light::Shape { .. } => ("shape light", vec![], Vec3::ZERO),
         };

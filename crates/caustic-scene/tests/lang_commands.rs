@@ -274,7 +274,7 @@ fn lights() {
     assert!(close(corner, Vec3::new(0.0, 10.0, 0.0)));
     assert!(close(edge_a, Vec3::new(0.0, -1.0, 0.0)), "edge_a = transformed ac: {edge_a}");
     assert!(close(edge_b, Vec3::X), "edge_b = transformed ab: {edge_b}");
-    assert_eq!(radiance, Vec3::splat(5.0));
+    assert_eq!(radiance, [Vec3::splat(5.0); 4]);
     let (interpreter, _) = run("attenuation 0 0 1\n");
     assert_eq!(interpreter.attenuation().quadratic, 1.0);
     s.validate().expect("valid");
@@ -406,4 +406,20 @@ fn dof_sets_the_thin_lens_whatever_the_order() {
         let error = Interpreter::new().execute_str(text, Path::new("t.scene")).unwrap_err().to_string();
         assert!(error.contains("t.scene:1:") && error.contains(needle), "{error}");
     }
+}
+
+#[test]
+fn a_quad_light_takes_one_colour_or_one_per_corner() {
+    // Colours at a, a + ab, a + ac, a + ab + ac; edge_a is ac, edge_b is ab.
+    let s = scene("quadLight 0 1 0  1 0 0  0 0 1  1 0 0  0 1 0  0 0 1  1 1 1\n");
+    let Light::Quad { radiance, .. } = s.lights[0] else { panic!("quad") };
+    assert_eq!(radiance, [Vec3::X, Vec3::Z, Vec3::ONE, Vec3::Y], "corner, +edge_a (ac), far, +edge_b (ab)");
+    assert_eq!(s.lights[0].quad_radiance_at(0.5, 0.5), Some(Vec3::splat(0.5)), "the centre is the mean");
+    assert_eq!(s.lights[0].quad_radiance_at(1.0, 0.0), Some(Vec3::Z), "s runs along ac");
+    let mut interpreter = Interpreter::new();
+    let error = interpreter.execute_str("quadLight 0 1 0 1 0 0 0 0 1 1 1 1 2 2\n", Path::new("bad.scene")).expect_err("14 numbers").to_string();
+    println!("{error}");
+    assert!(error.contains("bad.scene:1") && error.contains("12") && error.contains("21"), "{error}");
+    let error = interpreter.execute_str("quadLight 0 1 0 1 0 0 0 0 1 1 1 1 1 1 1 1 -1 1 1 1 1\n", Path::new("bad.scene")).expect_err("negative").to_string();
+    assert!(error.contains(">= 0"), "{error}");
 }

@@ -144,7 +144,7 @@ fn classic_quirks_are_accepted_with_warnings() {
             assert_eq!(edge_a, Vec3::new(0.5, 0.0, 0.0));
             assert_eq!(edge_b, Vec3::new(0.0, 0.0, 0.5));
             assert!(edge_a.cross(edge_b).y < 0.0, "the light must face down");
-            assert_eq!(radiance, Vec3::new(30.0, 26.0, 21.0));
+            assert_eq!(radiance, [Vec3::new(30.0, 26.0, 21.0); 4]);
         }
         other => panic!("expected a quad light, found {other:?}"),
     }

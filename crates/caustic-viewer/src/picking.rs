@@ -141,7 +141,7 @@ mod tests {
         let mut scene = Scene::default();
         scene.materials.push(caustic_scene::Material::diffuse("ball", Vec3::ONE));
         scene.shapes.push(Shape::sphere(Mat4::IDENTITY, Vec3::new(-1.0, 0.0, 0.0), 0.5, 0));
-        let quad = Light::Quad { corner: Vec3::new(0.5, -0.5, 0.0), edge_a: Vec3::X, edge_b: Vec3::Y, radiance: Vec3::ONE };
+        let quad = Light::Quad { corner: Vec3::new(0.5, -0.5, 0.0), edge_a: Vec3::X, edge_b: Vec3::Y, radiance: [Vec3::ONE; 4] };
         scene.lights.push(Light::Point { position: Vec3::Y, color: Vec3::ONE, attenuation: Default::default(), spread: 0.0 });
         scene.lights.push(quad);
         let picker = Picker::new(&scene);

@@ -86,7 +86,7 @@ pub const COMMANDS: &[CommandInfo] = &[
     c("directional", "x y z r g b", "directional light; (x, y, z) points towards the light"),
     c("point", "x y z r g b", "point light"),
     c("attenuation", "constant linear quadratic", "attenuation of the point lights that follow (default 1 0 0)"),
-    c("quadLight", "ax ay az abx aby abz acx acy acz r g b", "one-sided parallelogram light a + s ab + t ac"),
+    c("quadLight", "ax ay az abx aby abz acx acy acz r g b [rb gb bb rc gc bc rd gd bd]", "one-sided parallelogram light a + s ab + t ac; four colours: at a, b = a + ab, c = a + ac, d = a + ab + ac, bilinear in between"),
     c("segmentLight", "x0 y0 z0 x1 y1 z1 r0 g0 b0 r1 g1 b1", "segment light: point lights along it, colour interpolated from end 0 to end 1"),
     c("sphereLight", "x y z radius r g b", "emissive sphere declared as a light (radiance rgb)"),
     c("diskLight", "x y z nx ny nz radius r g b", "one-sided emissive disk facing n, declared as a light"),

@@ -48,11 +48,17 @@ impl Interpreter {
                 w.unused_attenuation = Some(Site { file: at.file.to_path_buf(), line: at.line, column: a.name_column(), warned: false });
             }
             "quadLight" => {
-                a.expect(&[12])?;
+                // One colour, or four: at a, a + ab, a + ac and a + ab + ac (interpolated
+                // bilinearly over the quad).
+                a.expect(&[12, 21])?;
                 let corner = a.dvec3_f32(0)?;
                 let ab = a.dvec3_f32(3)?;
                 let ac = a.dvec3_f32(6)?;
-                let radiance = a.color(9)?;
+                let radiance = if a.len() == 21 {
+                    [a.color(9)?, a.color(15)?, a.color(18)?, a.color(12)?]
+                } else {
+                    [a.color(9)?; 4]
+                };
                 let (corner, ab, ac) = if w.current == DMat4::IDENTITY {
                     (corner, ab, ac)
                 } else {
