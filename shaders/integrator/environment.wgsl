@@ -1,5 +1,6 @@
 // Radiance arriving from directions that leave the scene, and importance sampling of the
-// latitude-longitude map. The map's texture has one column more than the map: texel (x, y)
+// environment as a light: a constant colour uniformly over the sphere, the latitude-longitude
+// map by its luminance. The map's texture has one column more than the map: texel (x, y)
 // holds the radiance in rgb and the row's conditional CDF at its right edge in alpha; the
 // last column's alpha holds the marginal CDF at each row's end (luminance x sin(theta),
 // caustic_gpu::environment_sampling, this file's CPU twin).
@@ -68,6 +69,9 @@ fn environment_texel_probability(x: u32, y: u32) -> f32 {
 
 // Solid-angle density of environment_sample's direction `direction`.
 fn environment_pdf(direction: vec3<f32>) -> f32 {
+    if frame.environment_mode == 0u {
+        return 0.25 * INV_PI;
+    }
     let size = environment_size();
     let u = 0.5 + atan2(direction.x, -direction.z) * (0.5 * INV_PI);
     let v = acos(clamp(direction.y, -1.0, 1.0)) * INV_PI;
@@ -81,8 +85,12 @@ fn environment_pdf(direction: vec3<f32>) -> f32 {
 }
 
 // A direction drawn in proportion to the map's luminance x solid angle: a row by the marginal
-// CDF, a texel in it by the row's conditional CDF, a point uniform within the texel.
+// CDF, a texel in it by the row's conditional CDF, a point uniform within the texel. A
+// constant environment: uniformly over the sphere.
 fn environment_sample(u: vec2<f32>) -> vec3<f32> {
+    if frame.environment_mode == 0u {
+        return square_to_uniform_sphere(u);
+    }
     let size = environment_size();
     let y = environment_search(0xffffffffu, size.y, u.x);
     let row_start = select(0.0, environment_cdf(size.x, max(y, 1u) - 1u), y > 0u);
