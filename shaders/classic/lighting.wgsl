@@ -1,4 +1,4 @@
-// Direct light at a classic surface: each light sampled frame.classic_light_samples times
+// Direct light at a classic surface: each light sampled classic_samples_of(light) times
 // (area and spread lights, with soft shadows on) or once at a fixed point, lit by the
 // CLASSIC_SHADING model, and seen through transparent occluders, whose tints multiply (light
 // transparency). The CPU twin is caustic_gpu::classic_reference.
@@ -80,6 +80,15 @@ fn classic_light_sample(si: SurfaceInteraction, view: vec3<f32>, light: Light, u
     return ls.radiance / ls.pdf * reflected * shadow_transmittance(si, ls.wi, ls.distance);
 }
 
+// Samples of an extended light: its own count (arealightsamples) unless the feature switch
+// light-samples forces frame.classic_light_samples on every light.
+fn classic_samples_of(light: Light) -> u32 {
+    if light.samples == 0u || frame.classic_samples_forced != 0u {
+        return max(frame.classic_light_samples, 1u);
+    }
+    return light.samples;
+}
+
 // Light from every light at si, seen along view (unit, towards the eye).
 fn classic_direct(si: SurfaceInteraction, view: vec3<f32>, rng: ptr<function, Rng>) -> vec3<f32> {
     var sum = vec3<f32>(0.0);
@@ -97,7 +106,7 @@ fn classic_direct(si: SurfaceInteraction, view: vec3<f32>, rng: ptr<function, Rn
             }
             sum += classic_light_sample(si, view, light, vec2<f32>(0.5));
         } else {
-            let n = max(frame.classic_light_samples, 1u);
+            let n = classic_samples_of(light);
             var light_sum = vec3<f32>(0.0);
             for (var s = 0u; s < n; s++) {
                 light_sum += classic_light_sample(si, view, light, next_2d(rng));

@@ -51,7 +51,9 @@ struct Frame {
     // extended light with soft shadows on, and directions per glossy reflection.
     classic_light_samples: u32,
     classic_gloss_samples: u32,
-    _classic_pad: vec2<u32>,
+    // 1: classic_light_samples (--feature light-samples=N) overrides the lights' own counts.
+    classic_samples_forced: u32,
+    _classic_pad: u32,
 }
 
 // How pixels are sampled: the stratified sampler's strata per axis (blocks of strata^2
@@ -248,10 +250,11 @@ struct Light {
     // Quad lights' corner colours (lights/sample.wgsl quad_light_radiance): radiance at v0,
     // color_end at v0 + e1, color_far at v0 + e1 + e2, color_side at v0 + e2; and the
     // emitter material of the quad's two triangles, by which a hit on them finds the light.
+    // samples: the classic ray tracer's samples of this light (0: classic_light_samples).
     color_far: vec3<f32>,
     emitter_material: u32,
     color_side: vec3<f32>,
-    _quad_pad: u32,
+    samples: u32,
 }
 
 const LIGHT_TRIANGLE: u32 = 0u;

@@ -165,6 +165,11 @@ impl ClassicFeatures {
         self.chosen[LIGHT_SAMPLES].map_or(scene_count, u32::from).max(1)
     }
 
+    /// Whether `light-samples` was chosen, overriding the lights' own counts too.
+    pub fn light_samples_forced(&self) -> bool {
+        self.chosen[LIGHT_SAMPLES].is_some()
+    }
+
     /// Directions per glossy reflection: the chosen count, else `scene_count` (at least 1).
     pub fn gloss_samples(&self, scene_count: u32) -> u32 {
         self.chosen[GLOSS_SAMPLES].map_or(scene_count, u32::from).max(1)

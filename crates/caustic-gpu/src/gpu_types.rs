@@ -62,12 +62,15 @@ pub struct Frame {
     /// Pixel sampling and reconstruction (sampler strata, filter, light samples).
     pub pixel_sampling: PixelSampling,
     /// Classic ray tracer: samples per extended light with soft shadows on
-    /// ([`crate::features`]).
+    /// ([`crate::features`]), for lights without their own count ([`GpuLight::samples`]).
     pub classic_light_samples: u32,
     /// Classic ray tracer: directions per glossy reflection.
     pub classic_gloss_samples: u32,
+    /// 1 when `--feature light-samples=N` chose `classic_light_samples`: it then overrides
+    /// the lights' own counts.
+    pub classic_samples_forced: u32,
     /// Rounds the classic block to 16 bytes.
-    pub _classic_pad: [u32; 2],
+    pub _classic_pad: u32,
 }
 
 /// How pixels are sampled (`PixelSampling` in WGSL): the stratified sampler's strata per
@@ -314,8 +317,9 @@ pub struct GpuLight {
     pub emitter_material: u32,
     /// A quad light's colour at `v0 + e2`.
     pub color_side: [f32; 3],
-    /// Rounds the corner-colour block to 16 bytes.
-    pub _quad_pad: u32,
+    /// The classic ray tracer's samples of this light (the scene language's
+    /// `arealightsamples`); 0: `Frame::classic_light_samples`.
+    pub samples: u32,
 }
 
 /// One pixel's running sample sum with Kahan compensation; `sum[3]` counts samples.

@@ -135,10 +135,15 @@ pub(crate) fn device_lights(scene: &Scene) -> (Vec<GpuLight>, f32) {
         .filter(|e| !textured.iter().any(|range| range.contains(&e.triangle)))
         .map(|e| area_light(LIGHT_TRIANGLE, e.vertices[0], e.vertices[1] - e.vertices[0], e.vertices[2] - e.vertices[0], e.radiance))
         .chain(scene.shapes.iter().enumerate().filter_map(|(i, s)| shape_light(s, i, scene)))
-        .chain(scene.lights.iter().filter_map(light))
+        .chain(scene.lights.iter().enumerate().filter_map(|(i, l)| light(l).map(|g| GpuLight { samples: samples_of(scene, i), ..g })))
         .chain(environment_light(scene))
         .collect();
     with_power_cdf(with_quad_emitters(lights, scene.materials.len() as u32), radius)
+}
+
+/// The classic ray tracer's own sample count of `scene.lights[index]` (0: none, the scene's).
+fn samples_of(scene: &Scene, index: usize) -> u32 {
+    scene.options.light_sample_counts.iter().rev().find(|(i, _)| *i == index).map_or(0, |(_, n)| *n)
 }
 
 /// Points each quad light at its emitter material, the `device_materials` entry after the
@@ -200,7 +205,8 @@ fn shape_light(shape: &Shape, index: usize, scene: &Scene) -> Option<GpuLight> {
     let (centre, m) = (shape.object_to_world.w_axis.truncate(), glam::Mat3::from_mat4(shape.object_to_world));
     let declared = scene.lights.iter().any(|l| *l == Light::Shape { shape: index });
     let flags = if declared { LIGHT_FLAG_CLASSIC } else { 0 };
-    let light = GpuLight { v0: centre.to_array(), radiance: radiance.to_array(), flags, ..Default::default() };
+    let samples = scene.lights.iter().position(|l| *l == Light::Shape { shape: index }).map_or(0, |i| samples_of(scene, i));
+    let light = GpuLight { v0: centre.to_array(), radiance: radiance.to_array(), flags, samples, ..Default::default() };
     if shape.kind == ShapeKind::Sphere {
         let radius = m.x_axis.length();
         return Some(GpuLight { e1: [radius, 0.0, 0.0], area: 4.0 * std::f32::consts::PI * radius * radius, kind: LIGHT_SPHERE, ..light });

@@ -68,6 +68,10 @@ pub struct RenderOptions {
     pub spp: Option<u32>,
     /// Light samples per shading point (direct lighting and soft shadows).
     pub light_samples: u32,
+    /// The classic ray tracer's own sample counts of some lights, as (index into
+    /// `Scene::lights`, samples > 0) (the scene language's `arealightsamples`); the others take
+    /// `light_samples`. `--feature light-samples=N` overrides all (docs/LIGHTS.md).
+    pub light_sample_counts: Vec<(usize, u32)>,
     /// Whether light samples are stratified over the light.
     pub light_stratify: bool,
     /// Reflected directions per glossy reflection in the classic ray tracer (the scene
@@ -96,6 +100,7 @@ impl Default for RenderOptions {
             max_depth: None,
             spp: None,
             light_samples: 1,
+            light_sample_counts: Vec::new(),
             light_stratify: false,
             gloss_samples: 1,
             next_event: NextEvent::default(),

@@ -423,3 +423,13 @@ fn a_quad_light_takes_one_colour_or_one_per_corner() {
     let error = interpreter.execute_str("quadLight 0 1 0 1 0 0 0 0 1 1 1 1 1 1 1 1 -1 1 1 1 1\n", Path::new("bad.scene")).expect_err("negative").to_string();
     assert!(error.contains(">= 0"), "{error}");
 }
+
+#[test]
+fn arealightsamples_gives_the_lights_after_it_their_own_count() {
+    let s = scene("point 0 1 0 1 1 1\narealightsamples 16\nquadLight 0 1 0 1 0 0 0 0 1 1 1 1\nsphereLight 0 2 0 0.1 1 1 1\narealightsamples 0\ndirectional 0 1 0 1 1 1\n");
+    assert_eq!(s.options.light_sample_counts, vec![(1, 16), (2, 16)], "the quad and the sphere light, not the point or directional light");
+    let mut interpreter = Interpreter::new();
+    let error = interpreter.execute_str("arealightsamples -1\n", Path::new("bad.scene")).expect_err("negative").to_string();
+    println!("{error}");
+    assert!(error.contains("bad.scene:1"), "{error}");
+}

@@ -91,6 +91,7 @@ pub const COMMANDS: &[CommandInfo] = &[
     c("sphereLight", "x y z radius r g b", "emissive sphere declared as a light (radiance rgb)"),
     c("diskLight", "x y z nx ny nz radius r g b", "one-sided emissive disk facing n, declared as a light"),
     c("lightspread", "amount", "size of point lights / spread of directional lights for soft shadows"),
+    c("arealightsamples", "count", "classic ray tracer: light samples of each light declared after it (0: the scene's lightsamples)"),
 ];
 
 /// The command called `name`.

@@ -10,9 +10,21 @@ use glam::{DMat4, Vec3};
 
 impl Interpreter {
     /// Executes the light commands (`point`, `directional`, `quadLight`, `segmentLight`,
-    /// `sphereLight`, `diskLight`, `attenuation`, `lightspread`).
+    /// `sphereLight`, `diskLight`, `attenuation`, `lightspread`, `arealightsamples`); a light
+    /// declared after `arealightsamples n` (n > 0) gets its own sample count.
     /// Returns whether `a` is one of them.
     pub(super) fn light_command(&mut self, a: &Args, at: Location<'_>) -> Res<bool> {
+        let before = self.world.scene.lights.len();
+        let known = self.light_declaration(a, at)?;
+        let w = &mut self.world;
+        if w.scene.lights.len() > before && w.settings.area_light_samples > 0 {
+            w.scene.options.light_sample_counts.push((before, w.settings.area_light_samples));
+        }
+        Ok(known)
+    }
+
+    /// Executes one light command (see [`Interpreter::light_command`]).
+    fn light_declaration(&mut self, a: &Args, at: Location<'_>) -> Res<bool> {
         let w = &mut self.world;
         match a.name {
             "directional" => {
@@ -92,6 +104,10 @@ impl Interpreter {
             "lightspread" => {
                 a.expect(&[1])?;
                 w.settings.light_spread = a.f32_in(0, |v| v >= 0.0, ">= 0")?;
+            }
+            "arealightsamples" => {
+                a.expect(&[1])?;
+                w.settings.area_light_samples = a.int_in(0, 0, 65536)? as u32;
             }
             _ => return Ok(false),
         }

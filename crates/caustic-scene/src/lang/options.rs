@@ -16,6 +16,7 @@ pub fn default_options() -> RenderOptions {
         max_depth: Some(5),
         spp: None,
         light_samples: 1,
+        light_sample_counts: Vec::new(),
         light_stratify: false,
         gloss_samples: 1,
         next_event: NextEvent::Off,

@@ -26,6 +26,9 @@ pub struct LanguageSettings {
     pub frost_samples: u32,
     /// `lightspread f`: point light radius / directional light spread (default 0).
     pub light_spread: f32,
+    /// `arealightsamples n`: light samples of the lights declared after it (0, the default:
+    /// the scene's `lightsamples`).
+    pub area_light_samples: u32,
     /// `maxverts n`, if given.
     pub max_verts: Option<u64>,
     /// `maxvertnorms n`, if given.
@@ -41,6 +44,7 @@ impl Default for LanguageSettings {
             gloss_samples: 1,
             frost_samples: 1,
             light_spread: 0.0,
+            area_light_samples: 0,
             max_verts: None,
             max_vert_norms: None,
         }
