@@ -165,9 +165,9 @@ fn selection_pdf(power: f32) -> f32 {
     return (1.0 - UNIFORM_SELECTION) * power / frame.total_light_power + UNIFORM_SELECTION / f32(frame.light_count);
 }
 
-// Solid-angle density with which sample_light draws `direction` from the environment map,
-// the last light when present; 0 when the environment is not in the light list (a constant
-// colour, or a black map).
+// Solid-angle density with which sample_light draws `direction` from the environment (a map
+// or a constant colour), the last light when present; 0 when the environment is not in the
+// light list (black).
 fn environment_light_pdf(direction: vec3<f32>) -> f32 {
     if frame.light_count == 0u || lights[frame.light_count - 1u].kind != LIGHT_ENVIRONMENT {
         return 0.0;

@@ -130,11 +130,12 @@ impl GpuScene {
         Ok(())
     }
 
-    /// Re-uploads the environment after `scene.environment` changed. Restart the tracer
+    /// Re-uploads the environment after `scene.environment` changed, and the light list it is
+    /// part of ([`GpuScene::update_materials`]). Restart the tracer
     /// ([`crate::PathTracer::restart`]) so it binds the new texture.
     pub fn update_environment(&mut self, ctx: &GpuContext, scene: &Scene) -> Result<(), GpuError> {
         (self.environment_view, self.environment_color) = upload_environment(ctx, &scene.environment)?;
-        Ok(())
+        self.update_materials(ctx, scene)
     }
 }
 

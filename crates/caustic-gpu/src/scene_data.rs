@@ -216,11 +216,15 @@ fn shape_light(shape: &Shape, index: usize, scene: &Scene) -> Option<GpuLight> {
     Some(GpuLight { e1: a.to_array(), e2: b.to_array(), area, kind: LIGHT_DISK, ..light })
 }
 
-/// The environment map as a light (its luminance integral over the sphere in `area`); none for
-/// a constant environment, which BSDF sampling alone finds.
+/// The environment as a light, with its luminance integral over the sphere in `area`: a map
+/// (sampled by its luminance) or a constant colour (4 pi x its luminance, sampled uniformly
+/// over the sphere: `integrator/environment.wgsl`); none for a black constant.
 fn environment_light(scene: &Scene) -> Option<GpuLight> {
-    let caustic_scene::Environment::Map(map) = &scene.environment else { return None };
-    let integral = crate::environment_sampling::EnvironmentDistribution::new(map).integral() as f32;
+    let integral = match &scene.environment {
+        caustic_scene::Environment::Map(map) => crate::environment_sampling::EnvironmentDistribution::new(map).integral() as f32,
+        caustic_scene::Environment::Constant(color) if caustic_bsdf::luminance(*color) > 0.0 => 4.0 * std::f32::consts::PI * caustic_bsdf::luminance(*color),
+        caustic_scene::Environment::Constant(_) => return None,
+    };
     Some(GpuLight { area: integral, kind: LIGHT_ENVIRONMENT, ..Default::default() })
 }
 
