@@ -2,7 +2,8 @@
 //! the scene language's `anisotropic` and `anisotropyaxis` commands and their errors, a white
 //! furnace of anisotropic spheres against the CPU model's albedo, the shape of a point light's
 //! highlight on an anisotropic plane (second moments, against the CPU model's image), and the
-//! `LOBE_MASK` that leaves the slot out of scenes that do not use it. (The mixture's samplers
+//! `LOBE_MASK` that leaves the slot out of scenes that do not use it, and the feature scene.
+//! (The mixture's samplers
 //! with the slot are chi-square tested on the device by `bsdf_gpu.rs`, through
 //! `caustic_bsdf::catalog::anisotropic_cases`.)
 
@@ -286,4 +287,29 @@ fn lobe_mask_leaves_the_slot_out_of_scenes_without_it() {
     println!("Phong plane: LOBE_MASK {masked:#09b} vs {:#09b}: largest pixel difference {worst:.2e} (image mean {mean:.4})", masked | 1 << 6);
     assert!(mean > 0.0, "the Phong plane must be lit");
     assert!(worst <= 1e-5 * mean.max(1.0), "compiling the slot in changed the image by {worst}");
+}
+
+/// `assets/scenes/features/anisotropic.scene` loads with its four anisotropic materials (the
+/// right sphere's tangent axis turned to y by `anisotropyaxis`, the others along x) and
+/// renders finite, with the anisotropic slot compiled in.
+#[test]
+fn the_feature_scene_loads_and_renders() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/scenes/features/anisotropic.scene");
+    let mut scene = caustic_scene::load_scene(&caustic_scene::SceneSource::File(path)).expect("the feature scene loads");
+    let anisotropic: Vec<Anisotropy> = scene.materials.iter().filter_map(|m| m.anisotropy).collect();
+    let axes: Vec<Vec3> = anisotropic.iter().map(|a| a.axis).collect();
+    println!("anisotropic materials: {anisotropic:?}");
+    assert_eq!(axes, [Vec3::X, Vec3::X, Vec3::X, Vec3::Y]);
+    scene.resolution = (48, 36);
+    let ctx = context();
+    let gpu = GpuScene::upload(&ctx, &scene).expect("upload");
+    assert_ne!(gpu.lobe_mask & 1 << 6, 0);
+    let mut tracer = PathTracer::new(&ctx, &scene, &gpu, &RenderSettings::default()).expect("tracer");
+    for _ in 0..4 {
+        tracer.render_sample().expect("pass");
+    }
+    assert_eq!(tracer.nonfinite_samples().expect("counter"), 0);
+    let mean = tracer.image().expect("image").mean();
+    println!("feature scene at 48 x 36, 4 spp: mean {mean:?}");
+    assert!(mean.iter().all(|&c| c > 0.0 && c.is_finite()));
 }
