@@ -3,9 +3,8 @@
 //! furnace of anisotropic spheres against the CPU model's albedo, the shape of a point light's
 //! highlight on an anisotropic plane (second moments, against the CPU model's image), and the
 //! `LOBE_MASK` that leaves the slot out of scenes that do not use it, and the feature scene.
-//! (The mixture's samplers
-//! with the slot are chi-square tested on the device by `bsdf_gpu.rs`, through
-//! `caustic_bsdf::catalog::anisotropic_cases`.)
+//! (The mixture's samplers with the slot are chi-square tested on the device by
+//! `bsdf_gpu.rs`, through `caustic_bsdf::catalog::anisotropic_cases`.)
 
 use caustic_bsdf::bsdf::{Bsdf, Sampling};
 use caustic_bsdf::Frame;
