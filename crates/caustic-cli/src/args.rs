@@ -387,7 +387,9 @@ pub struct BenchArgs {
     #[arg(long, value_name = "FILE", requires = "rays")]
     pub hits: Option<PathBuf>,
     /// How the 1-spp render's kernel finds hits: auto (small scenes' primitives tested in
-    /// turn, the default; see caustic_gpu::DataPath) or buffers (the BVH in storage buffers).
+    /// turn and their materials, lights and shading entries as constants, the default; see
+    /// caustic_gpu::DataPath), traversal (only the primitives compiled in) or buffers (the
+    /// BVH and tables in storage buffers).
     #[arg(long, default_value = "auto", value_parser = parse_data_path)]
     pub data_path: caustic_gpu::DataPath,
     /// BVH split method: sah (binned surface area heuristic) or midpoint (the classic
@@ -406,12 +408,13 @@ pub struct BenchArgs {
     pub device: DeviceArgs,
 }
 
-/// Parses `auto` or `buffers` (see [`caustic_gpu::DataPath`]).
+/// Parses `auto`, `traversal` or `buffers` (see [`caustic_gpu::DataPath`]).
 pub fn parse_data_path(text: &str) -> Result<caustic_gpu::DataPath, String> {
     match text {
         "auto" => Ok(caustic_gpu::DataPath::Auto),
         "buffers" => Ok(caustic_gpu::DataPath::Buffers),
-        _ => Err(format!("'{text}': use auto or buffers")),
+        "traversal" => Ok(caustic_gpu::DataPath::Traversal),
+        _ => Err(format!("'{text}': use auto, traversal or buffers")),
     }
 }
 

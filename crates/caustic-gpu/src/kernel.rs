@@ -3,6 +3,7 @@
 //! the pipeline override constants (sampler, the BSDF lobes in use). Two renders with equal
 //! [`Kernel`]s share one compiled pipeline; a change of any part recompiles.
 
+use crate::bake::BakedTables;
 use crate::path_tracer::{DataPath, DebugView, RenderSettings};
 use crate::shaders::Program;
 use crate::specialize::TRAVERSAL_FILE;
@@ -17,6 +18,8 @@ pub struct Kernel {
     pub entry_point: &'static str,
     /// The scene-specialised traversal replacing `bvh/traverse.wgsl`, if any.
     pub traversal: Option<String>,
+    /// The scene's tables compiled in as constants ([`crate::bake`]), if any.
+    pub tables: Option<BakedTables>,
     /// The `SAMPLER` override.
     pub sampler: u32,
     /// The `LOBE_MASK` override.
@@ -38,6 +41,7 @@ impl Kernel {
         Kernel {
             entry_point: entry_point(settings),
             traversal: traversal(gpu, settings),
+            tables: tables(gpu, settings),
             sampler: settings.sampler.override_value() as u32,
             lobe_mask: gpu.lobe_mask,
             motion_blur: gpu.motion_blur && settings.features.constants(gpu.classic_features).mask & crate::features::FEATURE_MOTION_BLUR != 0,
@@ -56,6 +60,10 @@ impl Kernel {
         let source = match &self.traversal {
             Some(t) => Program::PathTracer.source_replacing(TRAVERSAL_FILE, t),
             None => Program::PathTracer.source(),
+        };
+        let source = match &self.tables {
+            Some(tables) => tables.apply(&source),
+            None => source,
         };
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some(Program::PathTracer.label()),
@@ -84,8 +92,17 @@ fn traversal(gpu: &GpuScene, settings: &RenderSettings) -> Option<String> {
     // The specialised traversal has no alpha test and no motion: alpha-tested and moving
     // scenes walk the BVH.
     match settings.data_path {
-        DataPath::Auto if !bvh_cost && !gpu.alpha_test && !gpu.motion_blur => gpu.traversal.clone(),
-        DataPath::Auto | DataPath::Buffers => None,
+        DataPath::Auto | DataPath::Traversal if !bvh_cost && !gpu.alpha_test && !gpu.motion_blur => gpu.traversal.clone(),
+        DataPath::Auto | DataPath::Traversal | DataPath::Buffers => None,
+    }
+}
+
+/// The scene's tables compiled in, if any: with the generated traversal under
+/// [`DataPath::Auto`] (a small scene's constants, until its materials are edited).
+fn tables(gpu: &GpuScene, settings: &RenderSettings) -> Option<BakedTables> {
+    match settings.data_path {
+        DataPath::Auto => traversal(gpu, settings).and(gpu.tables.clone()),
+        DataPath::Traversal | DataPath::Buffers => None,
     }
 }
 

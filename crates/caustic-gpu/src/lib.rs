@@ -7,6 +7,7 @@
 //! raw traversal throughput. For debugging, [`PathTracer::inspect`] records one pixel's path
 //! ([`inspector`]) and [`debug_image`] turns the debug views into pictures.
 
+pub mod bake;
 mod bench;
 pub mod bloom;
 pub mod classic;

@@ -93,11 +93,16 @@ pub const MAX_STRATA: u32 = 256;
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum DataPath {
     /// Small scenes' primitives compiled into a generated traversal that tests them in turn
-    /// ([`GpuScene::traversal`], at most [`crate::specialize::BAKE_MAX_PRIMITIVES`]), larger
-    /// scenes' BVH walked in storage buffers (the default: faster on small scenes, the same
-    /// hits; docs/PERFORMANCE.md).
+    /// ([`GpuScene::traversal`], at most [`crate::specialize::BAKE_MAX_PRIMITIVES`]) and their
+    /// shading entries, materials and lights compiled in as constants ([`GpuScene::tables`]),
+    /// larger scenes' BVH and tables read from storage buffers (the default: faster on small
+    /// scenes, the same image; docs/PERFORMANCE.md).
     #[default]
     Auto,
+    /// Small scenes' primitives compiled in as with `Auto`, but their shading entries,
+    /// materials and lights read from the buffers: the previous specialised kernel, kept to
+    /// measure what the baked tables gain.
+    Traversal,
     /// Always the BVH in storage buffers: the general kernel.
     Buffers,
 }

@@ -50,6 +50,10 @@ pub struct GpuScene {
     /// with the primitives compiled in (replacing `bvh/traverse.wgsl`), which kernels may use
     /// instead of walking the BVH buffers.
     pub traversal: Option<String>,
+    /// For the same small scenes: the shading entries, materials and lights as WGSL
+    /// constants ([`crate::bake`]), which kernels with the generated traversal read instead of
+    /// the buffers; dropped by [`GpuScene::update_materials`].
+    pub tables: Option<crate::bake::BakedTables>,
     /// The BSDF lobes the scene's materials use ([`specialize::lobe_mask`]), for the
     /// kernels' `LOBE_MASK` override.
     pub lobe_mask: u32,
@@ -104,6 +108,7 @@ impl GpuScene {
             triangle_count: data.triangles.len(),
             bvh_stats: bvh.stats,
             bounds: scene.bounds().unwrap_or((Vec3::ZERO, Vec3::ZERO)),
+            tables: traversal.as_ref().and_then(|_| crate::bake::BakedTables::new(&data.shading, &data.materials, &data.lights)),
             traversal,
             lobe_mask: crate::scene_data::lobe_mask(scene),
             alpha_test: data.alpha_test,
@@ -116,13 +121,18 @@ impl GpuScene {
 
     /// Re-uploads the materials and the light list (emission sets the lights' power) after
     /// `scene`'s materials or lights were edited in place; the geometry must be the uploaded
-    /// one. Restart the tracer ([`crate::PathTracer::restart`]) so it binds the new buffers.
+    /// one. Restart the tracer ([`crate::PathTracer::restart`]) so it binds the new buffers
+    /// (a kernel with the tables baked in, [`GpuScene::tables`], is replaced by one reading
+    /// them from the buffers).
     pub fn update_materials(&mut self, ctx: &GpuContext, scene: &Scene) -> Result<(), GpuError> {
         let (lights, total_light_power) = device_lights(scene);
         let uploader = Uploader { ctx };
         let materials = device_materials(scene);
         self.lobe_mask = crate::scene_data::lobe_mask(scene);
         self.classic_features = crate::classic::scene_features(scene);
+        // Edited scenes read their tables from the buffers: one recompile at the first edit,
+        // none at later ones (a kernel with the tables baked in takes seconds to compile).
+        self.tables = None;
         self.materials = uploader.storage("materials", &materials)?;
         self.lights = uploader.storage("lights", &lights)?;
         self.light_count = lights.len() as u32;
