@@ -11,6 +11,8 @@ const FEATURE_REFRACTION: u32 = 16u;
 const FEATURE_GLOSSY: u32 = 32u;
 const FEATURE_SMOOTH_NORMALS: u32 = 64u;
 const FEATURE_ENVIRONMENT_REFLECTIONS: u32 = 128u;
+// (256: motion blur, compiled through MOTION_BLUR in bvh/motion.wgsl.)
+const FEATURE_FROSTED: u32 = 512u;
 
 override CLASSIC_FEATURES: u32 = 0xffu;
 // Highlight model: 0 none (Lambert), 1 Phong (R.V)^s, 2 Blinn-Phong (N.H)^s.

@@ -53,7 +53,8 @@ struct Frame {
     classic_gloss_samples: u32,
     // 1: classic_light_samples (--feature light-samples=N) overrides the lights' own counts.
     classic_samples_forced: u32,
-    _classic_pad: u32,
+    // Directions per frosted refraction (integrator/whitted.wgsl).
+    classic_frost_samples: u32,
 }
 
 // How pixels are sampled: the stratified sampler's strata per axis (blocks of strata^2

@@ -2,7 +2,8 @@
 // WGSL has no recursion, so the ray tree is walked depth first with an explicit bounded stack
 // of pending rays: at each hit, ambient + emission + (1 - transparency) x direct light
 // (classic/lighting.wgsl), then a reflected ray (split into frame.classic_gloss_samples
-// directions on a glossy surface) and a refracted one (classic/interface.wgsl) are pushed
+// directions on a glossy surface) and a refracted one (classic/interface.wgsl; split into
+// frame.classic_frost_samples directions through a frosted one) are pushed
 // with their weights, up to max_depth bounces. The CPU twin is caustic_gpu::classic_reference.
 
 // Pending rays at most; a branch that finds the stack full is dropped.
@@ -28,6 +29,7 @@ fn classic_miss(direction: vec3<f32>, depth: u32) -> vec3<f32> {
 // The mirror direction r perturbed over the glossy lobe: r + gloss x (a point of the unit
 // disk spanned by two directions normal to r), normalised, and mirrored back above the
 // surface when it points below (the seed's glossy reflection; spread grows with gloss).
+// Frosted refraction passes the refracted direction and -ng: it stays below the surface.
 fn glossy_direction(r: vec3<f32>, gloss: f32, ng: vec3<f32>, u: vec2<f32>) -> vec3<f32> {
     let basis = frame_from_normal(r);
     let disk = square_to_concentric_disk(u);
@@ -66,8 +68,18 @@ fn trace_classic(primary: Ray, rng: ptr<function, Rng>) -> vec3<f32> {
         let split = split_at(si, item.ray.direction);
         let refracted = item.weight * split.refract;
         if max(refracted.x, max(refracted.y, refracted.z)) >= MIN_BRANCH_WEIGHT && size < CLASSIC_STACK {
-            stack[size] = ClassicRay(spawn_ray(si, split.refracted), refracted, item.depth + 1u);
-            size += 1u;
+            // Frosted: frame.classic_frost_samples directions over the lobe of radius the
+            // dielectric's roughness, kept on the far side of the surface.
+            let frosted = feature_on(FEATURE_FROSTED) && m.dielectric_alpha > 0.0;
+            let n = select(1u, min(max(frame.classic_frost_samples, 1u), CLASSIC_STACK - size), frosted);
+            for (var s = 0u; s < n; s++) {
+                var d = split.refracted;
+                if frosted {
+                    d = glossy_direction(d, m.dielectric_alpha, -si.ng, next_2d(rng));
+                }
+                stack[size] = ClassicRay(spawn_ray(si, d), refracted / f32(n), item.depth + 1u);
+                size += 1u;
+            }
         }
         let reflected = item.weight * split.reflect;
         if max(reflected.x, max(reflected.y, reflected.z)) < MIN_BRANCH_WEIGHT {

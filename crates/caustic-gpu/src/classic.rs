@@ -36,7 +36,8 @@ pub fn is_extended(light: &GpuLight) -> bool {
 /// The `FEATURE_*` bits `scene` uses: shadows, smooth normals and environment reflections
 /// always; soft shadows with an extended light; reflection where a material has a specular
 /// colour or reflectance; refraction and light transparency where one is transparent; glossy
-/// reflection where a reflecting or transparent material has gloss; motion blur where an
+/// reflection where a reflecting or transparent material has gloss; frosted refraction where
+/// a transparent one has frost; motion blur where an
 /// object moves.
 pub fn scene_features(scene: &Scene) -> u32 {
     let mut bits = FEATURE_SHADOWS | FEATURE_SMOOTH_NORMALS | FEATURE_ENVIRONMENT_REFLECTIONS;
@@ -53,6 +54,9 @@ pub fn scene_features(scene: &Scene) -> u32 {
     }
     if scene.materials.iter().any(|m| m.gloss > 0.0 && (reflects(m) || transparency(m) > 0.0)) {
         bits |= FEATURE_GLOSSY;
+    }
+    if scene.materials.iter().any(|m| m.frost > 0.0 && transparency(m) > 0.0) {
+        bits |= crate::features::FEATURE_FROSTED;
     }
     if scene.meshes.iter().any(|m| m.motion.is_some()) || scene.shapes.iter().any(|s| s.motion.is_some()) {
         bits |= crate::features::FEATURE_MOTION_BLUR;

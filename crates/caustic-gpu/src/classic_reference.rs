@@ -3,12 +3,12 @@
 //! and light transparency, so tests can compare the GPU's image with it ray for ray. It
 //! covers the deterministic part of the tracer: triangle meshes (found by
 //! `caustic_bvh::closest_hit_brute_force`), point and directional lights without spread, a
-//! constant environment, untextured materials without gloss; [`ClassicReference::new`] names
-//! anything else it meets.
+//! constant environment, untextured materials without gloss or frost;
+//! [`ClassicReference::new`] names anything else it meets.
 
 use crate::classic::is_extended;
 use crate::features::{
-    ClassicFeatures, FeatureConstants, FEATURE_ENVIRONMENT_REFLECTIONS, FEATURE_GLOSSY, FEATURE_LIGHT_TRANSPARENCY, FEATURE_REFLECTION,
+    ClassicFeatures, FeatureConstants, FEATURE_ENVIRONMENT_REFLECTIONS, FEATURE_FROSTED, FEATURE_GLOSSY, FEATURE_LIGHT_TRANSPARENCY, FEATURE_REFLECTION,
     FEATURE_REFRACTION, FEATURE_SHADOWS, FEATURE_SMOOTH_NORMALS,
 };
 use crate::gpu_types::{GpuLight, GpuMaterial, FLAG_VERTEX_NORMALS};
@@ -73,8 +73,9 @@ impl ClassicReference {
         if let Some(light) = data.lights.iter().find(|l| is_extended(l) || !matches!(l.kind, LIGHT_POINT | LIGHT_DIRECTIONAL)) {
             return Err(format!("the classic reference has point and directional lights without spread, not kind {}", light.kind));
         }
-        if data.materials.iter().any(|m| m.base_color_texture != 0 || (m.gloss > 0.0 && constants.mask & FEATURE_GLOSSY != 0)) {
-            return Err("the classic reference has no textures and no glossy reflection".into());
+        let frosted = |m: &GpuMaterial| m.transparency > 0.0 && m.dielectric_alpha > 0.0 && constants.mask & FEATURE_FROSTED != 0;
+        if data.materials.iter().any(|m| m.base_color_texture != 0 || (m.gloss > 0.0 && constants.mask & FEATURE_GLOSSY != 0) || frosted(m)) {
+            return Err("the classic reference has no textures, no glossy reflection and no frosted refraction".into());
         }
         let environment = match scene.environment {
             Environment::Constant(c) => c,

@@ -69,8 +69,8 @@ pub struct Frame {
     /// 1 when `--feature light-samples=N` chose `classic_light_samples`: it then overrides
     /// the lights' own counts.
     pub classic_samples_forced: u32,
-    /// Rounds the classic block to 16 bytes.
-    pub _classic_pad: u32,
+    /// Classic ray tracer: directions per frosted refraction.
+    pub classic_frost_samples: u32,
 }
 
 /// How pixels are sampled (`PixelSampling` in WGSL): the stratified sampler's strata per

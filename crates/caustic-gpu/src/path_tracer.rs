@@ -514,6 +514,7 @@ fn frame_constants(scene: &Scene, gpu: &GpuScene, settings: &RenderSettings) -> 
         classic_light_samples: settings.features.light_samples(scene.options.light_samples),
         classic_samples_forced: u32::from(settings.features.light_samples_forced()),
         classic_gloss_samples: settings.features.gloss_samples(scene.options.gloss_samples),
+        classic_frost_samples: settings.features.frost_samples(scene.options.frost_samples),
         ..Default::default()
     }
 }

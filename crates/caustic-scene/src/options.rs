@@ -77,6 +77,9 @@ pub struct RenderOptions {
     /// Reflected directions per glossy reflection in the classic ray tracer (the scene
     /// language's `glosssamples`).
     pub gloss_samples: u32,
+    /// Refracted directions per frosted refraction in the classic ray tracer (the scene
+    /// language's `frostsamples`).
+    pub frost_samples: u32,
     /// Next-event estimation mode.
     pub next_event: NextEvent,
     /// Whether Russian roulette may end paths early.
@@ -103,6 +106,7 @@ impl Default for RenderOptions {
             light_sample_counts: Vec::new(),
             light_stratify: false,
             gloss_samples: 1,
+            frost_samples: 1,
             next_event: NextEvent::default(),
             russian_roulette: true,
             importance_sampling: ImportanceSampling::default(),

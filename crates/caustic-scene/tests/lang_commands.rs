@@ -433,3 +433,9 @@ fn arealightsamples_gives_the_lights_after_it_their_own_count() {
     println!("{error}");
     assert!(error.contains("bad.scene:1"), "{error}");
 }
+
+#[test]
+fn frostsamples_sets_the_classic_tracers_frost_sample_count() {
+    assert_eq!(scene("frostsamples 6\n").options.frost_samples, 6);
+    assert_eq!(scene("").options.frost_samples, 1, "one direction by default");
+}

@@ -156,6 +156,7 @@ impl Interpreter {
                     w.scene.options.gloss_samples = n;
                 } else {
                     w.settings.frost_samples = n;
+                    w.scene.options.frost_samples = n;
                 }
             }
             _ => return Ok(false),

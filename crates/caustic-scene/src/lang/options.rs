@@ -19,6 +19,7 @@ pub fn default_options() -> RenderOptions {
         light_sample_counts: Vec::new(),
         light_stratify: false,
         gloss_samples: 1,
+        frost_samples: 1,
         next_event: NextEvent::Off,
         russian_roulette: false,
         importance_sampling: ImportanceSampling::Hemisphere,
