@@ -110,6 +110,7 @@ fn render_writes_every_debug_view_as_a_picture() {
         "material-id",
         "bounces",
         "nonfinite",
+        "bvh-level",
     ];
     for view in views {
         let out = dir.join(format!("{view}.png"));
@@ -126,7 +127,7 @@ fn render_writes_every_debug_view_as_a_picture() {
             "--json",
         ]);
         let picture = caustic_image::Image::load(&out).expect("the picture loads");
-        let heat_map = ["node-visits", "primitive-tests", "bounces"].contains(&view);
+        let heat_map = ["node-visits", "primitive-tests", "bounces", "bvh-level"].contains(&view);
         let lit = picture.pixels.iter().filter(|p| p.iter().any(|&c| c > 0.01)).count();
         println!("{view}: {}x{}, {lit} pixels not black", picture.width, picture.height);
         assert_eq!(

@@ -18,6 +18,12 @@ struct TraversalCost {
     triangles: u32,
 }
 
+// The `bvh-level` debug view (integrator/debug.wgsl): compiled with BVH_LEVELS, the BVH walk
+// (bvh/traverse.wgsl) records in `hit_level` the tree level of the leaf holding the closest
+// hit (the root's children are level 1); every other kernel compiles without it.
+override BVH_LEVELS: bool = false;
+var<private> hit_level: u32;
+
 // The planes, which the tree cannot bound, after the tree.
 fn intersect_planes(ray: Ray, closest: Hit, any_hit: bool) -> Hit {
     var hit = closest;

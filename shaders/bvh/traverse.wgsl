@@ -26,6 +26,9 @@ fn trace(ray: Ray, t_max: f32, any_hit: bool, cost: ptr<function, TraversalCost>
     var stack_child: array<u32, STACK_SIZE>;
     var sp = 0u;
     var current = 0u;
+    // Tree levels of `current` and of the stacked subtrees, for BVH_LEVELS (bvh/hit.wgsl).
+    var level = 0u;
+    var stack_level: array<u32, STACK_SIZE>;
     loop {
         if is_leaf(current) {
             let first = leaf_first(current);
@@ -38,6 +41,9 @@ fn trace(ray: Ray, t_max: f32, any_hit: bool, cost: ptr<function, TraversalCost>
                     let t = intersect_shape(ray_to_open(ray, tri.motion), shape, hit.t);
                     if t > 0.0 {
                         hit = Hit(t, 0.0, 0.0, SHAPE_BIT | shape.id, tri.id & ~SHAPE_BIT);
+                        if BVH_LEVELS {
+                            hit_level = level;
+                        }
                         if any_hit {
                             return hit;
                         }
@@ -47,6 +53,9 @@ fn trace(ray: Ray, t_max: f32, any_hit: bool, cost: ptr<function, TraversalCost>
                 let th = intersect_triangle(traversal_ray_to_open(r, ray, tri.motion), tri.v0, tri.v1, tri.v2, hit.t);
                 if th.t > 0.0 && (!ALPHA_TEST || alpha_visible(ray, tri.id, th.u, th.v)) {
                     hit = Hit(th.t, th.u, th.v, tri.id, i);
+                    if BVH_LEVELS {
+                        hit_level = level;
+                    }
                     if any_hit {
                         return hit;
                     }
@@ -64,13 +73,22 @@ fn trace(ray: Ray, t_max: f32, any_hit: bool, cost: ptr<function, TraversalCost>
                 let far = select(node.child0, node.child1, near_first);
                 if sp < STACK_SIZE {
                     stack_child[sp] = far;
+                    if BVH_LEVELS {
+                        stack_level[sp] = level + 1u;
+                    }
                     sp++;
                 }
                 current = select(node.child1, node.child0, near_first);
+                if BVH_LEVELS {
+                    level++;
+                }
                 continue;
             }
             if hit0 || hit1 {
                 current = select(node.child1, node.child0, hit0);
+                if BVH_LEVELS {
+                    level++;
+                }
                 continue;
             }
         }
@@ -80,6 +98,9 @@ fn trace(ray: Ray, t_max: f32, any_hit: bool, cost: ptr<function, TraversalCost>
         }
         sp--;
         current = stack_child[sp];
+        if BVH_LEVELS {
+            level = stack_level[sp];
+        }
     }
     return intersect_planes(ray, hit, any_hit);
 }

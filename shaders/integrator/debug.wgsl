@@ -4,7 +4,9 @@
 // `frame.debug_view` selects: 1 BVH nodes visited by the camera ray, 2 primitives tested by
 // it, 3 texture coordinates, 4 albedo, 5 material id (-1 where the ray escapes), 6 path
 // vertices of one path-traced sample, 7 the path-traced sample itself (the NaN/Inf finder:
-// the film counts the non-finite ones per pixel, the host marks those pixels).
+// the film counts the non-finite ones per pixel, the host marks those pixels), 8 the tree
+// level of the BVH leaf holding the camera ray's closest hit (0 where it escapes or meets a
+// plane, which no leaf holds; the kernel is compiled with BVH_LEVELS, bvh/hit.wgsl).
 
 const DEBUG_NODE_VISITS: u32 = 1u;
 const DEBUG_PRIMITIVE_TESTS: u32 = 2u;
@@ -13,6 +15,7 @@ const DEBUG_ALBEDO: u32 = 4u;
 const DEBUG_MATERIAL_ID: u32 = 5u;
 const DEBUG_BOUNCES: u32 = 6u;
 const DEBUG_NONFINITE: u32 = 7u;
+const DEBUG_BVH_LEVEL: u32 = 8u;
 
 // Number of surface hits of the last trace_path call in this invocation.
 var<private> path_vertices: u32;
@@ -26,7 +29,12 @@ fn debug_value(ray: Ray, rng: ptr<function, Rng>) -> vec3<f32> {
         return trace_path(ray, rng);
     }
     var cost = TraversalCost(0u, 0u);
+    hit_level = 0u;
     let hit = trace(ray, 3.0e38, false, &cost);
+    if frame.debug_view == DEBUG_BVH_LEVEL {
+        let in_tree = hit.triangle != NO_HIT && ((hit.triangle & SHAPE_BIT) == 0u || hit.slot < plane_range.x);
+        return vec3<f32>(f32(select(0u, hit_level, in_tree)));
+    }
     if frame.debug_view == DEBUG_NODE_VISITS {
         return vec3<f32>(f32(cost.nodes));
     }

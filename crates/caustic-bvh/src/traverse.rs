@@ -83,11 +83,13 @@ impl SlabRay {
     }
 }
 
-/// Work counters of one traversal.
+/// Work counters of one traversal, and the tree level of the leaf that holds the closest
+/// hit so far (the root node is level 0, its children level 1).
 #[derive(Default)]
 struct Counters {
     nodes: usize,
     triangles: usize,
+    hit_level: u32,
 }
 
 impl GpuBvh {
@@ -111,6 +113,15 @@ impl GpuBvh {
         (counters.nodes, counters.triangles)
     }
 
+    /// The closest hit and the level in the tree of the leaf that holds it (the root's
+    /// children are level 1; a plane, which no tree holds, is level 0): the CPU twin of the
+    /// `bvh-level` debug view (`shaders/integrator/debug.wgsl`).
+    pub fn closest_hit_level(&self, ray: &Ray) -> Option<(Hit, u32)> {
+        let mut counters = Counters::default();
+        let hit = self.traverse(ray, false, &mut counters)?;
+        Some((hit, counters.hit_level))
+    }
+
     /// The shared traversal loop; `any` stops at the first hit.
     ///
     /// # Panics
@@ -121,13 +132,16 @@ impl GpuBvh {
         let mut clipped = *ray;
         let mut best = None;
         let mut stack = [0u32; STACK_SIZE];
+        let mut stack_level = [0u32; STACK_SIZE];
         let mut depth = 0;
         let mut current = 0u32;
+        let mut level = 0u32;
         loop {
             if current & LEAF_BIT != 0 {
                 if let Some(hit) = self.intersect_leaf(&clipped, current, any, counters) {
                     clipped.t_max = hit.t;
                     best = Some(hit);
+                    counters.hit_level = level;
                     if any {
                         break;
                     }
@@ -138,9 +152,11 @@ impl GpuBvh {
                 if let Some((near, far)) = order_children(node, &slab, clipped.t_max) {
                     if let Some(far) = far {
                         stack[depth] = far;
+                        stack_level[depth] = level + 1;
                         depth += 1;
                     }
                     current = near;
+                    level += 1;
                     continue;
                 }
             }
@@ -149,11 +165,16 @@ impl GpuBvh {
             }
             depth -= 1;
             current = stack[depth];
+            level = stack_level[depth];
         }
         if best.is_some() && any {
             return best;
         }
-        self.intersect_planes(&clipped, any).or(best)
+        let plane = self.intersect_planes(&clipped, any);
+        if plane.is_some() {
+            counters.hit_level = 0;
+        }
+        plane.or(best)
     }
 
     /// Tests the triangles of a leaf word, returning the nearest hit inside `ray`'s range.
@@ -288,5 +309,52 @@ mod tests {
             SlabRay::new(&behind).entry(Vec3::ZERO, Vec3::ONE, f32::INFINITY),
             f32::INFINITY
         );
+    }
+
+    /// The level of every leaf, by the index of its first gathered triangle, found by a
+    /// walk of the tree that does not trace rays.
+    fn leaf_levels(bvh: &GpuBvh) -> std::collections::HashMap<u32, u32> {
+        let mut levels = std::collections::HashMap::new();
+        let mut pending = vec![(0u32, 0u32)];
+        while let Some((word, level)) = pending.pop() {
+            if word & LEAF_BIT != 0 {
+                let (first, count) = decode_leaf(word);
+                for i in first..first + count {
+                    levels.insert(i, level);
+                }
+            } else if word != EMPTY_CHILD {
+                let node = &bvh.nodes[word as usize];
+                pending.extend([(node.child0, level + 1), (node.child1, level + 1)]);
+            }
+        }
+        levels
+    }
+
+    #[test]
+    fn the_hit_level_is_the_level_of_the_leaf_holding_the_closest_hit() {
+        // A 16 x 16 grid of small triangles in the plane z = 0, seen along -z.
+        let triangles: Vec<[Vec3; 3]> = (0..256)
+            .map(|i| {
+                let corner = Vec3::new((i % 16) as f32, (i / 16) as f32, 0.0);
+                [corner, corner + Vec3::new(0.9, 0.0, 0.0), corner + Vec3::new(0.0, 0.9, 0.0)]
+            })
+            .collect();
+        let bvh = crate::flatten(&crate::build(&triangles, &crate::BuildOptions::default()), &triangles);
+        let levels = leaf_levels(&bvh);
+        let (mut checked, mut deepest) = (0, 0);
+        for i in 0..256 {
+            let ray = Ray {
+                origin: Vec3::new((i % 16) as f32 + 0.2, (i / 16) as f32 + 0.2, 5.0),
+                direction: Vec3::NEG_Z,
+                t_max: f32::INFINITY,
+            };
+            let (hit, level) = bvh.closest_hit_level(&ray).expect("every ray meets its triangle");
+            let slot = bvh.triangles.iter().position(|t| t.id == hit.triangle).expect("gathered") as u32;
+            assert_eq!(level, levels[&slot], "triangle {}", hit.triangle);
+            checked += 1;
+            deepest = deepest.max(level);
+        }
+        println!("{checked} rays: leaf levels 1..={deepest} as the tree walk finds them");
+        assert!(deepest >= 6, "256 triangles in leaves of at most 4 need leaves at level 6 or deeper");
     }
 }

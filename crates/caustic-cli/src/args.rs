@@ -93,7 +93,7 @@ pub struct RenderArgs {
     #[arg(long, value_name = "SECONDS")]
     pub time: Option<f64>,
     /// Render a debug view instead of the image (docs/DEBUGGING.md): node-visits,
-    /// primitive-tests, uv, albedo, material-id, bounces or nonfinite. Image files show it as a
+    /// primitive-tests, uv, albedo, material-id, bounces, nonfinite or bvh-level. Image files show it as a
     /// picture (heat map with a legend, id colours, non-finite pixels in red); .exr parts hold
     /// the raw values.
     #[arg(long, value_name = "VIEW", value_parser = parse_debug_view)]

@@ -236,8 +236,8 @@ pub fn apply_bloom(ctx: &GpuContext, image: Image, bloom: Option<&BloomSettings>
 fn save_debug_picture(view: DebugView, rendered: &Accumulated, output: &Path) -> anyhow::Result<()> {
     let picture = debug_picture(view, &rendered.image, &rendered.nonfinite);
     picture.image.save(output, &DEBUG_SAVE_OPTIONS)?;
-    if let Some(max) = picture.legend_max {
-        eprintln!("{}: heat map from 0 (black) to {max} (light yellow), legend under the image", view.name());
+    if let Some((low, high)) = picture.legend_range {
+        eprintln!("{}: heat map from {low} to {high} (light yellow), legend under the image", view.name());
     }
     if let Some(marked) = picture.marked {
         eprintln!("{}: {marked} pixels with non-finite samples marked red", view.name());

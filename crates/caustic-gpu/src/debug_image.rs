@@ -1,7 +1,8 @@
 //! Debug views made visible: the kernels accumulate raw values (counts, ids, colours; see
 //! `shaders/integrator/debug.wgsl`); this turns them into a picture a person reads. Counts
 //! become a heat map with a legend bar underneath (0 at the left, the hottest value written
-//! at the right), material ids distinct colours, and the NaN/Inf finder marks in red every
+//! at the right; BVH leaf levels on the same ramp from the shallowest hit level to the deepest),
+//! material ids distinct colours, and the NaN/Inf finder marks in red every
 //! pixel where any sample was non-finite, over the dimmed image.
 
 use crate::DebugView;
@@ -21,8 +22,9 @@ pub const LEGEND_ROWS: u32 = 10;
 pub struct DebugPicture {
     /// Linear RGB; heat maps are [`LEGEND_ROWS`] taller than the render (the legend).
     pub image: Image,
-    /// For heat maps, the value of the hottest colour (the legend's right end).
-    pub legend_max: Option<f32>,
+    /// For heat maps, the values at the legend's left and right ends (the coldest and the
+    /// hottest colour).
+    pub legend_range: Option<(f32, f32)>,
     /// For the NaN/Inf finder, the number of pixels marked.
     pub marked: Option<usize>,
 }
@@ -32,14 +34,15 @@ pub struct DebugPicture {
 pub fn debug_picture(view: DebugView, image: &Image, nonfinite: &[u32]) -> DebugPicture {
     match view {
         DebugView::NodeVisits | DebugView::PrimitiveTests | DebugView::Bounces => heat_map(image),
+        DebugView::BvhLevel => level_map(image),
         DebugView::MaterialId => DebugPicture {
             image: map_pixels(image, |p| id_color(p[0])),
-            legend_max: None,
+            legend_range: None,
             marked: None,
         },
         DebugView::Uv | DebugView::Albedo => DebugPicture {
             image: image.clone(),
-            legend_max: None,
+            legend_range: None,
             marked: None,
         },
         DebugView::NonFinite => nonfinite_marks(image, nonfinite),
@@ -64,13 +67,40 @@ fn heat_map(image: &Image) -> DebugPicture {
         .fold(0.0f32, f32::max)
         .ceil()
         .max(1.0);
-    let mut picture = map_pixels(image, |p| heat_color(p[0] / max));
-    let legend = legend(image.width, max);
+    ramp_picture(image, 0.0, max, |v| heat_color(v / max))
+}
+
+/// Where on the heat scale the shallowest hit level sits, so that it stands apart from the
+/// black of rays that hit nothing in the tree.
+const LEVEL_RAMP_START: f32 = 0.2;
+
+/// BVH leaf levels: black where no leaf was hit (0), the hit levels spread over the heat scale
+/// from the shallowest one in the image (dark purple) to the deepest (light yellow), since a
+/// tree's leaves lie within a few levels of each other far from the root.
+fn level_map(image: &Image) -> DebugPicture {
+    let hit_levels = || image.pixels.iter().map(|p| p[0]).filter(|v| v.is_finite() && *v > 0.0);
+    let low = hit_levels().fold(f32::INFINITY, f32::min).floor();
+    let (low, high) = if low.is_finite() { (low, hit_levels().fold(low, f32::max).ceil()) } else { (1.0, 1.0) };
+    let color = move |v: f32| {
+        if v > 0.0 {
+            heat_color(LEVEL_RAMP_START + (1.0 - LEVEL_RAMP_START) * (v - low) / (high - low).max(1.0))
+        } else {
+            [0.0; 3]
+        }
+    };
+    ramp_picture(image, low, high, color)
+}
+
+/// `image` coloured by `color` of its first channel, with a legend of `color` from `low` to
+/// `high` underneath.
+fn ramp_picture(image: &Image, low: f32, high: f32, color: impl Fn(f32) -> [f32; 3]) -> DebugPicture {
+    let mut picture = map_pixels(image, |p| color(p[0]));
+    let legend = legend(image.width, low, high, &color);
     picture.height += LEGEND_ROWS;
     picture.pixels.extend(legend);
     DebugPicture {
         image: picture,
-        legend_max: Some(max),
+        legend_range: Some((low, high)),
         marked: None,
     }
 }
@@ -127,26 +157,27 @@ fn nonfinite_marks(image: &Image, nonfinite: &[u32]) -> DebugPicture {
     }
     DebugPicture {
         image: picture,
-        legend_max: None,
+        legend_range: None,
         marked: Some(marked),
     }
 }
 
-/// The legend rows: a black row, the colour bar from 0 to `max`, and "0" and `max` written
-/// at its ends in a 3x5 pixel font (digits only where the image is wide enough).
-fn legend(width: u32, max: f32) -> Vec<[f32; 3]> {
+/// The legend rows: a black row, the colour bar of `color` from `low` to `high`, and `low`
+/// and `high` written at its ends in a 3x5 pixel font (digits only where the image is wide
+/// enough).
+fn legend(width: u32, low: f32, high: f32, color: &dyn Fn(f32) -> [f32; 3]) -> Vec<[f32; 3]> {
     let mut rows = vec![[0.0f32; 3]; (width * LEGEND_ROWS) as usize];
     for x in 0..width {
-        let color = heat_color(x as f32 / (width.max(2) - 1) as f32);
+        let c = color(low + (high - low) * x as f32 / (width.max(2) - 1) as f32);
         for y in 1..4 {
-            rows[(y * width + x) as usize] = color;
+            rows[(y * width + x) as usize] = c;
         }
     }
-    let label = format!("{max}");
-    let label_width = 4 * label.len() as u32;
-    if width >= label_width + 8 {
-        draw_text(&mut rows, width, 1, 5, "0");
-        draw_text(&mut rows, width, width - label_width, 5, &label);
+    let (left, right) = (format!("{low}"), format!("{high}"));
+    let label_width = |label: &str| 4 * label.len() as u32;
+    if width >= label_width(&left) + label_width(&right) + 8 {
+        draw_text(&mut rows, width, 1, 5, &left);
+        draw_text(&mut rows, width, width - label_width(&right), 5, &right);
     }
     rows
 }
@@ -198,8 +229,18 @@ mod tests {
     }
 
     #[test]
+    fn leaf_levels_span_the_ramp_from_the_shallowest_hit_level() {
+        let image = Image { width: 40, height: 1, pixels: (0..40).map(|i| [[0.0, 7.0, 9.0, 12.0][i % 4]; 3]).collect() };
+        let picture = level_map(&image);
+        assert_eq!(picture.legend_range, Some((7.0, 12.0)));
+        assert_eq!(picture.image.pixels[0], [0.0; 3], "no leaf: black");
+        assert_eq!(picture.image.pixels[1], heat_color(LEVEL_RAMP_START), "the shallowest level is not black");
+        assert_eq!(picture.image.pixels[3], heat_color(1.0), "the deepest level is the hottest colour");
+    }
+
+    #[test]
     fn the_legend_writes_zero_and_the_largest_count() {
-        let rows = legend(64, 13.0);
+        let rows = legend(64, 0.0, 13.0, &|v| heat_color(v / 13.0));
         let white = |x: u32, y: u32| rows[(y * 64 + x) as usize] == [1.0; 3];
         // "0" at x 1..4: its top row is three white pixels; "13" ends at the right edge.
         assert!((1..4).all(|x| white(x, 5)));

@@ -33,6 +33,9 @@ pub struct Kernel {
     /// The classic ray tracer's feature overrides ([`crate::features`]); the defaults for
     /// other entry points, which only read `TEXTURE_FILTER`.
     pub classic: FeatureConstants,
+    /// The `BVH_LEVELS` override (`bvh/hit.wgsl`): the traversal records the tree level of
+    /// the closest hit's leaf, for the `bvh-level` debug view only.
+    pub bvh_levels: bool,
 }
 
 impl Kernel {
@@ -47,6 +50,7 @@ impl Kernel {
             motion_blur: gpu.motion_blur && settings.features.constants(gpu.classic_features).mask & crate::features::FEATURE_MOTION_BLUR != 0,
             alpha_test: gpu.alpha_test,
             classic: classic_constants(gpu, settings),
+            bvh_levels: settings.debug == Some(DebugView::BvhLevel),
         }
     }
 
@@ -71,6 +75,7 @@ impl Kernel {
         });
         let mut constants = vec![("SAMPLER", f64::from(self.sampler)), ("LOBE_MASK", f64::from(self.lobe_mask)), ("MOTION_BLUR", f64::from(u8::from(self.motion_blur))), ("ALPHA_TEST", f64::from(u8::from(self.alpha_test)))];
         constants.extend(self.classic.overrides());
+        constants.push(("BVH_LEVELS", f64::from(u8::from(self.bvh_levels))));
         device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some(self.entry_point),
             layout: Some(&pipeline_layout),
@@ -87,8 +92,8 @@ impl Kernel {
 
 /// The scene-specialised traversal the kernel is compiled with, if any.
 fn traversal(gpu: &GpuScene, settings: &RenderSettings) -> Option<String> {
-    // The BVH-cost debug views show the BVH traversal's work, which the specialised one skips.
-    let bvh_cost = matches!(settings.debug, Some(DebugView::NodeVisits | DebugView::PrimitiveTests));
+    // The BVH debug views show the BVH traversal's work and tree, which the specialised one skips.
+    let bvh_cost = matches!(settings.debug, Some(DebugView::NodeVisits | DebugView::PrimitiveTests | DebugView::BvhLevel));
     // The specialised traversal has no alpha test and no motion: alpha-tested and moving
     // scenes walk the BVH.
     match settings.data_path {

@@ -145,11 +145,15 @@ pub enum DebugView {
     /// The NaN/Inf finder: the path-traced image, whose non-finite samples the film counts
     /// per pixel ([`PathTracer::nonfinite_counts`]); [`crate::debug_image`] marks those pixels.
     NonFinite = 7,
+    /// Tree level of the BVH leaf that holds the camera ray's closest hit (a colour ramp;
+    /// 0 where it escapes or meets a plane); [`caustic_bvh::GpuBvh::closest_hit_level`] is
+    /// its CPU twin.
+    BvhLevel = 8,
 }
 
 impl DebugView {
     /// Every view, with its command-line name.
-    pub const ALL: [(&'static str, DebugView); 7] = [
+    pub const ALL: [(&'static str, DebugView); 8] = [
         ("node-visits", DebugView::NodeVisits),
         ("primitive-tests", DebugView::PrimitiveTests),
         ("uv", DebugView::Uv),
@@ -157,11 +161,12 @@ impl DebugView {
         ("material-id", DebugView::MaterialId),
         ("bounces", DebugView::Bounces),
         ("nonfinite", DebugView::NonFinite),
+        ("bvh-level", DebugView::BvhLevel),
     ];
 
     /// Whether the view is a count, shown as a heat map.
     pub fn is_count(self) -> bool {
-        matches!(self, DebugView::NodeVisits | DebugView::PrimitiveTests | DebugView::Bounces)
+        matches!(self, DebugView::NodeVisits | DebugView::PrimitiveTests | DebugView::Bounces | DebugView::BvhLevel)
     }
 
     /// The view's command-line name.

@@ -83,8 +83,8 @@ impl ViewerApp {
                 ui.selectable_value(&mut c.debug, Some(view), name);
             }
         });
-        if let Some(max) = self.view.legend_max() {
-            ui.label(RichText::new(format!("heat map: black 0 … light yellow {max} (legend under the image)")).small());
+        if let Some((low, high)) = self.view.legend_range() {
+            ui.label(RichText::new(format!("heat map: {low} … light yellow {high} (legend under the image)")).small());
         }
         let restart = (c.integrator, c.max_depth, c.seed, c.divisor, c.debug) != (before.integrator, before.max_depth, before.seed, before.divisor, before.debug);
         self.pending.restart |= restart;

@@ -51,7 +51,7 @@ pub struct Progressive {
     /// Whether samples were added since the display pass last ran.
     undisplayed: bool,
     /// For a heat-map debug view, the value of its hottest colour as last shown.
-    legend_max: Option<f32>,
+    legend_range: Option<(f32, f32)>,
 }
 
 impl Progressive {
@@ -63,7 +63,7 @@ impl Progressive {
         let tracer = PathTracer::new(ctx, &scene, &gpu, &settings)?;
         let stats = RenderStats { kernel_ms: began.elapsed().as_secs_f64() * 1e3, ..RenderStats::default() };
         let display = Display::new(ctx, scene.resolution);
-        Ok(Progressive { ctx, scene, gpu, tracer, settings, display, stats, rendered: Duration::ZERO, undisplayed: false, legend_max: None })
+        Ok(Progressive { ctx, scene, gpu, tracer, settings, display, stats, rendered: Duration::ZERO, undisplayed: false, legend_range: None })
     }
 
     /// The device context.
@@ -169,16 +169,16 @@ impl Progressive {
         if let Some(view) = self.settings.debug {
             let (image, _) = self.tracer.accumulated()?;
             let picture = debug_picture(view, &image, &self.tracer.nonfinite_counts()?);
-            self.legend_max = picture.legend_max;
+            self.legend_range = picture.legend_range;
             return Ok(self.display.upload(self.ctx, &picture.image));
         }
         let film = self.tracer.accumulation_buffer();
         self.display.run(self.ctx, film, self.scene.resolution, exposure, tone_map)
     }
 
-    /// For a heat-map debug view, the value its hottest colour stands for.
-    pub fn legend_max(&self) -> Option<f32> {
-        self.legend_max.filter(|_| self.settings.debug.is_some_and(|v| v.is_count()))
+    /// For a heat-map debug view, the values its coldest and hottest colours stand for.
+    pub fn legend_range(&self) -> Option<(f32, f32)> {
+        self.legend_range.filter(|_| self.settings.debug.is_some_and(|v| v.is_count()))
     }
 
     /// Records the path of pixel (`x`, `y`) in global sample `sample`, by default the latest
