@@ -20,6 +20,9 @@ glossy | glossy.scene
 shading | shading.scene
 smooth-normals | smooth_normals.scene
 motion-blur | motion.scene
+frosted | frosted.scene
+quad-light-colors | quad_colors.scene | --feature soft-shadows=off | --feature soft-shadows=on
+arealightsamples | area_light_samples.scene | --feature light-samples=1 | --feature shadows=on
 '
 
 # CAUSTIC=path/to/caustic uses that binary instead of building one.
