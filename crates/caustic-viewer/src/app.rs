@@ -3,6 +3,7 @@
 
 use crate::camera;
 use crate::command::{self, Reproduction};
+use crate::features_panel::FeaturePanel;
 use crate::inspector_panel::{self, Inspection};
 use crate::picking::{Pick, Picker};
 use crate::progressive::{FrameBudget, Progressive, Uploads};
@@ -27,7 +28,7 @@ pub(crate) struct Controls {
     pub max_depth: Option<u32>,
     pub spp_target: u32,
     pub seed: u32,
-    /// The classic ray tracer's feature switches (from the command line).
+    /// The feature switches (`--feature`, then the panel's Features section).
     pub features: caustic_gpu::features::ClassicFeatures,
     pub exposure: f32,
     pub tone_map: ToneMap,
@@ -52,6 +53,9 @@ pub(crate) struct Pending {
     pub uploads: Uploads,
     /// Exposure or tone map changed: run the display pass even without new samples.
     pub redisplay: bool,
+    /// A feature switch changed: the restart recompiles the kernel, so it waits one frame,
+    /// which shows "compiling..." meanwhile.
+    pub compile: bool,
 }
 
 /// The picking BVH: building in the background, or ready.
@@ -73,6 +77,8 @@ enum ScriptPhase {
 pub(crate) struct ViewerApp {
     pub view: Progressive,
     pub controls: Controls,
+    /// The Features section's controls, built from the feature table.
+    pub feature_panel: FeaturePanel,
     pub pending: Pending,
     /// The scene's own cameras, by name: the list the panel offers.
     pub cameras: Vec<(String, Camera)>,
@@ -150,9 +156,11 @@ impl ViewerApp {
         );
         let renderer = state.renderer.clone();
         let texture = renderer.write().register_native_texture(&ctx.device, view.display().view(), wgpu::FilterMode::Linear);
+        let feature_panel = FeaturePanel::new(&controls.features, view.gpu().classic_features);
         let mut app = ViewerApp {
             view,
             controls,
+            feature_panel,
             pending: Pending { redisplay: true, ..Pending::default() },
             cameras,
             scene_resolution,
@@ -510,7 +518,13 @@ impl eframe::App for ViewerApp {
             egui::ScrollArea::vertical().show(ui, |ui| self.panel(ui));
         });
         egui::CentralPanel::default().show(ui, |ui| self.image_area(ui));
-        self.apply_pending();
+        if self.pending.compile {
+            // Present this frame, which says "compiling...", before the kernel compiles.
+            self.pending.compile = false;
+            ctx.request_repaint();
+        } else {
+            self.apply_pending();
+        }
         self.render(&ctx);
         self.script_step(&ctx);
         self.ui_times.push(began.elapsed().as_secs_f64() * 1e3);

@@ -19,6 +19,7 @@ mod inspector_panel;
 pub mod camera;
 pub mod command;
 pub mod display;
+pub mod features_panel;
 mod panel;
 pub mod picking;
 pub mod progressive;

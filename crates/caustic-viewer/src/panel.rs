@@ -29,6 +29,7 @@ impl ViewerApp {
             ui.colored_label(Color32::from_rgb(255, 90, 90), error);
         }
         CollapsingHeader::new("Render").default_open(true).show(ui, |ui| self.render_section(ui));
+        CollapsingHeader::new("Features").default_open(true).show(ui, |ui| self.features_section(ui));
         CollapsingHeader::new("Camera").default_open(true).show(ui, |ui| self.camera_section(ui));
         CollapsingHeader::new("Environment").default_open(true).show(ui, |ui| self.environment_section(ui));
         CollapsingHeader::new("Material inspector").default_open(true).show(ui, |ui| self.inspector_section(ui));
@@ -46,7 +47,6 @@ impl ViewerApp {
                 ui.selectable_value(&mut c.integrator, integrator, name);
             }
         });
-        // Options of the chosen integrator; the classic ray tracer's feature toggles go here.
         ui.horizontal(|ui| {
             let mut unbounded = c.max_depth.is_none();
             ui.checkbox(&mut unbounded, "unbounded depth");
@@ -90,6 +90,28 @@ impl ViewerApp {
         self.pending.restart |= restart;
         self.budget.target = std::time::Duration::from_secs_f32(c.frame_ms / 1e3);
         self.pending.redisplay |= (c.exposure, c.tone_map) != (before.exposure, before.tone_map);
+    }
+
+    /// The feature switches, generated from the feature table ([`crate::features_panel`]),
+    /// and the `caustic render` command line that renders the view with them.
+    fn features_section(&mut self, ui: &mut Ui) {
+        ui.label(RichText::new("the classic ray tracer's switches; motion-blur and texture-filter apply to every integrator").small());
+        if self.feature_panel.show(ui) {
+            self.controls.features = self.feature_panel.features();
+            self.pending.restart = true;
+            self.pending.compile = true;
+        }
+        if self.pending.compile {
+            ui.label(RichText::new("compiling...").strong());
+        }
+        let command = self.reproduction(self.view.stats().spp).command_line(std::path::Path::new(&self.controls.save_path));
+        ui.horizontal(|ui| {
+            ui.label(RichText::new("headless:").small());
+            if ui.small_button("copy").clicked() {
+                ui.ctx().copy_text(command.clone());
+            }
+        });
+        ui.add(egui::Label::new(RichText::new(&command).monospace().small()).selectable(true));
     }
 
     fn camera_section(&mut self, ui: &mut Ui) {

@@ -102,8 +102,8 @@ impl Progressive {
     }
 
     /// Starts the accumulation over with the edited scene and `settings`, re-uploading what
-    /// `uploads` names. Recompiles the kernel only when the integrator, pass or debug view
-    /// changed.
+    /// `uploads` names. Recompiles the kernel only when the integrator, pass, debug view or a
+    /// feature switch changed (a switch the kernel does not read recompiles nothing).
     pub fn restart(&mut self, settings: RenderSettings, uploads: Uploads) -> Result<(), GpuError> {
         if uploads.materials {
             self.gpu.update_materials(self.ctx, &self.scene)?;
@@ -111,7 +111,7 @@ impl Progressive {
         if uploads.environment {
             self.gpu.update_environment(self.ctx, &self.scene)?;
         }
-        let kernel = |s: &RenderSettings| (s.integrator, s.pass, s.debug);
+        let kernel = |s: &RenderSettings| (s.integrator, s.pass, s.debug, s.features);
         let same_kernel = kernel(&settings) == kernel(&self.settings);
         let began = Instant::now();
         self.tracer.restart(&self.scene, &self.gpu, &settings)?;
