@@ -36,6 +36,9 @@ fn every_gallery_scene_renders_with_each_switch_off_and_on() {
         ("glossy.scene", "glossy"),
         ("shading.scene", "shading"),
         ("smooth_normals.scene", "smooth-normals"),
+        ("frosted.scene", "frosted"),
+        ("quad_colors.scene", "soft-shadows"),
+        ("area_light_samples.scene", "soft-shadows"),
     ] {
         for value in ["off", "on"] {
             let mean = render(scene, &["--feature", &format!("{feature}={value}")]);
