@@ -29,7 +29,10 @@ impl ViewerApp {
             ui.colored_label(Color32::from_rgb(255, 90, 90), error);
         }
         CollapsingHeader::new("Render").default_open(true).show(ui, |ui| self.render_section(ui));
-        CollapsingHeader::new("Features").default_open(true).show(ui, |ui| self.features_section(ui));
+        // Open from the start for the classic ray tracer, whose switches they mostly are, or
+        // when the command line chose some.
+        let features_open = self.controls.integrator == Integrator::RayTracer || !self.controls.features.chosen().is_empty();
+        CollapsingHeader::new("Features").default_open(features_open).show(ui, |ui| self.features_section(ui));
         CollapsingHeader::new("Camera").default_open(true).show(ui, |ui| self.camera_section(ui));
         CollapsingHeader::new("Environment").default_open(true).show(ui, |ui| self.environment_section(ui));
         CollapsingHeader::new("Material inspector").default_open(true).show(ui, |ui| self.inspector_section(ui));
