@@ -47,6 +47,21 @@ fn cpu_levels(scene: &Scene) -> Vec<u32> {
 }
 
 #[test]
+fn bvh_levels_of_shapes_and_planes_equal_the_cpu_traversal() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/scenes/features/shadows.scene");
+    let mut scene = load_scene(&SceneSource::File(path)).expect("three spheres on a plane");
+    scene.resolution = (96, 72);
+    let gpu = gpu_levels(&scene);
+    let cpu = cpu_levels(&scene);
+    let differing = (0..cpu.len()).filter(|&i| gpu[i] != cpu[i] as f32).count();
+    let in_tree = cpu.iter().filter(|&&l| l > 0).count();
+    let levels: std::collections::BTreeSet<u32> = cpu.iter().copied().collect();
+    println!("spheres on a plane at 96x72: {in_tree} pixels see a sphere (a leaf), the rest the plane or the sky (0); levels {levels:?}; {differing} of {} pixels differ", cpu.len());
+    assert!(in_tree > 500 && levels.contains(&0), "the spheres are in leaves, the plane in none");
+    assert!(differing <= MAX_DIFFERING);
+}
+
+#[test]
 fn bvh_levels_of_suzanne_equal_the_cpu_traversal() {
     let suzanne = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/assets/meshes/suzanne.obj");
     if !suzanne.exists() {
