@@ -12,7 +12,7 @@ use crate::features::{
     FEATURE_REFRACTION, FEATURE_SHADOWS, FEATURE_SMOOTH_NORMALS,
 };
 use crate::gpu_types::{GpuLight, GpuMaterial, FLAG_VERTEX_NORMALS};
-use crate::scene_data::{SceneData, LIGHT_DIRECTIONAL, LIGHT_POINT};
+use crate::scene_data::{SceneData, LIGHT_DIRECTIONAL, LIGHT_FLAG_CLASSIC, LIGHT_POINT};
 use caustic_bsdf::{fresnel_dielectric, fresnel_schlick, reflect, refract};
 use caustic_bvh::{closest_hit_brute_force, Hit, Ray};
 use caustic_scene::{Environment, Scene};
@@ -70,7 +70,7 @@ impl ClassicReference {
         if !scene.shapes.is_empty() {
             return Err("the classic reference traces triangle meshes only, not analytic shapes".into());
         }
-        if let Some(light) = data.lights.iter().find(|l| is_extended(l) || !matches!(l.kind, LIGHT_POINT | LIGHT_DIRECTIONAL)) {
+        if let Some(light) = classic_lights(&data).find(|l| is_extended(l) || !matches!(l.kind, LIGHT_POINT | LIGHT_DIRECTIONAL)) {
             return Err(format!("the classic reference has point and directional lights without spread, not kind {}", light.kind));
         }
         let frosted = |m: &GpuMaterial| m.transparency > 0.0 && m.dielectric_alpha > 0.0 && constants.mask & FEATURE_FROSTED != 0;
@@ -171,7 +171,7 @@ impl ClassicReference {
 
     /// Light from every light at `si` seen along unit `view` (`classic_direct`).
     fn direct(&self, si: &Interaction, view: Vec3) -> Vec3 {
-        self.data.lights.iter().map(|light| self.light_sample(si, view, light)).sum()
+        classic_lights(&self.data).map(|light| self.light_sample(si, view, light)).sum()
     }
 
     /// Light from one point or directional light (`classic_light_sample`).
@@ -228,6 +228,12 @@ impl ClassicReference {
         }
         Vec3::ZERO
     }
+}
+
+/// The lights the classic tracer lights with (`classic_lights_with`: flagged
+/// [`LIGHT_FLAG_CLASSIC`]; not the environment, which it sees through reflections only).
+fn classic_lights(data: &SceneData) -> impl Iterator<Item = &GpuLight> {
+    data.lights.iter().filter(|l| l.flags & LIGHT_FLAG_CLASSIC != 0)
 }
 
 /// Fresnel reflectance for `cos_i` into relative index `eta` by `mode` (0 none, 1 Schlick,
