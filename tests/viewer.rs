@@ -220,6 +220,35 @@ fn the_window_shows_the_scene_and_its_saved_command_reproduces_it() {
 }
 
 #[test]
+fn feature_switches_reach_the_window_and_its_saved_command() {
+    let Some(xvfb) = Xvfb::start() else { return };
+    let dir = support::scratch("viewer-features");
+    let saved = dir.join("view.exr");
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/../../assets/scenes/features/shadows.scene");
+    let output = Command::new(env!("CARGO_BIN_EXE_caustic"))
+        .args(["view", scene, "--size", "96x72", "--spp", "2", "--frames", "4", "--feature", "shadows=off"])
+        .args(["--save", saved.to_str().unwrap()])
+        .env("DISPLAY", &xvfb.display)
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .expect("run caustic view");
+    assert!(output.status.success(), "caustic view failed:\n{}", String::from_utf8_lossy(&output.stderr));
+    let command = std::fs::read_to_string(dir.join("view.txt")).expect("the command line beside the image");
+    println!("saved command: {}", command.trim());
+    let mut words = shell_words(command.lines().next().expect("a command line"));
+    assert!(words.windows(2).any(|w| w[0] == "--feature" && w[1] == "shadows=off"), "the switch is in the command");
+    let reproduced = dir.join("reproduced.exr");
+    let o = words.iter().position(|w| w == "-o").expect("-o in the command");
+    words[o + 1] = reproduced.to_str().unwrap().to_string();
+    assert!(support::caustic(&words[1..].iter().map(String::as_str).collect::<Vec<_>>()).status.success());
+    let viewed = Image::load(&saved).expect("the viewer's image");
+    let headless = Image::load(&reproduced).expect("the headless render");
+    let differing = viewed.pixels.iter().zip(&headless.pixels).filter(|(a, b)| a != b).count();
+    println!("with --feature shadows=off the headless render differs from the viewer's image in {differing} of {} pixels", viewed.pixels.len());
+    assert_eq!(differing, 0);
+}
+
+#[test]
 fn render_takes_the_camera_and_integrator_flags_the_viewer_saves() {
     let dir = support::scratch("viewer-flags");
     let render = |name: &str, extra: &[&str]| -> Vec<[f32; 3]> {
