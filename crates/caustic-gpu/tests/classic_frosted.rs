@@ -4,7 +4,8 @@
 //! directions. Measured like the glossy lobe: the camera looks up through a frosted pane
 //! (index 1, so only the lobe moves rays) at an environment bright only in a small cap around
 //! the zenith, and the cap's energy-weighted RMS radius in the image grows as a uniform disk
-//! of radius frost predicts: r^2 = r0^2 + frost^2 / 2.
+//! of radius frost predicts: r^2 = r0^2 + frost^2 / 2; through a slab of index 1.5, both
+//! faces' lobes add, the entry one widened by Snell's law.
 
 use caustic_gpu::{GpuContext, GpuScene, PathTracer, RenderSettings};
 use caustic_gpu::features::ClassicFeatures;
@@ -16,13 +17,19 @@ const WIDTH: u32 = 96;
 /// A pane (the plane y = 1, transparency 1, index 1, frost `frost`) between a camera at the
 /// origin looking up and a sky bright (50) only within ~1.4 degrees of the zenith.
 fn pane_scene(frost: f32) -> Scene {
+    glass_scene(Shape::plane(Mat4::IDENTITY, Vec3::new(0.0, 1.0, 0.0), Vec3::Y, 0), 1.0, frost)
+}
+
+/// `shape` made of glass of index `ior` and roughness `frost` between the camera at the origin
+/// looking up and the zenith cap.
+fn glass_scene(shape: Shape, ior: f32, frost: f32) -> Scene {
     let (w, h) = (64u32, 256u32);
     let texels = (0..h).flat_map(|y| (0..w).map(move |_| if y < 2 { [50.0f32; 3] } else { [0.0; 3] })).collect();
-    let glass = Material { model: ShadingModel::Phong, transparency: 1.0, ior: 1.0, frost, ..Material::diffuse("frosted pane", Vec3::ZERO) };
+    let glass = Material { model: ShadingModel::Phong, transparency: 1.0, ior, frost, ..Material::diffuse("frosted glass", Vec3::ZERO) };
     Scene {
-        name: "frosted pane".into(),
+        name: "frosted glass".into(),
         materials: vec![glass],
-        shapes: vec![Shape::plane(Mat4::IDENTITY, Vec3::new(0.0, 1.0, 0.0), Vec3::Y, 0)],
+        shapes: vec![shape],
         camera: Camera { eye: Vec3::ZERO, target: Vec3::Y, up: Vec3::NEG_Z, fov_y: 30f32.to_radians(), ..Camera::default() },
         resolution: (WIDTH, WIDTH),
         environment: Environment::Map(EnvironmentMap { width: w, height: h, texels }),
@@ -78,4 +85,21 @@ fn frosted_refraction_spreads_by_the_frost_radius() {
         assert!((r / predicted - 1.0).abs() < 0.08, "the lobe's width follows frost");
         assert!((off - r0).abs() < 1e-3, "frosted off refracts sharply");
     }
+}
+
+/// A slab of glass of index 1.5 with both faces frosted: the entry face's lobe (radius frost
+/// inside the glass) is widened by Snell's law to about ior x frost on leaving, and the exit
+/// face adds its own: r^2 = r0^2 + (ior^2 + 1) frost^2 / 2 for small angles.
+#[test]
+fn a_frosted_glass_slab_spreads_by_both_faces_through_snells_law() {
+    let ctx = GpuContext::new(std::env::var("CAUSTIC_ADAPTER").ok().as_deref()).expect("device");
+    let ior = 1.5f32;
+    let slab = || Shape::cuboid(Mat4::IDENTITY, Vec3::new(0.0, 1.0, 0.0), Vec3::new(40.0, 0.1, 40.0), 0);
+    let (r0, _) = rms_radius(&render(&ctx, &glass_scene(slab(), ior, 0.0), &[], 16));
+    let frost = 0.04f32;
+    let (r, _) = rms_radius(&render(&ctx, &glass_scene(slab(), ior, frost), &["frost-samples=4"], 64));
+    let predicted = (r0 * r0 + (ior * ior + 1.0) * frost * frost / 2.0).sqrt();
+    let one_face = (r0 * r0 + frost * frost / 2.0).sqrt();
+    println!("glass slab (ior {ior}), frost {frost}: RMS radius {r:.4}, predicted {predicted:.4} ({:+.1}%); clear slab {r0:.4}; one unmagnified face would give {one_face:.4}", (r / predicted - 1.0) * 100.0);
+    assert!((r / predicted - 1.0).abs() < 0.08, "both faces' lobes, the entry one magnified by the refraction");
 }
