@@ -1,10 +1,13 @@
 //! Small scenes' shading tables compiled into the kernel: the materials, the light list and
-//! the per-triangle shading entries as WGSL constant arrays, read through generated
+//! the per-triangle shading entries as WGSL arrays of constants, read through generated
 //! accessors instead of the storage buffers `shading`, `materials` and `lights`.
 //!
 //! On lavapipe every storage-buffer read is a gather through a descriptor; a hand-edited
 //! variant of the Cornell box kernel with the materials and shading entries as constants ran
-//! 29% faster (docs/PERFORMANCE.md). The constants are generated from the very bytes the
+//! 29% faster, these generated tables 7-12% (docs/PERFORMANCE.md, which also has their cost:
+//! about 2 s more to create the kernel). Each table is a `var<private>` array with a constant
+//! initialiser: a WGSL `const` array indexed at run time is copied to a local at every read
+//! (naga), which measured 1.7-4x slower. The words are generated from the very bytes the
 //! buffers would hold, member by member as `shaders/common/types.wgsl` declares the struct
 //! (its layout computed by WGSL's rules), so the baked kernel reads the same bits; the
 //! program's buffer reads `materials[i]` are rewritten to `baked_materials(i)`.
@@ -19,7 +22,7 @@ pub const BAKE_MAX_ENTRIES: usize = 256;
 /// `shaders/common/types.wgsl`, whose struct declarations define the tables' members.
 const TYPES_WGSL: &str = include_str!("../../../shaders/common/types.wgsl");
 
-/// The scene tables of a small scene as WGSL: one constant array and one accessor per table.
+/// The scene tables of a small scene as WGSL: one array of words and one accessor per table.
 /// Part of the [`crate::kernel::Kernel`], so renders with equal tables share a pipeline.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct BakedTables {
@@ -53,7 +56,7 @@ impl BakedTables {
 }
 
 /// WGSL declaring `rows` (padded to one zeroed entry when empty, as the storage buffers are)
-/// as a constant array of their 32-bit words, and the accessor assembling a row's struct
+/// as an array of their 32-bit words, and the accessor assembling a row's struct
 /// from them: words rather than literals, so every value (the light CDF's infinite end
 /// included) is reproduced bit for bit.
 fn table<T: bytemuck::Pod>(which: usize, rows: &[T]) -> Option<String> {
