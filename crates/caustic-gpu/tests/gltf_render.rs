@@ -6,7 +6,7 @@
 
 use caustic_gpu::{GpuContext, GpuScene, PathTracer, RenderSettings};
 use caustic_image::Image;
-use caustic_scene::{Camera, ColorSpace, Environment, Material, Mesh, MipFilter, Scene, SceneSource, Texture, TextureFilter, TextureSlot, load_scene, sample_mipmapped, texture_lod, texture_transform};
+use caustic_scene::{Camera, ColorSpace, Environment, Material, Mesh, MipFilter, NextEvent, Scene, SceneSource, Texture, TextureFilter, TextureSlot, load_scene, sample_mipmapped, texture_lod, texture_transform};
 use glam::{Vec2, Vec3};
 use std::path::Path;
 
@@ -23,10 +23,15 @@ fn shared_model(name: &str, size: u32) -> Option<Scene> {
     Some(scene)
 }
 
-/// `spp` samples of `scene` with at most `max_depth` bounces.
+/// `spp` samples of `scene` with at most `max_depth` bounces, by BSDF sampling alone: under a
+/// constant sky of 1 every sample of a convex diffuse surface then carries exactly its albedo
+/// (light-sampling the sky with MIS would add noise to the texel comparisons).
 fn render(scene: &Scene, max_depth: u32, spp: u32) -> Image {
     let ctx = GpuContext::new(std::env::var("CAUSTIC_ADAPTER").ok().as_deref()).expect("device");
     println!("adapter: {}", ctx.adapter);
+    let mut scene = scene.clone();
+    scene.options.next_event = NextEvent::Off;
+    let scene = &scene;
     let gpu = GpuScene::upload(&ctx, scene).expect("upload");
     let settings = RenderSettings { max_depth: Some(max_depth), ..RenderSettings::default() };
     let mut tracer = PathTracer::new(&ctx, scene, &gpu, &settings).expect("tracer");
