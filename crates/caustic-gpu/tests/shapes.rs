@@ -4,7 +4,7 @@
 
 use caustic_bvh::{BuildOptions, Ray};
 use caustic_gpu::{GpuContext, GpuScene, PathTracer, RayBench, RayKind, RenderSettings, SceneData};
-use caustic_scene::{Camera, Environment, Material, Scene, Shape};
+use caustic_scene::{Camera, Environment, Material, NextEvent, RenderOptions, Scene, Shape};
 use glam::{Mat4, Vec3};
 
 fn device() -> GpuContext {
@@ -13,6 +13,8 @@ fn device() -> GpuContext {
     ctx
 }
 
+/// The furnace, traced by BSDF sampling alone: light-sampling the constant sky with MIS would
+/// make each sample the albedo only in expectation, not exactly.
 fn furnace(shapes: Vec<Shape>) -> Scene {
     Scene {
         name: "shapes".into(),
@@ -21,6 +23,7 @@ fn furnace(shapes: Vec<Shape>) -> Scene {
         camera: Camera { eye: Vec3::new(0.0, 3.0, 6.0), target: Vec3::ZERO, up: Vec3::Y, fov_y: 40f32.to_radians(), ..Camera::default() },
         resolution: (64, 64),
         environment: Environment::Constant(Vec3::ONE),
+        options: RenderOptions { next_event: NextEvent::Off, ..RenderOptions::default() },
         ..Scene::default()
     }
 }
