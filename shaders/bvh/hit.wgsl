@@ -27,7 +27,7 @@ var<private> hit_level: u32;
 // The planes, which the tree cannot bound, after the tree.
 fn intersect_planes(ray: Ray, closest: Hit, any_hit: bool) -> Hit {
     var hit = closest;
-    if any_hit && hit.triangle != NO_HIT {
+    if !scene_needs(REQUIRES_PLANES) || (any_hit && hit.triangle != NO_HIT) {
         return hit;
     }
     for (var i = plane_range.x; i < plane_range.y; i++) {

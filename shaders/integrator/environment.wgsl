@@ -6,7 +6,7 @@
 // caustic_gpu::environment_sampling, this file's CPU twin).
 
 fn environment_radiance(direction: vec3<f32>) -> vec3<f32> {
-    if frame.environment_mode == 0u {
+    if !scene_needs(REQUIRES_ENVIRONMENT_MAP) || frame.environment_mode == 0u {
         return frame.environment_color;
     }
     return environment_map_lookup(direction);
@@ -69,7 +69,7 @@ fn environment_texel_probability(x: u32, y: u32) -> f32 {
 
 // Solid-angle density of environment_sample's direction `direction`.
 fn environment_pdf(direction: vec3<f32>) -> f32 {
-    if frame.environment_mode == 0u {
+    if !scene_needs(REQUIRES_ENVIRONMENT_MAP) || frame.environment_mode == 0u {
         return 0.25 * INV_PI;
     }
     let size = environment_size();
@@ -88,7 +88,7 @@ fn environment_pdf(direction: vec3<f32>) -> f32 {
 // CDF, a texel in it by the row's conditional CDF, a point uniform within the texel. A
 // constant environment: uniformly over the sphere.
 fn environment_sample(u: vec2<f32>) -> vec3<f32> {
-    if frame.environment_mode == 0u {
+    if !scene_needs(REQUIRES_ENVIRONMENT_MAP) || frame.environment_mode == 0u {
         return square_to_uniform_sphere(u);
     }
     let size = environment_size();

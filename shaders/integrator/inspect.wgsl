@@ -1,8 +1,9 @@
 // The pixel inspector: the path tracer's hooks record one chosen pixel's path (ray, hit,
 // normals, material, BSDF and light samples, throughput, why it ended) into `inspection`,
 // read back by crates/caustic-gpu/src/inspector.rs. `frame.inspect_pixel` names the pixel
-// (NO_PIXEL: none); every hook returns at once in the other invocations, so a normal render
-// runs the same code and writes nothing.
+// (NO_PIXEL: none); every hook returns at once in the other invocations. The hooks are
+// compiled in only for the inspecting kernel (REQUIRES_INSPECTOR, which PathTracer::inspect
+// compiles): the same code and random numbers as a render's kernel, whose hooks fold away.
 
 @group(0) @binding(10) var<storage, read_write> inspection: InspectRecord;
 
@@ -28,8 +29,8 @@ var<private> inspect_bounce: u32;
 
 // Arms the hooks if `pixel` is the inspected one, and clears its record.
 fn inspect_begin(pixel: u32) {
-    inspecting = pixel == frame.inspect_pixel && frame.inspect_pixel != NO_PIXEL;
-    if !inspecting {
+    inspecting = scene_needs(REQUIRES_INSPECTOR) && pixel == frame.inspect_pixel && frame.inspect_pixel != NO_PIXEL;
+    if !scene_needs(REQUIRES_INSPECTOR) || !inspecting {
         return;
     }
     inspection.pixel = pixel;
@@ -41,12 +42,12 @@ fn inspect_begin(pixel: u32) {
 
 // Whether the hooks write this bounce (the record holds the first INSPECT_MAX_BOUNCES).
 fn inspect_slot() -> bool {
-    return inspecting && inspect_bounce < INSPECT_MAX_BOUNCES;
+    return scene_needs(REQUIRES_INSPECTOR) && inspecting && inspect_bounce < INSPECT_MAX_BOUNCES;
 }
 
 // A ray of the path was traced: records it, what it hit, and the path's state before it.
 fn inspect_ray(bounce: u32, ray: Ray, hit: Hit, throughput: vec3<f32>, radiance: vec3<f32>) {
-    if !inspecting {
+    if !scene_needs(REQUIRES_INSPECTOR) || !inspecting {
         return;
     }
     inspect_bounce = bounce;
@@ -116,7 +117,7 @@ fn inspect_light_result(weight: f32, contribution: vec3<f32>) -> vec3<f32> {
 
 // The path ended for `reason` (END_*) with `radiance` as the sample's estimate.
 fn inspect_end(reason: u32, radiance: vec3<f32>) {
-    if inspecting {
+    if scene_needs(REQUIRES_INSPECTOR) && inspecting {
         inspection.termination = reason;
         inspection.radiance = radiance;
     }

@@ -24,7 +24,7 @@ fn surface_interaction(ray: Ray, hit: Hit) -> SurfaceInteraction {
 
 // The interaction where the primitive is at shutter open (`ray` in that frame).
 fn surface_interaction_open(ray: Ray, hit: Hit) -> SurfaceInteraction {
-    if (hit.triangle & SHAPE_BIT) != 0u {
+    if scene_needs(REQUIRES_SHAPES | REQUIRES_PLANES) && (hit.triangle & SHAPE_BIT) != 0u {
         return shape_interaction(ray, hit);
     }
     let tri = bvh_triangles[hit.slot];
@@ -36,7 +36,7 @@ fn surface_interaction_open(ray: Ray, hit: Hit) -> SurfaceInteraction {
     let ng = select(-face, face, front_face);
     // The front-facing shading normal, turned to the ray's side at the end.
     var n = face;
-    if (attributes.flags & FLAG_VERTEX_NORMALS) != 0u {
+    if scene_needs(REQUIRES_VERTEX_NORMALS) && (attributes.flags & FLAG_VERTEX_NORMALS) != 0u {
         let interpolated = w * attributes.n0 + hit.u * attributes.n1 + hit.v * attributes.n2;
         let len = length(interpolated);
         if len > 0.0 {
@@ -44,10 +44,10 @@ fn surface_interaction_open(ray: Ray, hit: Hit) -> SurfaceInteraction {
         }
     }
     var material = materials[attributes.material];
-    if has_textures(material) {
+    if scene_needs(REQUIRES_TEXTURES) && has_textures(material) {
         let tc = tex_coords(ray, hit, tri, attributes);
         material = textured_material(material, tc);
-        if material.normal_map.texture != 0u {
+        if scene_needs(REQUIRES_NORMAL_MAPS) && material.normal_map.texture != 0u {
             let ext = shading[attributes.extension];
             let tangent = w * ext.n0 + hit.u * ext.n1 + hit.v * ext.n2;
             let handedness = w * corner_sign(ext.flags, 0u) + hit.u * corner_sign(ext.flags, 1u) + hit.v * corner_sign(ext.flags, 2u);
@@ -55,7 +55,7 @@ fn surface_interaction_open(ray: Ray, hit: Hit) -> SurfaceInteraction {
             n = normal_mapped(n, tangent, select(1.0, -1.0, handedness < 0.0), texel, material.normal_scale);
         }
     }
-    if (attributes.flags & FLAG_QUAD_LIGHT) != 0u {
+    if scene_needs(REQUIRES_QUAD_LIGHTS) && (attributes.flags & FLAG_QUAD_LIGHT) != 0u {
         material.emission = quad_light_emission(attributes.material, p, material.emission);
     }
     let ns = select(-n, n, dot(n, ng) >= 0.0);
@@ -143,7 +143,7 @@ fn spawn_ray(si: SurfaceInteraction, direction: vec3<f32>) -> Ray {
 // KHR_materials_volume medium when it reaches the back face of that medium's surface
 // (closed meshes: the segment ran inside), exp(-absorption t) per channel; 1 otherwise.
 fn medium_transmittance(si: SurfaceInteraction, t: f32) -> vec3<f32> {
-    if si.front_face || all(si.material.absorption == vec3<f32>(0.0)) {
+    if !scene_needs(REQUIRES_MEDIA) || si.front_face || all(si.material.absorption == vec3<f32>(0.0)) {
         return vec3<f32>(1.0);
     }
     return exp(-si.material.absorption * t);

@@ -47,7 +47,7 @@ fn sample_light(p: vec3<f32>, u_select: f32, u_point: vec2<f32>) -> LightSample 
 
 // A sample of one given light, with the density of the point on it (not of selecting it).
 fn sample_one_light(light: Light, p: vec3<f32>, u: vec2<f32>) -> LightSample {
-    if light.kind == LIGHT_POINT || light.kind == LIGHT_SPOT {
+    if scene_needs(REQUIRES_POINT_LIGHTS) && (light.kind == LIGHT_POINT || light.kind == LIGHT_SPOT) {
         // A spread point light is a sphere: a point of it drawn uniformly (soft shadows, the
         // same colour on average); spot lights keep their point.
         var centre = light.v0;
@@ -60,7 +60,7 @@ fn sample_one_light(light: Light, p: vec3<f32>, u: vec2<f32>) -> LightSample {
         let falloff = light.e1.x + distance * (light.e1.y + distance * light.e1.z);
         return LightSample(wi, distance, light.radiance * spot_cone(light, wi) / falloff, 1.0, true);
     }
-    if light.kind == LIGHT_SEGMENT {
+    if scene_needs(REQUIRES_POINT_LIGHTS) && light.kind == LIGHT_SEGMENT {
         // A point of the segment drawn uniformly, its colour interpolated along it.
         let to_light = light.v0 + u.x * light.e1 - p;
         let distance = length(to_light);
@@ -68,7 +68,7 @@ fn sample_one_light(light: Light, p: vec3<f32>, u: vec2<f32>) -> LightSample {
         let color = mix(light.radiance, light.color_end, u.x);
         return LightSample(to_light / distance, distance, color / falloff, 1.0, true);
     }
-    if light.kind == LIGHT_DIRECTIONAL {
+    if scene_needs(REQUIRES_DIRECTIONAL_LIGHTS) && light.kind == LIGHT_DIRECTIONAL {
         // Spread: a direction drawn uniformly from the cone of half-angle atan(spread).
         var wi = light.v0;
         if light.area > 0.0 {
@@ -77,13 +77,13 @@ fn sample_one_light(light: Light, p: vec3<f32>, u: vec2<f32>) -> LightSample {
         }
         return LightSample(wi, FAR_AWAY, light.radiance, 1.0, true);
     }
-    if light.kind == LIGHT_ENVIRONMENT {
+    if scene_needs(REQUIRES_ENVIRONMENT_LIGHT) && light.kind == LIGHT_ENVIRONMENT {
         let wi = environment_sample(u);
         let pdf = environment_pdf(wi);
         let radiance = select(vec3<f32>(0.0), environment_radiance(wi), pdf > 0.0);
         return LightSample(wi, FAR_AWAY, radiance, pdf, false);
     }
-    if light.kind == LIGHT_SPHERE || light.kind == LIGHT_DISK {
+    if scene_needs(REQUIRES_SHAPE_LIGHTS) && (light.kind == LIGHT_SPHERE || light.kind == LIGHT_DISK) {
         var shape: ShapeLightSample;
         if light.kind == LIGHT_SPHERE {
             shape = sample_sphere_light(light.v0, light.e1.x, p, u);
@@ -102,7 +102,7 @@ fn sample_one_light(light: Light, p: vec3<f32>, u: vec2<f32>) -> LightSample {
     if cos_light <= 0.0 || distance <= 0.0 {
         return LightSample(wi, distance, vec3<f32>(0.0), 0.0, false);
     }
-    let radiance = select(light.radiance, quad_light_radiance(light, b), light.kind == LIGHT_QUAD);
+    let radiance = select(light.radiance, quad_light_radiance(light, b), scene_needs(REQUIRES_QUAD_LIGHTS) && light.kind == LIGHT_QUAD);
     return LightSample(wi, distance, radiance, area_to_solid_angle(1.0 / light.area, distance, cos_light), false);
 }
 
@@ -146,7 +146,7 @@ fn classic_lights_with(light: Light) -> bool {
 // The share of a spot light's colour sent towards -wi (glTF's smooth cone falloff; the CPU
 // twin is caustic_scene::spot_cone); 1 for every other light.
 fn spot_cone(light: Light, wi: vec3<f32>) -> f32 {
-    if light.kind != LIGHT_SPOT {
+    if !scene_needs(REQUIRES_POINT_LIGHTS) || light.kind != LIGHT_SPOT {
         return 1.0;
     }
     let scale = length(light.e2);
@@ -169,7 +169,7 @@ fn selection_pdf(power: f32) -> f32 {
 // or a constant colour), the last light when present; 0 when the environment is not in the
 // light list (black).
 fn environment_light_pdf(direction: vec3<f32>) -> f32 {
-    if frame.light_count == 0u || lights[frame.light_count - 1u].kind != LIGHT_ENVIRONMENT {
+    if !scene_needs(REQUIRES_ENVIRONMENT_LIGHT) || frame.light_count == 0u || lights[frame.light_count - 1u].kind != LIGHT_ENVIRONMENT {
         return 0.0;
     }
     return lights[frame.light_count - 1u].select_pdf * environment_pdf(direction);
@@ -183,6 +183,9 @@ fn emitter_light_pdf(ray: Ray, hit: Hit) -> f32 {
         return 0.0;
     }
     if (hit.triangle & SHAPE_BIT) != 0u {
+        if !scene_needs(REQUIRES_SHAPE_LIGHTS) {
+            return 0.0;
+        }
         let shape = bvh_shapes[hit.slot];
         let attributes = shading[frame.triangle_count + shape.id];
         if (attributes.flags & FLAG_LIGHT_LISTED) == 0u {

@@ -389,7 +389,8 @@ pub struct BenchArgs {
     /// How the 1-spp render's kernel finds hits: auto (small scenes' primitives tested in
     /// turn and their materials, lights and shading entries as constants, the default; see
     /// caustic_gpu::DataPath), traversal (only the primitives compiled in) or buffers (the
-    /// BVH and tables in storage buffers).
+    /// general kernel: the BVH and tables in storage buffers, every optional part compiled in,
+    /// not only what the scene requires).
     #[arg(long, default_value = "auto", value_parser = parse_data_path)]
     pub data_path: caustic_gpu::DataPath,
     /// BVH split method: sah (binned surface area heuristic) or midpoint (the classic

@@ -161,7 +161,10 @@ impl<'a> RayBench<'a> {
             bind_group_layouts: &[Some(&layout)],
             immediate_size: 0,
         });
-        let pipeline = |entry: &str| ctx.compute_pipeline(&pipeline_layout, &module, entry);
+        // Only the geometry's parts of the traversal: a mesh compiles no shape or plane tests.
+        let geometry = gpu.requirements & (crate::requirements::REQUIRES_SHAPES | crate::requirements::REQUIRES_PLANES);
+        let constants = [("SCENE_REQUIRES", f64::from(geometry))];
+        let pipeline = |entry: &str| ctx.compute_pipeline_with(&pipeline_layout, &module, entry, &constants);
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("ray bench"),
             layout: &layout,

@@ -132,12 +132,17 @@ impl GpuContext {
     /// The compute pipeline of `module`'s `entry` point under `layout`, with the default
     /// compilation options (the kernels that take override constants build their own).
     pub fn compute_pipeline(&self, layout: &wgpu::PipelineLayout, module: &wgpu::ShaderModule, entry: &str) -> wgpu::ComputePipeline {
+        self.compute_pipeline_with(layout, module, entry, &[])
+    }
+
+    /// [`GpuContext::compute_pipeline`] with values for the module's override constants.
+    pub fn compute_pipeline_with(&self, layout: &wgpu::PipelineLayout, module: &wgpu::ShaderModule, entry: &str, constants: &[(&str, f64)]) -> wgpu::ComputePipeline {
         self.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some(entry),
             layout: Some(layout),
             module,
             entry_point: Some(entry),
-            compilation_options: Default::default(),
+            compilation_options: wgpu::PipelineCompilationOptions { constants, ..Default::default() },
             cache: None,
         })
     }

@@ -5,6 +5,7 @@
 
 use crate::bake::BakedTables;
 use crate::path_tracer::{DataPath, DebugView, RenderSettings};
+use crate::requirements::{REQUIRES_ALL, REQUIRES_INSPECTOR};
 use crate::shaders::Program;
 use crate::specialize::TRAVERSAL_FILE;
 use crate::GpuScene;
@@ -36,6 +37,10 @@ pub struct Kernel {
     /// The `BVH_LEVELS` override (`bvh/hit.wgsl`): the traversal records the tree level of
     /// the closest hit's leaf, for the `bvh-level` debug view only.
     pub bvh_levels: bool,
+    /// The `SCENE_REQUIRES` override (`common/requires.wgsl`): the optional parts of the
+    /// program the scene needs ([`crate::requirements`]); every part for the general kernel
+    /// ([`DataPath::Buffers`]).
+    pub requirements: u32,
 }
 
 impl Kernel {
@@ -51,7 +56,16 @@ impl Kernel {
             alpha_test: gpu.alpha_test,
             classic: classic_constants(gpu, settings),
             bvh_levels: settings.debug == Some(DebugView::BvhLevel),
+            requirements: match settings.data_path {
+                DataPath::Auto | DataPath::Traversal => gpu.requirements,
+                DataPath::Buffers => REQUIRES_ALL,
+            },
         }
+    }
+
+    /// This kernel with the pixel inspector's hooks compiled in ([`crate::PathTracer::inspect`]).
+    pub fn inspecting(&self) -> Kernel {
+        Kernel { requirements: self.requirements | REQUIRES_INSPECTOR, ..self.clone() }
     }
 
     /// Compiles the kernel against the integrators' bind group layout.
@@ -76,6 +90,7 @@ impl Kernel {
         let mut constants = vec![("SAMPLER", f64::from(self.sampler)), ("LOBE_MASK", f64::from(self.lobe_mask)), ("MOTION_BLUR", f64::from(u8::from(self.motion_blur))), ("ALPHA_TEST", f64::from(u8::from(self.alpha_test)))];
         constants.extend(self.classic.overrides());
         constants.push(("BVH_LEVELS", f64::from(u8::from(self.bvh_levels))));
+        constants.push(("SCENE_REQUIRES", f64::from(self.requirements)));
         device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some(self.entry_point),
             layout: Some(&pipeline_layout),
@@ -134,3 +149,4 @@ fn entry_point(settings: &RenderSettings) -> &'static str {
         (RenderPass::Image, Integrator::AnalyticDirect) => "render_analytic_direct",
     }
 }
+

@@ -25,6 +25,7 @@ pub mod kernel_test;
 pub mod motion;
 mod path_tracer;
 mod readback;
+pub mod requirements;
 mod scene_buffers;
 mod scene_data;
 pub mod shaders;

@@ -103,7 +103,8 @@ pub enum DataPath {
     /// materials and lights read from the buffers: the previous specialised kernel, kept to
     /// measure what the baked tables gain.
     Traversal,
-    /// Always the BVH in storage buffers: the general kernel.
+    /// Always the BVH in storage buffers, and every optional part of the program compiled in
+    /// ([`crate::requirements::REQUIRES_ALL`]) whatever the scene requires: the general kernel.
     Buffers,
 }
 
@@ -203,6 +204,9 @@ pub struct PathTracer<'a> {
     nonfinite_counts: wgpu::Buffer,
     /// The pixel inspector's record (`shaders/integrator/inspect.wgsl`).
     inspection: wgpu::Buffer,
+    /// `kernel` with the inspector's hooks compiled in ([`Kernel::inspecting`]), once
+    /// [`PathTracer::inspect`] has needed it.
+    inspector: Option<(Kernel, wgpu::ComputePipeline)>,
     frame: Frame,
     target_submit: Duration,
     tile_pixels: u32,
@@ -236,6 +240,7 @@ impl<'a> PathTracer<'a> {
             pipeline,
             layout,
             kernel,
+            inspector: None,
             bind_group,
             frame_buffer,
             accumulation,
@@ -380,8 +385,9 @@ impl<'a> PathTracer<'a> {
 
     /// Traces sample `sample` (a global sample index) of pixel (`x`, `y`) once more with the
     /// pixel inspector armed and returns its path: the kernel a render runs, with the same
-    /// random numbers, so the path is the one that sample of a render takes. The film is left
-    /// as it was. Only the path-tracing kernel (integrators `pathtracer` and `direct`, image
+    /// random numbers, so the path is the one that sample of a render takes (the kernel is
+    /// compiled once more with the inspector's hooks, which renders leave out). The film is
+    /// left as it was. Only the path-tracing kernel (integrators `pathtracer` and `direct`, image
     /// pass, no debug view) records paths.
     pub fn inspect(&mut self, x: u32, y: u32, sample: u32) -> Result<PathRecord, GpuError> {
         if self.kernel.entry_point != "render_sample" {
@@ -395,7 +401,16 @@ impl<'a> PathTracer<'a> {
         self.frame.sample_index = sample;
         self.frame.inspect_pixel = pixel;
         let film = self.save_pixel(pixel);
+        let wanted = self.kernel.inspecting();
+        if self.inspector.as_ref().is_none_or(|(kernel, _)| *kernel != wanted) {
+            let pipeline = wanted.compile(&self.ctx.device, &self.layout);
+            self.inspector = Some((wanted, pipeline));
+        }
+        let inspecting = &mut self.inspector.as_mut().expect("compiled above").1;
+        std::mem::swap(&mut self.pipeline, inspecting);
         let traced = self.dispatch_tile(pixel, 1);
+        let inspecting = &mut self.inspector.as_mut().expect("compiled above").1;
+        std::mem::swap(&mut self.pipeline, inspecting);
         self.restore_pixel(pixel, &film);
         self.frame = saved;
         traced?;

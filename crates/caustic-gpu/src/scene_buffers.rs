@@ -1,5 +1,6 @@
 //! Building the BVH and uploading a scene into the buffers the kernels read.
 
+use crate::requirements::{GEOMETRY_REQUIREMENTS, geometry_requirements, shading_requirements};
 use crate::scene_data::{SceneData, device_lights, device_materials};
 use crate::specialize;
 use crate::{GpuContext, GpuError};
@@ -66,6 +67,9 @@ pub struct GpuScene {
     /// The classic ray tracer's features the scene uses ([`crate::classic::scene_features`]),
     /// on by default in its kernel.
     pub classic_features: u32,
+    /// The optional parts of the kernels the scene needs ([`crate::requirements`]), for the
+    /// `SCENE_REQUIRES` override.
+    pub requirements: u32,
 }
 
 impl GpuScene {
@@ -114,6 +118,8 @@ impl GpuScene {
             alpha_test: data.alpha_test,
             motion_blur: moving.any(),
             classic_features: crate::classic::scene_features(scene),
+            requirements: geometry_requirements(&data)
+                | shading_requirements(&data.materials, &data.lights, &scene.environment),
         };
         ctx.check()?;
         Ok(uploaded)
@@ -130,6 +136,7 @@ impl GpuScene {
         let materials = device_materials(scene);
         self.lobe_mask = crate::scene_data::lobe_mask(scene);
         self.classic_features = crate::classic::scene_features(scene);
+        self.requirements = (self.requirements & GEOMETRY_REQUIREMENTS) | shading_requirements(&materials, &lights, &scene.environment);
         // Edited scenes read their tables from the buffers: one recompile at the first edit,
         // none at later ones (a kernel with the tables baked in takes seconds to compile).
         self.tables = None;

@@ -14,8 +14,9 @@ macro_rules! shader_file {
     };
 }
 
-const COMMON: [ShaderFile; 6] = [
+const COMMON: [ShaderFile; 7] = [
     shader_file!("common/types.wgsl"),
+    shader_file!("common/requires.wgsl"),
     shader_file!("common/rng.wgsl"),
     shader_file!("common/sampling.wgsl"),
     shader_file!("common/filter.wgsl"),
