@@ -140,17 +140,20 @@ fn permute(index: u32, n: u32, key: u32) -> u32 {
 }
 
 // The second Sobol dimension, as a 32-bit fixed-point fraction: direction numbers
-// v0 = 2^31, v(j+1) = vj ^ (vj >> 1) (primitive polynomial x + 1).
+// v0 = 2^31, v(j+1) = vj ^ (vj >> 1) (primitive polynomial x + 1), so bit 31 - k of vj is
+// C(j, k) mod 2, which by Lucas' theorem is 1 exactly when k is a submask of j. Bit 31 - k of
+// the XOR of the vj over the index's set bits j is then the parity of the set bits j
+// containing k: a superset sum over the five bits of bit positions, five shift-and-mask steps
+// on the packed word, then reversed. The same bits as the loop over the index's bits it
+// replaces (32 iterations for a scrambled index, each run by every lane on lavapipe).
 fn sobol_dimension_1(index: u32) -> u32 {
-    var result = 0u;
-    var v = 0x80000000u;
-    for (var i = index; i != 0u; i >>= 1u) {
-        if (i & 1u) != 0u {
-            result ^= v;
-        }
-        v ^= v >> 1u;
-    }
-    return result;
+    var x = index;
+    x ^= (x >> 1u) & 0x55555555u;
+    x ^= (x >> 2u) & 0x33333333u;
+    x ^= (x >> 4u) & 0x0f0f0f0fu;
+    x ^= (x >> 8u) & 0x00ff00ffu;
+    x ^= (x >> 16u) & 0x0000ffffu;
+    return reverseBits(x);
 }
 
 // Owen scrambling of a 32-bit fraction: Laine-Karras permutation of the reversed bits, with

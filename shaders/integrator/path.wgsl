@@ -84,74 +84,125 @@ fn emission_weight(bounce: u32, after_delta: bool, bsdf_pdf: f32, pdf_light: f32
     return select(0.0, power_heuristic(bsdf_pdf, f32(light_sample_count()) * pdf_light), next_event_mode() == NEE_MIS);
 }
 
-fn trace_path(primary: Ray, rng: ptr<function, Rng>) -> vec3<f32> {
-    var ray = primary;
-    var radiance = vec3<f32>(0.0);
-    var throughput = vec3<f32>(1.0);
-    var bsdf_pdf = 0.0;
-    var after_delta = false;
+// A path between bounces: the ray it traces next and what it has gathered so far.
+struct PathState {
+    ray: Ray,
+    radiance: vec3<f32>,
+    throughput: vec3<f32>,
+    // Density of the BSDF sample that made `ray` (for MIS at the emitter it finds).
+    bsdf_pdf: f32,
+    after_delta: bool,
     // Product of eta^2 over the refractions so far: Russian roulette judges the throughput
     // without the radiance scaling, which cancels when the path leaves the medium (pbrt's
     // etaScale), so paths inside glass are not cut for carrying 1 / eta^2.
-    var eta_scale = 1.0;
-    let max_bounces = min(frame.max_depth, SAFETY_MAX_BOUNCES);
+    eta_scale: f32,
+    bounce: u32,
+}
+
+fn begin_path(primary: Ray) -> PathState {
     path_vertices = 0u;
-    for (var bounce = 0u; ; bounce++) {
-        let hit = closest_hit(ray, 3.0e38);
-        inspect_ray(bounce, ray, hit, throughput, radiance);
-        if hit.triangle == NO_HIT {
-            let pdf_light = environment_light_pdf(ray.direction);
-            radiance += throughput * environment_radiance(ray.direction) * emission_weight(bounce, after_delta, bsdf_pdf, pdf_light);
-            inspect_end(END_ESCAPED, radiance);
-            break;
-        }
-        path_vertices = bounce + 1u;
-        let si = surface_interaction(ray, hit);
-        throughput *= medium_transmittance(si, hit.t);
-        if si.front_face && any(si.material.emission > vec3<f32>(0.0)) {
-            let weight = emission_weight(bounce, after_delta, bsdf_pdf, emitter_light_pdf(ray, hit));
-            radiance += throughput * si.material.emission * weight;
-        }
-        if bounce >= max_bounces {
-            inspect_end(END_MAX_DEPTH, radiance);
-            break;
-        }
-        let local = shading_frame(si.material, si.ns);
-        let wo = vec3<f32>(dot(-ray.direction, local.t), dot(-ray.direction, local.b), dot(-ray.direction, si.ns));
-        radiance += throughput * next_events(si, local, wo, rng);
-        let u_lobe = next_f32(rng);
-        let bs = sample_bsdf(si.material, relative_ior(si), wo, u_lobe, next_2d(rng), sampling_mode());
-        let wi = frame_to_world(local, bs.wi);
-        inspect_bsdf(wi, bs.pdf, bs.weight);
-        if bs.pdf <= 0.0 || !same_side(si, wi, bs.wi.z) {
-            inspect_end(END_ABSORBED, radiance);
-            break;
-        }
-        throughput *= bs.weight;
-        bsdf_pdf = bs.pdf;
-        after_delta = bs.delta;
-        eta_scale *= bs.eta * bs.eta;
-        if bounce + 1u >= frame.rr_start {
-            let survive = min(max(throughput.x, max(throughput.y, throughput.z)) * eta_scale, 0.95);
-            if next_f32(rng) >= survive {
-                inspect_end(END_ROULETTE, radiance);
-                break;
-            }
-            throughput /= survive;
-        }
-        ray = spawn_ray(si, wi);
+    return PathState(primary, vec3<f32>(0.0), vec3<f32>(1.0), 0.0, false, 1.0, 0u);
+}
+
+// Traces the path's next ray and scatters where it lands: emission found, next-event
+// estimation, a BSDF sample, Russian roulette. Returns false when the path has ended (its
+// radiance is then final).
+fn extend_path(path: ptr<function, PathState>, rng: ptr<function, Rng>) -> bool {
+    let bounce = (*path).bounce;
+    let ray = (*path).ray;
+    let hit = closest_hit(ray, 3.0e38);
+    inspect_ray(bounce, ray, hit, (*path).throughput, (*path).radiance);
+    if hit.triangle == NO_HIT {
+        let pdf_light = environment_light_pdf(ray.direction);
+        (*path).radiance += (*path).throughput * environment_radiance(ray.direction) * emission_weight(bounce, (*path).after_delta, (*path).bsdf_pdf, pdf_light);
+        inspect_end(END_ESCAPED, (*path).radiance);
+        return false;
     }
-    return radiance;
+    path_vertices = bounce + 1u;
+    let si = surface_interaction(ray, hit);
+    (*path).throughput *= medium_transmittance(si, hit.t);
+    if si.front_face && any(si.material.emission > vec3<f32>(0.0)) {
+        let weight = emission_weight(bounce, (*path).after_delta, (*path).bsdf_pdf, emitter_light_pdf(ray, hit));
+        (*path).radiance += (*path).throughput * si.material.emission * weight;
+    }
+    if bounce >= min(frame.max_depth, SAFETY_MAX_BOUNCES) {
+        inspect_end(END_MAX_DEPTH, (*path).radiance);
+        return false;
+    }
+    let local = shading_frame(si.material, si.ns);
+    let wo = vec3<f32>(dot(-ray.direction, local.t), dot(-ray.direction, local.b), dot(-ray.direction, si.ns));
+    (*path).radiance += (*path).throughput * next_events(si, local, wo, rng);
+    let u_lobe = next_f32(rng);
+    let bs = sample_bsdf(si.material, relative_ior(si), wo, u_lobe, next_2d(rng), sampling_mode());
+    let wi = frame_to_world(local, bs.wi);
+    inspect_bsdf(wi, bs.pdf, bs.weight);
+    if bs.pdf <= 0.0 || !same_side(si, wi, bs.wi.z) {
+        inspect_end(END_ABSORBED, (*path).radiance);
+        return false;
+    }
+    (*path).throughput *= bs.weight;
+    (*path).bsdf_pdf = bs.pdf;
+    (*path).after_delta = bs.delta;
+    (*path).eta_scale *= bs.eta * bs.eta;
+    if bounce + 1u >= frame.rr_start {
+        let t = (*path).throughput;
+        let survive = min(max(t.x, max(t.y, t.z)) * (*path).eta_scale, 0.95);
+        if next_f32(rng) >= survive {
+            inspect_end(END_ROULETTE, (*path).radiance);
+            return false;
+        }
+        (*path).throughput /= survive;
+    }
+    (*path).ray = spawn_ray(si, wi);
+    (*path).bounce = bounce + 1u;
+    return true;
+}
+
+// The radiance one path starting with `primary` carries to the camera.
+fn trace_path(primary: Ray, rng: ptr<function, Rng>) -> vec3<f32> {
+    var path = begin_path(primary);
+    while extend_path(&path, rng) {
+    }
+    return path.radiance;
+}
+
+// Paths each invocation of render_sample traces in turn (PathTracer dispatches
+// tile_pixels / PATHS_PER_INVOCATION invocations): invocation i takes the tile's pixels i,
+// i + stride, i + 2 stride, ..., starting the next as soon as a path ends, so the lanes of a
+// SIMD packet stay busy while the paths' lengths differ (path regeneration). On lavapipe a
+// packet otherwise runs as many bounces as its longest path; 1 (one pixel per invocation)
+// suits GPUs, which need the invocations. Each pixel's sample keeps its random numbers, so
+// the image does not depend on the value.
+override PATHS_PER_INVOCATION: u32 = 1u;
+
+// The camera ray of `pixel`'s sample of this pass, its random numbers and the inspector
+// armed for it.
+fn begin_sample(pixel: u32, rng: ptr<function, Rng>) -> PathState {
+    inspect_begin(pixel);
+    *rng = rng_for_sample(pixel, frame.sample_index, frame.seed);
+    return begin_path(pixel_ray(pixel, rng));
 }
 
 @compute @workgroup_size(64)
-fn render_sample(@builtin(global_invocation_id) id: vec3<u32>) {
+fn render_sample(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
     if id.x >= frame.tile_pixels {
         return;
     }
-    let pixel = begin_pixel(id.x);
-    inspect_begin(pixel);
-    var rng = rng_for_sample(pixel, frame.sample_index, frame.seed);
-    let ray = pixel_ray(pixel, &rng);
-    record_sample(pixel, trace_path(ray, &rng));
+    let stride = groups.x * 64u;
+    var local = id.x;
+    var pixel = begin_pixel(local);
+    var rng: Rng;
+    var path = begin_sample(pixel, &rng);
+    loop {
+        if extend_path(&path, &rng) {
+            continue;
+        }
+        record_sample(pixel, path.radiance);
+        local += stride;
+        if PATHS_PER_INVOCATION == 1u || local >= frame.tile_pixels {
+            break;
+        }
+        pixel = begin_pixel(local);
+        path = begin_sample(pixel, &rng);
+    }
 }

@@ -393,6 +393,10 @@ pub struct BenchArgs {
     /// not only what the scene requires).
     #[arg(long, default_value = "auto", value_parser = parse_data_path)]
     pub data_path: caustic_gpu::DataPath,
+    /// Pixels one invocation of the 1-spp render's path tracer traces in turn (path
+    /// regeneration; default: 32 on CPU devices, 1 on GPUs). The image does not depend on it.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
+    pub paths_per_invocation: Option<u32>,
     /// BVH split method: sah (binned surface area heuristic) or midpoint (the classic
     /// builder, for comparison).
     #[arg(long, default_value = "sah", value_parser = parse_split)]

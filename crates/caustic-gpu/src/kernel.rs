@@ -8,7 +8,7 @@ use crate::path_tracer::{DataPath, DebugView, RenderSettings};
 use crate::requirements::{REQUIRES_ALL, REQUIRES_INSPECTOR};
 use crate::shaders::Program;
 use crate::specialize::TRAVERSAL_FILE;
-use crate::GpuScene;
+use crate::{GpuContext, GpuScene};
 use crate::features::FeatureConstants;
 use caustic_scene::{Integrator, RenderPass};
 
@@ -41,11 +41,14 @@ pub struct Kernel {
     /// program the scene needs ([`crate::requirements`]); every part for the general kernel
     /// ([`DataPath::Buffers`]).
     pub requirements: u32,
+    /// The `PATHS_PER_INVOCATION` override (`integrator/path.wgsl`): how many of a tile's
+    /// pixels one invocation of `render_sample` traces in turn ([`paths_per_invocation`]).
+    pub paths_per_invocation: u32,
 }
 
 impl Kernel {
-    /// The kernel `settings` ask for on `gpu`'s scene.
-    pub fn for_render(gpu: &GpuScene, settings: &RenderSettings) -> Kernel {
+    /// The kernel `settings` ask for on `gpu`'s scene, on `ctx`'s device.
+    pub fn for_render(ctx: &GpuContext, gpu: &GpuScene, settings: &RenderSettings) -> Kernel {
         Kernel {
             entry_point: entry_point(settings),
             traversal: traversal(gpu, settings),
@@ -60,7 +63,13 @@ impl Kernel {
                 DataPath::Auto | DataPath::Traversal => gpu.requirements,
                 DataPath::Buffers => REQUIRES_ALL,
             },
+            paths_per_invocation: settings.paths_per_invocation.unwrap_or_else(|| paths_per_invocation(ctx)).max(1),
         }
+    }
+
+    /// Invocations of the kernel's entry point that cover `pixels` pixels of a tile.
+    pub fn invocations(&self, pixels: u32) -> u32 {
+        if self.entry_point == "render_sample" { pixels.div_ceil(self.paths_per_invocation) } else { pixels }
     }
 
     /// This kernel with the pixel inspector's hooks compiled in ([`crate::PathTracer::inspect`]).
@@ -91,6 +100,9 @@ impl Kernel {
         constants.extend(self.classic.overrides());
         constants.push(("BVH_LEVELS", f64::from(u8::from(self.bvh_levels))));
         constants.push(("SCENE_REQUIRES", f64::from(self.requirements)));
+        if self.entry_point == "render_sample" {
+            constants.push(("PATHS_PER_INVOCATION", f64::from(self.paths_per_invocation)));
+        }
         device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some(self.entry_point),
             layout: Some(&pipeline_layout),
@@ -150,3 +162,13 @@ fn entry_point(settings: &RenderSettings) -> &'static str {
     }
 }
 
+/// Paths one invocation of the path tracer traces in turn on CPU devices (lavapipe): a lane
+/// whose path ends takes the next pixel instead of idling until the longest path of its SIMD
+/// packet ends (docs/PERFORMANCE.md, "Path regeneration").
+pub const CPU_PATHS_PER_INVOCATION: u32 = 32;
+
+/// [`Kernel::paths_per_invocation`] for `ctx`'s device: [`CPU_PATHS_PER_INVOCATION`] on a CPU
+/// device, 1 on GPUs, which need one invocation per pixel to fill their cores.
+pub fn paths_per_invocation(ctx: &GpuContext) -> u32 {
+    if ctx.adapter.device_type == "Cpu" { CPU_PATHS_PER_INVOCATION } else { 1 }
+}

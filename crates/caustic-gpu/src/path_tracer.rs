@@ -42,6 +42,10 @@ pub struct RenderSettings {
     pub filter: PixelFilter,
     /// The classic ray tracer's feature switches (`--feature`, [`crate::features`]).
     pub features: ClassicFeatures,
+    /// Pixels one invocation of the path tracer traces in turn (path regeneration,
+    /// `integrator/path.wgsl`); `None`: the device's default
+    /// ([`crate::kernel::paths_per_invocation`]). The image does not depend on it.
+    pub paths_per_invocation: Option<u32>,
 }
 
 /// The sample generator (`shaders/common/rng.wgsl`, chosen by its `SAMPLER` override).
@@ -123,6 +127,7 @@ impl Default for RenderSettings {
             sampler: Sampler::Sobol,
             filter: PixelFilter::default(),
             features: ClassicFeatures::default(),
+            paths_per_invocation: None,
         }
     }
 }
@@ -224,7 +229,7 @@ impl<'a> PathTracer<'a> {
         let device = &ctx.device;
         let frame_buffer = ctx.buffer_with_data("frame", bytemuck::bytes_of(&frame), wgpu::BufferUsages::STORAGE);
         let layout = bind_group_layout(device);
-        let kernel = Kernel::for_render(gpu, settings);
+        let kernel = Kernel::for_render(ctx, gpu, settings);
         let pipeline = kernel.compile(device, &layout);
         let inspection = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("inspection"),
@@ -263,7 +268,7 @@ impl<'a> PathTracer<'a> {
     /// a BSDF lobe the compiled kernel left out). Afterwards the tracer renders exactly what a
     /// new one would.
     pub fn restart(&mut self, scene: &Scene, gpu: &GpuScene, settings: &RenderSettings) -> Result<(), GpuError> {
-        let wanted = Kernel::for_render(gpu, settings);
+        let wanted = Kernel::for_render(self.ctx, gpu, settings);
         if wanted != self.kernel {
             self.pipeline = wanted.compile(&self.ctx.device, &self.layout);
             self.kernel = wanted;
@@ -321,7 +326,7 @@ impl<'a> PathTracer<'a> {
             let mut pass = encoder.begin_compute_pass(&Default::default());
             pass.set_pipeline(&self.pipeline);
             pass.set_bind_group(0, &self.bind_group, &[]);
-            pass.dispatch_workgroups(pixels.div_ceil(WORKGROUP_SIZE), 1, 1);
+            pass.dispatch_workgroups(self.kernel.invocations(pixels).div_ceil(WORKGROUP_SIZE), 1, 1);
         }
         self.ctx.queue.submit([encoder.finish()]);
         self.ctx.wait()
