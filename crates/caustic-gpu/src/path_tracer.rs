@@ -516,10 +516,7 @@ fn frame_constants(scene: &Scene, gpu: &GpuScene, settings: &RenderSettings) -> 
         seed: settings.seed,
         environment_color: gpu.environment_color.unwrap_or_default().to_array(),
         environment_mode: u32::from(gpu.environment_color.is_none()),
-        max_depth: match (settings.pass, settings.integrator) {
-            (RenderPass::Image, Integrator::Direct) => 1,
-            _ => settings.max_depth.unwrap_or(u32::MAX),
-        },
+        max_depth: depth_limit(settings).unwrap_or(u32::MAX),
         light_count: gpu.light_count,
         total_light_power: gpu.total_light_power,
         rr_start: if scene.options.russian_roulette { settings.rr_start } else { u32::MAX },
@@ -582,4 +579,13 @@ fn bind_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
             entry(11, read),
         ],
     })
+}
+
+/// The bounces a path may take under `settings` (`None`: unbounded, Russian roulette ends
+/// paths): `Direct` is the path tracer limited to one bounce.
+pub(crate) fn depth_limit(settings: &RenderSettings) -> Option<u32> {
+    match (settings.pass, settings.integrator) {
+        (RenderPass::Image, Integrator::Direct) => Some(1),
+        _ => settings.max_depth,
+    }
 }

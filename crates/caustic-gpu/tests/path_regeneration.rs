@@ -43,3 +43,18 @@ fn regenerated_paths_render_the_same_image() {
     glass.resolution = (40, 30);
     same_for_every_count(&ctx, "refraction.scene (path traced, unbounded depth)", &glass);
 }
+
+#[test]
+fn cpu_devices_regenerate_only_paths_that_may_be_long() {
+    use caustic_gpu::kernel::{CPU_PATHS_PER_INVOCATION, REGENERATION_MIN_DEPTH, paths_per_invocation};
+    let ctx = GpuContext::new(std::env::var("CAUSTIC_ADAPTER").ok().as_deref()).expect("device");
+    if ctx.adapter.device_type != "Cpu" {
+        println!("skipped: {} is not a CPU device (GPUs trace one path per invocation)", ctx.adapter);
+        assert_eq!(paths_per_invocation(&ctx, None), 1);
+        return;
+    }
+    assert_eq!(paths_per_invocation(&ctx, None), CPU_PATHS_PER_INVOCATION);
+    assert_eq!(paths_per_invocation(&ctx, Some(REGENERATION_MIN_DEPTH)), CPU_PATHS_PER_INVOCATION);
+    assert_eq!(paths_per_invocation(&ctx, Some(REGENERATION_MIN_DEPTH - 1)), 1);
+    assert_eq!(paths_per_invocation(&ctx, Some(1)), 1);
+}
