@@ -401,6 +401,9 @@ pub struct BenchArgs {
     /// builder, for comparison).
     #[arg(long, default_value = "sah", value_parser = parse_split)]
     pub split: caustic_bvh::SplitMethod,
+    /// Largest leaf the SAH may choose (1 to 16; nodes with more primitives are always split).
+    #[arg(long, default_value_t = 4, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=16))]
+    pub max_leaf_size: u32,
     /// With --split sah: nodes of at most this many primitives use the exact SAH sweep
     /// instead of bins (0: never).
     #[arg(long, default_value_t = 0, value_name = "N")]

@@ -104,7 +104,7 @@ fn bench_ray_set(ctx: &GpuContext, name: &str, rays: &[ExternalRay], args: &Benc
     let start = Instant::now();
     let scene = load_scene(&SceneSource::parse(name))?;
     let load_ms = start.elapsed().as_secs_f64() * 1e3;
-    let gpu_scene = GpuScene::upload(ctx, &scene)?;
+    let gpu_scene = GpuScene::upload_with(ctx, &scene, &build_options(args))?;
     let bench = RayBench::with_rays(ctx, &gpu_scene, rays)?;
     let result = bench.run(RayKind::External, args.repeats)?;
     if let Some(path) = &args.hits {
@@ -140,11 +140,16 @@ fn print_ray_set_row(r: &RaySetReport, header: bool) {
     );
 }
 
+/// The BVH build the command line asks for (split method, exact sweep, leaf size).
+fn build_options(args: &BenchArgs) -> BuildOptions {
+    BuildOptions { split: args.split, sweep_below: args.sweep_below, max_leaf_size: args.max_leaf_size as usize, ..BuildOptions::default() }
+}
+
 fn bench_mesh(ctx: &GpuContext, name: &str, args: &BenchArgs) -> anyhow::Result<MeshReport> {
     let start = Instant::now();
     let scene = load_scene(&SceneSource::parse(name))?;
     let load_ms = start.elapsed().as_secs_f64() * 1e3;
-    let gpu_scene = GpuScene::upload_with(ctx, &scene, &BuildOptions { split: args.split, sweep_below: args.sweep_below, ..BuildOptions::default() })?;
+    let gpu_scene = GpuScene::upload_with(ctx, &scene, &build_options(args))?;
     let SamplePassTimes { kernel_ms, first_pass_ms, best_ms: render_ms_1spp } = sample_pass_times(ctx, &scene, &gpu_scene, args)?;
     let bench = RayBench::new(ctx, &gpu_scene, &scene.camera, args.grid)?;
     let primary: BenchResult = bench.run(RayKind::Primary, args.repeats)?;
