@@ -4,7 +4,7 @@
 //! [`Kernel`]s share one compiled pipeline; a change of any part recompiles.
 
 use crate::bake::BakedTables;
-use crate::path_tracer::{DataPath, DebugView, RenderSettings};
+use crate::path_tracer::{DataPath, DebugView, RenderSettings, depth_limit};
 use crate::requirements::{REQUIRES_ALL, REQUIRES_INSPECTOR};
 use crate::shaders::Program;
 use crate::specialize::TRAVERSAL_FILE;
@@ -42,15 +42,21 @@ pub struct Kernel {
     /// ([`DataPath::Buffers`]).
     pub requirements: u32,
     /// The `PATHS_PER_INVOCATION` override (`integrator/path.wgsl`): how many of a tile's
-    /// pixels one invocation of `render_sample` traces in turn ([`paths_per_invocation`]).
+    /// pixels one invocation of `render_sample` traces in turn ([`paths_per_invocation`]);
+    /// 1 for the other entry points, which trace one pixel per invocation.
     pub paths_per_invocation: u32,
 }
 
 impl Kernel {
     /// The kernel `settings` ask for on `gpu`'s scene, on `ctx`'s device.
     pub fn for_render(ctx: &GpuContext, gpu: &GpuScene, settings: &RenderSettings) -> Kernel {
+        let entry_point = entry_point(settings);
+        let paths_per_invocation = match entry_point {
+            "render_sample" => settings.paths_per_invocation.unwrap_or_else(|| paths_per_invocation(ctx, depth_limit(settings))).max(1),
+            _ => 1,
+        };
         Kernel {
-            entry_point: entry_point(settings),
+            entry_point,
             traversal: traversal(gpu, settings),
             tables: tables(gpu, settings),
             sampler: settings.sampler.override_value() as u32,
@@ -63,13 +69,13 @@ impl Kernel {
                 DataPath::Auto | DataPath::Traversal => gpu.requirements,
                 DataPath::Buffers => REQUIRES_ALL,
             },
-            paths_per_invocation: settings.paths_per_invocation.unwrap_or_else(|| paths_per_invocation(ctx, crate::path_tracer::depth_limit(settings))).max(1),
+            paths_per_invocation,
         }
     }
 
     /// Invocations of the kernel's entry point that cover `pixels` pixels of a tile.
     pub fn invocations(&self, pixels: u32) -> u32 {
-        if self.entry_point == "render_sample" { pixels.div_ceil(self.paths_per_invocation) } else { pixels }
+        pixels.div_ceil(self.paths_per_invocation)
     }
 
     /// This kernel with the pixel inspector's hooks compiled in ([`crate::PathTracer::inspect`]).
@@ -100,9 +106,7 @@ impl Kernel {
         constants.extend(self.classic.overrides());
         constants.push(("BVH_LEVELS", f64::from(u8::from(self.bvh_levels))));
         constants.push(("SCENE_REQUIRES", f64::from(self.requirements)));
-        if self.entry_point == "render_sample" {
-            constants.push(("PATHS_PER_INVOCATION", f64::from(self.paths_per_invocation)));
-        }
+        constants.push(("PATHS_PER_INVOCATION", f64::from(self.paths_per_invocation)));
         device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some(self.entry_point),
             layout: Some(&pipeline_layout),
