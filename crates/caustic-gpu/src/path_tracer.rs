@@ -406,21 +406,29 @@ impl<'a> PathTracer<'a> {
         self.frame.sample_index = sample;
         self.frame.inspect_pixel = pixel;
         let film = self.save_pixel(pixel);
-        let wanted = self.kernel.inspecting();
-        if self.inspector.as_ref().is_none_or(|(kernel, _)| *kernel != wanted) {
-            let pipeline = wanted.compile(&self.ctx.device, &self.layout);
-            self.inspector = Some((wanted, pipeline));
-        }
-        let inspecting = &mut self.inspector.as_mut().expect("compiled above").1;
-        std::mem::swap(&mut self.pipeline, inspecting);
+        let inspecting = self.inspecting_pipeline();
+        let rendering = std::mem::replace(&mut self.pipeline, inspecting);
         let traced = self.dispatch_tile(pixel, 1);
-        let inspecting = &mut self.inspector.as_mut().expect("compiled above").1;
-        std::mem::swap(&mut self.pipeline, inspecting);
+        self.pipeline = rendering;
         self.restore_pixel(pixel, &film);
         self.frame = saved;
         traced?;
         let record: Vec<InspectRecord> = read_buffer(self.ctx, &self.inspection)?;
         PathRecord::decode(&record[0], self.frame.width)
+    }
+
+    /// The render's kernel with the inspector's hooks, compiled at the first inspection of this
+    /// kernel and kept.
+    fn inspecting_pipeline(&mut self) -> wgpu::ComputePipeline {
+        let wanted = self.kernel.inspecting();
+        match &self.inspector {
+            Some((kernel, pipeline)) if *kernel == wanted => pipeline.clone(),
+            _ => {
+                let pipeline = wanted.compile(&self.ctx.device, &self.layout);
+                self.inspector = Some((wanted, pipeline.clone()));
+                pipeline
+            }
+        }
     }
 
     /// Copies pixel `pixel`'s accumulation texel and non-finite count aside.

@@ -48,6 +48,11 @@ pub const REQUIRES_ALL: u32 = 0x1fff;
 /// The bits that follow from the geometry, which [`crate::GpuScene::update_materials`] keeps.
 pub const GEOMETRY_REQUIREMENTS: u32 = REQUIRES_SHAPES | REQUIRES_PLANES | REQUIRES_VERTEX_NORMALS | REQUIRES_QUAD_LIGHTS;
 
+/// Every part `data` needs under `environment`: what [`crate::GpuScene::upload`] compiles.
+pub fn scene_requirements(data: &SceneData, environment: &Environment) -> u32 {
+    geometry_requirements(data) | shading_requirements(&data.materials, &data.lights, environment)
+}
+
 /// The parts the geometry needs: its shapes, and the flags of its triangles' and shapes'
 /// shading entries (not the extension entries after them, whose flags hold tangent signs).
 pub fn geometry_requirements(data: &SceneData) -> u32 {
@@ -103,16 +108,11 @@ pub fn shading_requirements(materials: &[GpuMaterial], lights: &[GpuLight], envi
 #[cfg(test)]
 mod tests {
     use super::*;
-    use caustic_scene::Scene;
-
-    fn requirements(scene: &Scene) -> u32 {
-        let data = SceneData::new(scene);
-        geometry_requirements(&data) | shading_requirements(&data.materials, &data.lights, &scene.environment)
-    }
 
     #[test]
     fn the_cornell_box_requires_no_optional_part() {
-        assert_eq!(requirements(&caustic_scene::cornell_box()), 0);
+        let cornell = caustic_scene::cornell_box();
+        assert_eq!(scene_requirements(&SceneData::new(&cornell), &cornell.environment), 0);
     }
 
     #[test]

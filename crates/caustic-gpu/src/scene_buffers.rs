@@ -1,6 +1,6 @@
 //! Building the BVH and uploading a scene into the buffers the kernels read.
 
-use crate::requirements::{GEOMETRY_REQUIREMENTS, geometry_requirements, shading_requirements};
+use crate::requirements::{GEOMETRY_REQUIREMENTS, scene_requirements, shading_requirements};
 use crate::scene_data::{SceneData, device_lights, device_materials};
 use crate::specialize;
 use crate::{GpuContext, GpuError};
@@ -118,8 +118,7 @@ impl GpuScene {
             alpha_test: data.alpha_test,
             motion_blur: moving.any(),
             classic_features: crate::classic::scene_features(scene),
-            requirements: geometry_requirements(&data)
-                | shading_requirements(&data.materials, &data.lights, &scene.environment),
+            requirements: scene_requirements(&data, &scene.environment),
         };
         ctx.check()?;
         Ok(uploaded)

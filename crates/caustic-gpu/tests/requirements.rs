@@ -105,6 +105,5 @@ fn the_inspector_runs_its_own_kernel_and_records_the_render_path() {
 
 /// The requirement bits the upload computes, for scenes whose exact set is long to spell out.
 fn expected_bits(scene: &Scene) -> u32 {
-    let data = caustic_gpu::SceneData::new(scene);
-    geometry_requirements(&data) | shading_requirements(&data.materials, &data.lights, &scene.environment)
+    scene_requirements(&caustic_gpu::SceneData::new(scene), &scene.environment)
 }
