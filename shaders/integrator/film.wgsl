@@ -12,6 +12,11 @@ var<private> filter_weight: f32 = 1.0;
 fn begin_pixel(local: u32) -> u32 {
     plane_range = vec2<u32>(frame.first_plane, frame.shape_count);
     pixel_sampling = frame.pixel_sampling;
+    return tile_pixel(local);
+}
+
+// Pixel index of position `local` of the current tile.
+fn tile_pixel(local: u32) -> u32 {
     return frame.tile_start + local;
 }
 

@@ -202,7 +202,9 @@ fn render_sample(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_work
         if PATHS_PER_INVOCATION == 1u || local >= frame.tile_pixels {
             break;
         }
-        pixel = begin_pixel(local);
+        // The pass's constants were set up once by begin_pixel: lavapipe would read them again
+        // in every bounce of this loop.
+        pixel = tile_pixel(local);
         path = begin_sample(pixel, &rng);
     }
 }

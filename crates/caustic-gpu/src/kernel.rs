@@ -171,10 +171,11 @@ fn entry_point(settings: &RenderSettings) -> &'static str {
 /// longest path of its SIMD packet ends (docs/PERFORMANCE.md, "Path regeneration").
 pub const CPU_PATHS_PER_INVOCATION: u32 = 32;
 
-/// Deepest bounded path for which regeneration does not pay: starting and recording a sample
-/// run, masked, in every bounce of the loop, which costs more than short paths leave idle
-/// (Cornell box: 1.4x slower at max depth 2, even at 5, 1.15x faster at 8 and unbounded).
-pub const REGENERATION_MIN_DEPTH: u32 = 8;
+/// Shallowest depth limit from which regeneration pays: starting and recording a sample run,
+/// masked, in every bounce of the loop, which costs more than very short paths leave idle
+/// (Cornell box: 0.75x at max depth 2, even at 3, 1.0-1.3x at 4, 1.1-1.4x at 5, 1.45x
+/// unbounded).
+pub const REGENERATION_MIN_DEPTH: u32 = 4;
 
 /// [`Kernel::paths_per_invocation`] for `ctx`'s device and a path depth limit (`None`:
 /// unbounded): [`CPU_PATHS_PER_INVOCATION`] on a CPU device for paths that may reach
