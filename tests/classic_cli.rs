@@ -5,7 +5,9 @@ mod support;
 
 /// Renders gallery scene `scene` at 64x48 and 2 spp with `extra` arguments; the image's mean.
 fn render(scene: &str, extra: &[&str]) -> [f64; 3] {
-    let out = support::scratch("classic-cli").join(format!("{scene}-{}.exr", extra.join("_").replace(['=', '-'], "")));
+    // A folder per render: scratch() empties its folder, and the tests run in parallel.
+    let name = format!("{scene}-{}", extra.join("_").replace(['=', '-'], ""));
+    let out = support::scratch(&format!("classic-cli-{name}")).join(format!("{name}.exr"));
     let path = support::workspace().join("assets/scenes/features").join(scene);
     let mut args = vec!["render", path.to_str().unwrap(), "--size", "64x48", "--spp", "2", "-o", out.to_str().unwrap(), "--json"];
     args.extend_from_slice(extra);
