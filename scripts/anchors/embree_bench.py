@@ -117,10 +117,11 @@ def embree_throughput(path, scene, origins, directions, repeats, processes):
     return single, len(origins) / max(times) / 1e6
 
 
-def caustic_trace(caustic, path, rays_file, hits_file, repeats):
+def caustic_trace(caustic, path, rays_file, hits_file, repeats, layout):
     """`caustic bench --rays` on the file: its JSON report, and its hits (t, triangle)."""
     out = subprocess.run(
-        [caustic, "bench", path, "--rays", rays_file, "--hits", hits_file, "--repeats", str(repeats), "--json"],
+        [caustic, "bench", path, "--rays", rays_file, "--hits", hits_file, "--repeats", str(repeats),
+         "--bvh-layout", layout, "--json"],
         check=True, capture_output=True, text=True,
     )
     report = json.loads(out.stdout)["meshes"][0]
@@ -146,6 +147,7 @@ def main():
     parser.add_argument("--grid", type=int, default=1024)
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--embree-threads", type=int, default=os.cpu_count())
+    parser.add_argument("--bvh-layout", default="wide", choices=["wide", "wide-exact", "binary"], help="Caustic's node layout")
     args = parser.parse_args()
     rng = np.random.default_rng(7)
     rows = []
@@ -158,12 +160,13 @@ def main():
             for kind, (origins, directions) in sets.items():
                 rays_file, hits_file = os.path.join(tmp, kind + ".rays"), os.path.join(tmp, kind + ".hits")
                 np.concatenate([origins, directions], axis=1).astype("<f4").tofile(rays_file)
-                report, t, tri = caustic_trace(args.caustic, path, rays_file, hits_file, args.repeats)
+                report, t, tri = caustic_trace(args.caustic, path, rays_file, hits_file, args.repeats, args.bvh_layout)
                 single, threaded = embree_throughput(path, scene, origins, directions, args.repeats, args.embree_threads)
                 same, rel = agreement(scene, origins, directions, t, tri)
                 rows.append((os.path.basename(path), len(triangles), kind, build_s * 1e3, report["bvh_build_ms"],
                              single, threaded, report["mrays_per_second"], same, rel))
-    print(f"threads for Embree's throughput: 1 and {args.embree_threads}; rays: {args.grid}x{args.grid}")
+    print(f"threads for Embree's throughput: 1 and {args.embree_threads}; rays: {args.grid}x{args.grid}; "
+          f"Caustic's BVH layout: {args.bvh_layout}")
     print("| mesh | triangles | rays | build ms Embree | build ms Caustic | ratio | Mrays/s Embree 1T | "
           f"Embree {args.embree_threads}T | Caustic | Caustic / Embree {args.embree_threads}T | same triangle | max rel t diff |")
     print("|---|---|---|---|---|---|---|---|---|---|---|---|")

@@ -1,7 +1,6 @@
-// Scene geometry: the BVH and its gathered triangles (group 0, shared by every kernel that
-// traces rays).
+// Scene geometry: the gathered triangles and shapes (group 0, shared by every kernel that
+// traces rays); the node array (binding 1) is declared by the walk that reads it.
 
-@group(0) @binding(1) var<storage, read> bvh_nodes: array<BvhNode>;
 @group(0) @binding(2) var<storage, read> bvh_triangles: array<BvhTriangle>;
 @group(0) @binding(9) var<storage, read> bvh_shapes: array<BvhShape>;
 

@@ -3,21 +3,9 @@
 // generated `trace` that tests every primitive in turn (crates/caustic-gpu/src/specialize.rs).
 // Moving primitives (bvh/motion.wgsl) meet the ray carried to their shutter-open frame.
 
-const LEAF_BIT: u32 = 0x80000000u;
-const EMPTY_CHILD: u32 = 0xffffffffu;
+@group(0) @binding(1) var<storage, read> bvh_nodes: array<BvhNode>;
+
 const STACK_SIZE: u32 = 64u;
-
-fn is_leaf(child: u32) -> bool {
-    return (child & LEAF_BIT) != 0u;
-}
-
-fn leaf_first(child: u32) -> u32 {
-    return child & 0x07ffffffu;
-}
-
-fn leaf_count(child: u32) -> u32 {
-    return ((child >> 27u) & 0xfu) + 1u;
-}
 
 // Closest hit along the ray in (0, t_max); with `any_hit` it returns at the first hit found.
 // Two inner loops ("while-while", Aila & Laine 2009): descend through interior nodes until
@@ -69,35 +57,8 @@ fn trace(ray: Ray, t_max: f32, any_hit: bool, cost: ptr<function, TraversalCost>
         if current == EMPTY_CHILD {
             break;
         }
-        let first = leaf_first(current);
-        let end = first + leaf_count(current);
-        for (var i = first; i < end; i++) {
-            let tri = bvh_triangles[i];
-            (*cost).triangles += 1u;
-            if scene_needs(REQUIRES_SHAPES) && (tri.id & SHAPE_BIT) != 0u {
-                let shape = bvh_shapes[tri.id & ~SHAPE_BIT];
-                let t = intersect_shape(ray_to_open(ray, tri.motion), shape, hit.t);
-                if t > 0.0 {
-                    hit = Hit(t, 0.0, 0.0, SHAPE_BIT | shape.id, tri.id & ~SHAPE_BIT);
-                    if BVH_LEVELS {
-                        hit_level = level;
-                    }
-                    if any_hit {
-                        return hit;
-                    }
-                }
-                continue;
-            }
-            let th = intersect_triangle(traversal_ray_to_open(r, ray, tri.motion), tri.v0, tri.v1, tri.v2, hit.t);
-            if th.t > 0.0 && (!ALPHA_TEST || alpha_visible(ray, tri.id, th.u, th.v)) {
-                hit = Hit(th.t, th.u, th.v, tri.id, i);
-                if BVH_LEVELS {
-                    hit_level = level;
-                }
-                if any_hit {
-                    return hit;
-                }
-            }
+        if intersect_leaf(ray, r, current, any_hit, level, &hit, cost) {
+            return hit;
         }
         // The next subtree.
         if sp == 0u {

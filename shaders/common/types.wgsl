@@ -89,6 +89,31 @@ struct BvhNode {
     _pad1: u32,
 }
 
+// A node of the compressed four-wide BVH (caustic_bvh::GpuWideNode): child i's box on an
+// axis is origin + q * step with q byte i of lo (minimum) or hi (maximum) and the step the
+// power of two whose biased exponent is that axis' byte of `exponents`.
+struct BvhWideNode {
+    origin: vec3<f32>,
+    exponents: u32,
+    lo: vec3<u32>,
+    child_count: u32,
+    hi: vec3<u32>,
+    _pad: u32,
+    children: vec4<u32>,
+}
+
+// A node of the exact four-wide BVH (caustic_bvh::GpuWideExactNode): child i's box is element
+// i of the six plane vectors.
+struct BvhWideExactNode {
+    min_x: vec4<f32>,
+    min_y: vec4<f32>,
+    min_z: vec4<f32>,
+    max_x: vec4<f32>,
+    max_y: vec4<f32>,
+    max_z: vec4<f32>,
+    children: vec4<u32>,
+}
+
 // Triangle corners gathered in BVH leaf order; `id` is the scene's triangle index.
 struct BvhTriangle {
     v0: vec3<f32>,

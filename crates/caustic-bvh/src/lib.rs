@@ -32,7 +32,9 @@ mod motion;
 mod shape;
 mod split;
 mod traverse;
+mod traverse_wide;
 mod triangle;
+mod wide;
 
 pub use aabb::Aabb;
 pub use build::{
@@ -47,4 +49,5 @@ pub use motion::{GpuMotion, MAX_SAMPLED_STEPS, MAX_SAMPLED_TURN, PrimitiveMotion
 pub use shape::{GpuShape, SHAPE_BIT, ShapeInput, ShapeKind, intersect_shape};
 pub use split::MAX_BINS;
 pub use traverse::{MIN_DIRECTION, ON_PLANE_EXIT, SLAB_EXIT_SCALE, STACK_SIZE};
+pub use wide::{GpuWideExactNode, GpuWideNode, WIDE_ARITY, WIDE_STACK_SIZE, WideError, WideNode, WideNodes};
 pub use triangle::{Hit, Ray, closest_hit_brute_force, intersect_triangle, refine_edge};

@@ -45,14 +45,14 @@ pub const SLAB_EXIT_SCALE: f32 = 1.0 + 2.0 * (3.0 * EPS_HALF_ULP / (1.0 - 3.0 * 
 const EPS_HALF_ULP: f32 = f32::EPSILON * 0.5;
 
 /// A ray with the per-ray constants of the slab test.
-struct SlabRay {
+pub(crate) struct SlabRay {
     origin: Vec3,
     inv_dir: Vec3,
     negative: glam::BVec3,
 }
 
 impl SlabRay {
-    fn new(ray: &Ray) -> SlabRay {
+    pub(crate) fn new(ray: &Ray) -> SlabRay {
         let d = ray.direction;
         let tiny = Vec3::splat(MIN_DIRECTION).copysign(d);
         let safe = Vec3::select(d.abs().cmplt(Vec3::splat(MIN_DIRECTION)), tiny, d);
@@ -71,7 +71,7 @@ impl SlabRay {
     /// direction and `max` for a negative one. `enter = max(near_x, near_y, near_z, 0)`,
     /// `exit = min(far_x, far_y, far_z, t_limit) * SLAB_EXIT_SCALE` (a `far` of exactly 0
     /// counting as [`ON_PLANE_EXIT`]), hit iff `enter <= exit`. An inverted (empty) box gives `near > far` and always misses.
-    fn entry(&self, min: Vec3, max: Vec3, t_limit: f32) -> f32 {
+    pub(crate) fn entry(&self, min: Vec3, max: Vec3, t_limit: f32) -> f32 {
         let near_plane = Vec3::select(self.negative, max, min);
         let far_plane = Vec3::select(self.negative, min, max);
         let near = (near_plane - self.origin) * self.inv_dir;
@@ -86,10 +86,10 @@ impl SlabRay {
 /// Work counters of one traversal, and the tree level of the leaf that holds the closest
 /// hit so far (the root node is level 0, its children level 1).
 #[derive(Default)]
-struct Counters {
-    nodes: usize,
-    triangles: usize,
-    hit_level: u32,
+pub(crate) struct Counters {
+    pub(crate) nodes: usize,
+    pub(crate) triangles: usize,
+    pub(crate) hit_level: u32,
 }
 
 impl GpuBvh {
@@ -178,7 +178,7 @@ impl GpuBvh {
     }
 
     /// Tests the triangles of a leaf word, returning the nearest hit inside `ray`'s range.
-    fn intersect_leaf(
+    pub(crate) fn intersect_leaf(
         &self,
         ray: &Ray,
         leaf: u32,
@@ -212,7 +212,7 @@ impl GpuBvh {
     }
 
     /// The planes, which no tree holds, tested after it.
-    fn intersect_planes(&self, ray: &Ray, any: bool) -> Option<Hit> {
+    pub(crate) fn intersect_planes(&self, ray: &Ray, any: bool) -> Option<Hit> {
         let mut clipped = *ray;
         let mut best = None;
         for shape in &self.shapes[self.first_plane as usize..] {

@@ -109,17 +109,36 @@ struct Disagreements {
     grazing: usize,
 }
 
-/// Traverses every probe ray through the BVH of `triangles` and through brute force; counts
-/// hits and disagreements (a different hit distance, or a hit on one side only; equal
-/// distances on different triangles are the same answer), and any-hit answers that disagree.
-/// A disagreement whose nearer hit lies within 8 ulps outside its triangle's box is grazing.
-fn compare(name: &str, triangles: &[[Vec3; 3]]) -> Disagreements {
+/// Which walk of the tree a comparison uses.
+#[derive(Clone, Copy, Debug)]
+enum Walk {
+    /// The binary layout ([`caustic_bvh::GpuBvh::closest_hit`]).
+    Binary,
+    /// The compressed four-wide layout ([`caustic_bvh::GpuBvh::closest_hit_wide`]).
+    Wide,
+    /// The exact four-wide layout (`f32` boxes).
+    WideExact,
+}
+
+/// Traverses every probe ray through the BVH of `triangles` (walked as `walk` says) and through
+/// brute force; counts hits and disagreements (a different hit distance, or a hit on one side
+/// only; equal distances on different triangles are the same answer), and any-hit answers
+/// that disagree. A disagreement whose nearer hit lies within 8 ulps outside its triangle's
+/// box is grazing.
+fn compare(name: &str, triangles: &[[Vec3; 3]], walk: Walk) -> Disagreements {
     let bvh = build(triangles, &BuildOptions::default());
     let gpu = flatten(&bvh, triangles);
+    let wide = gpu.to_wide().expect("the probe scenes quantise");
+    let exact = gpu.to_wide_exact().expect("shallow trees");
+    let trace = |ray: &Ray| match walk {
+        Walk::Binary => (gpu.closest_hit(ray), gpu.any_hit(ray)),
+        Walk::Wide => (gpu.closest_hit_wide(&wide, ray), gpu.any_hit_wide(&wide, ray)),
+        Walk::WideExact => (gpu.closest_hit_wide(&exact, ray), gpu.any_hit_wide(&exact, ray)),
+    };
     let (rays, along_edges) = probe_rays(triangles, &mut Rng(0x5eed_1234_abcd_0001));
     let (mut hits, mut edge_hits, mut found) = (0, 0, Disagreements::default());
     for (i, ray) in rays.iter().enumerate() {
-        let fast = gpu.closest_hit(ray);
+        let (fast, any) = trace(ray);
         let slow = closest_hit_brute_force(triangles, ray);
         hits += usize::from(slow.is_some());
         edge_hits += usize::from(i < along_edges && slow.is_some());
@@ -128,7 +147,7 @@ fn compare(name: &str, triangles: &[[Vec3; 3]]) -> Disagreements {
             (None, None) => true,
             _ => false,
         };
-        if !agree || gpu.any_hit(ray) != slow.is_some() {
+        if !agree || any != slow.is_some() {
             let nearer = [fast, slow].into_iter().flatten().min_by(|x, y| x.t.total_cmp(&y.t));
             let ulps = nearer.map_or(f32::INFINITY, |h| ulps_outside_box(triangles, ray, &h));
             match ulps <= 8.0 {
@@ -136,11 +155,11 @@ fn compare(name: &str, triangles: &[[Vec3; 3]]) -> Disagreements {
                 false => found.real += 1,
             }
             let corners = nearer.map(|h| triangles[h.triangle as usize]);
-            println!("  {name}: ray {ray:?}: BVH {fast:?}, brute force {slow:?}, triangle {corners:?}, {ulps:.1} ulps outside its box");
+            println!("  {name} ({walk:?}): ray {ray:?}: BVH {fast:?}, brute force {slow:?}, triangle {corners:?}, {ulps:.1} ulps outside its box");
         }
     }
     println!(
-        "{name}: {} triangles, {} rays ({along_edges} along edges, {edge_hits} of those hit), {hits} hits; disagreements with brute force: {} grazing, {} beyond rounding",
+        "{name} ({walk:?} walk): {} triangles, {} rays ({along_edges} along edges, {edge_hits} of those hit), {hits} hits; disagreements with brute force: {} grazing, {} beyond rounding",
         triangles.len(),
         rays.len(),
         found.grazing,
@@ -159,11 +178,13 @@ fn slivers_degenerate_triangles_and_edge_rays_agree_with_brute_force() {
         ("scaled 1e4", transform(&|p| p * 1e4)),
         ("moved 1e5", transform(&|p| p + Vec3::splat(1e5))),
     ];
-    let found: Vec<Disagreements> = cases.iter().map(|(name, triangles)| compare(name, triangles)).collect();
-    let real: usize = found.iter().map(|d| d.real).sum();
-    let grazing: usize = found.iter().map(|d| d.grazing).sum();
-    assert_eq!(real, 0, "the BVH and brute force disagree beyond rounding");
-    assert!(grazing <= 4, "{grazing} grazing disagreements (hits a few ulps outside the box), expected at most 4 of 7844 rays");
+    for walk in [Walk::Binary, Walk::Wide, Walk::WideExact] {
+        let found: Vec<Disagreements> = cases.iter().map(|(name, triangles)| compare(name, triangles, walk)).collect();
+        let real: usize = found.iter().map(|d| d.real).sum();
+        let grazing: usize = found.iter().map(|d| d.grazing).sum();
+        assert_eq!(real, 0, "the {walk:?} walk and brute force disagree beyond rounding");
+        assert!(grazing <= 4, "{walk:?} walk: {grazing} grazing disagreements (hits a few ulps outside the box), expected at most 4 of 7844 rays");
+    }
 }
 
 /// The ray and sliver (aspect 1e7) that made the watertight test report a hit at the sliver's

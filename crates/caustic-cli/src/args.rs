@@ -401,6 +401,11 @@ pub struct BenchArgs {
     /// builder, for comparison).
     #[arg(long, default_value = "sah", value_parser = parse_split)]
     pub split: caustic_bvh::SplitMethod,
+    /// BVH node layout on the device: wide (four boxes quantised to bytes per 64-byte node,
+    /// the default), wide-exact (four f32 boxes per 112-byte node) or binary (two boxes per
+    /// 64-byte node); see caustic_gpu::NodeLayout.
+    #[arg(long, default_value = "wide", value_parser = parse_node_layout)]
+    pub bvh_layout: caustic_gpu::NodeLayout,
     /// Largest leaf the SAH may choose (1 to 16; nodes with more primitives are always split).
     #[arg(long, default_value_t = 4, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=16))]
     pub max_leaf_size: u32,
@@ -414,6 +419,16 @@ pub struct BenchArgs {
     /// Device selection and output format.
     #[command(flatten)]
     pub device: DeviceArgs,
+}
+
+/// Parses `binary`, `wide` or `wide-exact` (see [`caustic_gpu::NodeLayout`]).
+pub fn parse_node_layout(text: &str) -> Result<caustic_gpu::NodeLayout, String> {
+    match text {
+        "binary" => Ok(caustic_gpu::NodeLayout::Binary),
+        "wide" => Ok(caustic_gpu::NodeLayout::Wide),
+        "wide-exact" => Ok(caustic_gpu::NodeLayout::WideExact),
+        _ => Err(format!("unknown BVH layout {text:?}: expected wide, wide-exact or binary")),
+    }
 }
 
 /// Parses `auto`, `traversal` or `buffers` (see [`caustic_gpu::DataPath`]).

@@ -20,6 +20,8 @@ struct MeshReport {
     bvh_leaves: usize,
     bvh_sah_cost: f32,
     bvh_split: String,
+    /// The node layout uploaded (`binary` or `wide`).
+    bvh_layout: String,
     /// One path-traced sample per pixel at the scene's resolution, best of the repeats.
     render_ms_1spp: f64,
     /// Creating the path tracer (`PathTracer::new`: kernel source, shader module, pipeline).
@@ -104,7 +106,7 @@ fn bench_ray_set(ctx: &GpuContext, name: &str, rays: &[ExternalRay], args: &Benc
     let start = Instant::now();
     let scene = load_scene(&SceneSource::parse(name))?;
     let load_ms = start.elapsed().as_secs_f64() * 1e3;
-    let gpu_scene = GpuScene::upload_with(ctx, &scene, &build_options(args))?;
+    let gpu_scene = GpuScene::upload_with_layout(ctx, &scene, &build_options(args), args.bvh_layout)?;
     let bench = RayBench::with_rays(ctx, &gpu_scene, rays)?;
     let result = bench.run(RayKind::External, args.repeats)?;
     if let Some(path) = &args.hits {
@@ -140,6 +142,15 @@ fn print_ray_set_row(r: &RaySetReport, header: bool) {
     );
 }
 
+/// The `--bvh-layout` name of `layout`.
+fn layout_name(layout: caustic_gpu::NodeLayout) -> &'static str {
+    match layout {
+        caustic_gpu::NodeLayout::Binary => "binary",
+        caustic_gpu::NodeLayout::Wide => "wide",
+        caustic_gpu::NodeLayout::WideExact => "wide-exact",
+    }
+}
+
 /// The BVH build the command line asks for (split method, exact sweep, leaf size).
 fn build_options(args: &BenchArgs) -> BuildOptions {
     BuildOptions { split: args.split, sweep_below: args.sweep_below, max_leaf_size: args.max_leaf_size as usize, ..BuildOptions::default() }
@@ -149,7 +160,7 @@ fn bench_mesh(ctx: &GpuContext, name: &str, args: &BenchArgs) -> anyhow::Result<
     let start = Instant::now();
     let scene = load_scene(&SceneSource::parse(name))?;
     let load_ms = start.elapsed().as_secs_f64() * 1e3;
-    let gpu_scene = GpuScene::upload_with(ctx, &scene, &build_options(args))?;
+    let gpu_scene = GpuScene::upload_with_layout(ctx, &scene, &build_options(args), args.bvh_layout)?;
     let SamplePassTimes { kernel_ms, first_pass_ms, best_ms: render_ms_1spp } = sample_pass_times(ctx, &scene, &gpu_scene, args)?;
     let bench = RayBench::new(ctx, &gpu_scene, &scene.camera, args.grid)?;
     let primary: BenchResult = bench.run(RayKind::Primary, args.repeats)?;
@@ -165,6 +176,7 @@ fn bench_mesh(ctx: &GpuContext, name: &str, args: &BenchArgs) -> anyhow::Result<
         bvh_leaves: stats.leaves,
         bvh_sah_cost: stats.sah_cost,
         bvh_split: split_name(args.split).to_string(),
+        bvh_layout: layout_name(gpu_scene.node_layout).to_string(),
         render_ms_1spp,
         kernel_ms,
         first_pass_ms,

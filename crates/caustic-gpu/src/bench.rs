@@ -154,7 +154,13 @@ impl<'a> RayBench<'a> {
             ctx.queue.write_buffer(&rays_buffer, 0, bytes);
         }
         let results = storage("bench results", (u64::from(ray_count) * RESULT_BYTES).max(RESULT_BYTES));
-        let module = Program::RayBench.module(device);
+        let module = match crate::kernel::walk_replacement(gpu) {
+            Some(walk) => device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(Program::RayBench.label()),
+                source: wgpu::ShaderSource::Wgsl(Program::RayBench.source_replacing(crate::specialize::TRAVERSAL_FILE, &walk).into()),
+            }),
+            None => Program::RayBench.module(device),
+        };
         let layout = bind_group_layout(device);
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("ray bench"),

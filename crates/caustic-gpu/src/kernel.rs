@@ -17,7 +17,8 @@ use caustic_scene::{Integrator, RenderPass};
 pub struct Kernel {
     /// The WGSL entry point.
     pub entry_point: &'static str,
-    /// The scene-specialised traversal replacing `bvh/traverse.wgsl`, if any.
+    /// The traversal replacing `bvh/traverse.wgsl`, if any: the scene-specialised one, or the
+    /// walk of a wide node layout ([`crate::shaders::wide_walk`]).
     pub traversal: Option<String>,
     /// The scene's tables compiled in as constants ([`crate::bake`]), if any.
     pub tables: Option<BakedTables>,
@@ -121,8 +122,18 @@ impl Kernel {
     }
 }
 
-/// The scene-specialised traversal the kernel is compiled with, if any.
+/// The traversal the kernel is compiled with in place of `bvh/traverse.wgsl`, if any.
 fn traversal(gpu: &GpuScene, settings: &RenderSettings) -> Option<String> {
+    specialised_traversal(gpu, settings).or_else(|| walk_replacement(gpu))
+}
+
+/// The walk of `gpu`'s node layout when it is not the binary one `bvh/traverse.wgsl` reads.
+pub(crate) fn walk_replacement(gpu: &GpuScene) -> Option<String> {
+    crate::shaders::wide_walk(gpu.node_layout)
+}
+
+/// The scene-specialised traversal (the primitives compiled in), if the kernel may use it.
+fn specialised_traversal(gpu: &GpuScene, settings: &RenderSettings) -> Option<String> {
     // The BVH debug views show the BVH traversal's work and tree, which the specialised one skips.
     let bvh_cost = matches!(settings.debug, Some(DebugView::NodeVisits | DebugView::PrimitiveTests | DebugView::BvhLevel));
     // The specialised traversal has no alpha test and no motion: alpha-tested and moving
@@ -137,7 +148,7 @@ fn traversal(gpu: &GpuScene, settings: &RenderSettings) -> Option<String> {
 /// [`DataPath::Auto`] (a small scene's constants, until its materials are edited).
 fn tables(gpu: &GpuScene, settings: &RenderSettings) -> Option<BakedTables> {
     match settings.data_path {
-        DataPath::Auto => traversal(gpu, settings).and(gpu.tables.clone()),
+        DataPath::Auto => specialised_traversal(gpu, settings).and(gpu.tables.clone()),
         DataPath::Traversal | DataPath::Buffers => None,
     }
 }

@@ -35,5 +35,5 @@ pub use bench::{BenchResult, ExternalRay, RayBench, RayKind, TracedRay};
 pub use context::{AdapterSummary, GpuContext};
 pub use error::GpuError;
 pub use path_tracer::{DataPath, DebugView, PassOutcome, PathTracer, RenderSettings, Sampler, MAX_STRATA};
-pub use scene_buffers::GpuScene;
+pub use scene_buffers::{GpuScene, NodeLayout};
 pub use scene_data::{SceneData, bsdf_params, material_with_bsdf};

@@ -12,11 +12,32 @@ use wgpu::util::DeviceExt;
 /// Deepest BVH the kernels' fixed traversal stack is guaranteed to handle.
 pub const MAX_BVH_DEPTH: usize = 64;
 
+/// How the BVH's nodes are laid out in [`GpuScene::nodes`]; the gathered triangles are the
+/// same in both. The kernels walk the tree with the matching file: `bvh/traverse.wgsl` or
+/// `bvh/traverse_wide.wgsl` (docs/PERFORMANCE.md compares them).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum NodeLayout {
+    /// [`caustic_bvh::GpuNode`]: two children's boxes per 64-byte node.
+    Binary,
+    /// [`caustic_bvh::GpuWideNode`]: four children's boxes, quantised to bytes, per 64-byte
+    /// node ([`GpuBvh::to_wide`]). A tree that has no such form (a box too large to
+    /// quantise, or too deep for the wide walk's stack) is uploaded [`NodeLayout::Binary`].
+    /// The default: 1.2-1.7x the binary layout's rays per second on lavapipe.
+    #[default]
+    Wide,
+    /// [`caustic_bvh::GpuWideExactNode`]: four children's boxes as `f32` per 112-byte node
+    /// ([`GpuBvh::to_wide_exact`]), to measure what the quantisation gains; a tree too deep
+    /// for the wide walk's stack is uploaded [`NodeLayout::Binary`].
+    WideExact,
+}
+
 /// A scene on the device: BVH nodes and gathered triangles, per-triangle shading data,
 /// materials, the light list with its power CDF, and the environment texture.
 pub struct GpuScene {
-    /// `BvhNode` array (binding 1).
+    /// `BvhNode` or `BvhWideNode` array (binding 1), as `node_layout` says.
     pub nodes: wgpu::Buffer,
+    /// The layout of `nodes`.
+    pub node_layout: NodeLayout,
     /// `BvhTriangle` array (binding 2): triangles and records standing for shapes.
     pub triangles: wgpu::Buffer,
     /// `BvhShape` array (binding 9): bounded shapes, then planes.
@@ -81,6 +102,11 @@ impl GpuScene {
 
     /// [`GpuScene::upload`] with a BVH built with `options`, e.g. to compare split methods.
     pub fn upload_with(ctx: &GpuContext, scene: &Scene, options: &BuildOptions) -> Result<GpuScene, GpuError> {
+        GpuScene::upload_with_layout(ctx, scene, options, NodeLayout::default())
+    }
+
+    /// [`GpuScene::upload_with`] with the nodes in `layout` (where the tree has that form).
+    pub fn upload_with_layout(ctx: &GpuContext, scene: &Scene, options: &BuildOptions, layout: NodeLayout) -> Result<GpuScene, GpuError> {
         let data = SceneData::new(scene);
         let moving = crate::motion::primitive_motions(scene);
         let bvh = caustic_bvh::build_with_motion(&data.triangles, &data.shapes, &moving, options);
@@ -95,8 +121,10 @@ impl GpuScene {
         let traversal = if moving.any() { None } else { specialize::unrolled_traversal(&gpu_bvh) };
         let uploader = Uploader { ctx };
         let (environment_view, environment_color) = upload_environment(ctx, &scene.environment)?;
+        let (nodes, node_layout) = upload_nodes(&uploader, &gpu_bvh, layout)?;
         let uploaded = GpuScene {
-            nodes: uploader.storage("BVH nodes", &gpu_bvh.nodes)?,
+            nodes,
+            node_layout,
             triangles: uploader.storage("BVH triangles", &gpu_bvh.triangles)?,
             shapes: uploader.storage("shapes", &caustic_bvh::shapes_and_motions(&gpu_bvh, &moving))?,
             first_plane: gpu_bvh.first_plane,
@@ -152,6 +180,19 @@ impl GpuScene {
     pub fn update_environment(&mut self, ctx: &GpuContext, scene: &Scene) -> Result<(), GpuError> {
         (self.environment_view, self.environment_color) = upload_environment(ctx, &scene.environment)?;
         self.update_materials(ctx, scene)
+    }
+}
+
+/// The node buffer of `bvh` in `layout`, or in the binary layout where the tree has no such form.
+fn upload_nodes(uploader: &Uploader, bvh: &GpuBvh, layout: NodeLayout) -> Result<(wgpu::Buffer, NodeLayout), GpuError> {
+    let wide = match layout {
+        NodeLayout::Wide => bvh.to_wide().ok().map(|w| uploader.storage("BVH wide nodes", &w.nodes)),
+        NodeLayout::WideExact => bvh.to_wide_exact().ok().map(|w| uploader.storage("BVH wide exact nodes", &w.nodes)),
+        NodeLayout::Binary => None,
+    };
+    match wide {
+        Some(buffer) => Ok((buffer?, layout)),
+        None => Ok((uploader.storage("BVH nodes", &bvh.nodes)?, NodeLayout::Binary)),
     }
 }
 

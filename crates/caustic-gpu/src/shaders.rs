@@ -24,13 +24,35 @@ const COMMON: [ShaderFile; 7] = [
     shader_file!("bvh/intersect.wgsl"),
 ];
 
-const TRAVERSAL: [ShaderFile; 5] = [
+const TRAVERSAL: [ShaderFile; 6] = [
     shader_file!("bvh/bindings.wgsl"),
     shader_file!("bvh/motion.wgsl"),
     shader_file!("bvh/shapes.wgsl"),
     shader_file!("bvh/hit.wgsl"),
+    shader_file!("bvh/leaf.wgsl"),
     shader_file!("bvh/traverse.wgsl"),
 ];
+
+/// `bvh/traverse_wide.wgsl`: the walk of the four-wide layouts, which (after its layout's
+/// file) replaces `bvh/traverse.wgsl` for scenes uploaded in one ([`wide_walk`]).
+pub const WIDE_TRAVERSAL: ShaderFile = shader_file!("bvh/traverse_wide.wgsl");
+
+/// `bvh/wide_quantised.wgsl`: the nodes of [`crate::NodeLayout::Wide`].
+pub const WIDE_QUANTISED: ShaderFile = shader_file!("bvh/wide_quantised.wgsl");
+
+/// `bvh/wide_exact.wgsl`: the nodes of [`crate::NodeLayout::WideExact`].
+pub const WIDE_EXACT: ShaderFile = shader_file!("bvh/wide_exact.wgsl");
+
+/// The text replacing `bvh/traverse.wgsl` for a scene uploaded in a wide `layout`: the
+/// layout's node file, then the walk; `None` for the binary layout.
+pub fn wide_walk(layout: crate::NodeLayout) -> Option<String> {
+    let nodes = match layout {
+        crate::NodeLayout::Binary => return None,
+        crate::NodeLayout::Wide => &WIDE_QUANTISED,
+        crate::NodeLayout::WideExact => &WIDE_EXACT,
+    };
+    Some(format!("// ---- shaders/{} ----\n{}\n// ---- shaders/{} ----\n{}", nodes.name, nodes.source, WIDE_TRAVERSAL.name, WIDE_TRAVERSAL.source))
+}
 
 const PATH_TRACER: [ShaderFile; 26] = [
     shader_file!("integrator/bindings.wgsl"),

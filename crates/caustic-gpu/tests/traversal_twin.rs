@@ -1,18 +1,28 @@
 //! The device traversal (`shaders/bvh`) against its CPU twin (`caustic_bvh::GpuBvh`) on the
-//! very rays the device traced: coherent primary rays and incoherent bounce rays.
+//! very rays the device traced, coherent primary rays and incoherent bounce rays, in both node
+//! layouts.
 
 use caustic_bvh::{BuildOptions, Ray};
-use caustic_gpu::{GpuContext, GpuScene, RayBench, RayKind};
+use caustic_gpu::{GpuContext, GpuScene, NodeLayout, RayBench, RayKind};
 use caustic_scene::{SceneSource, load_scene};
 use std::path::Path;
 
 fn compare_on(scene_name: &str) {
+    for layout in [NodeLayout::Binary, NodeLayout::Wide, NodeLayout::WideExact] {
+        compare_in(scene_name, layout);
+    }
+}
+
+fn compare_in(scene_name: &str, layout: NodeLayout) {
     let scene = load_scene(&SceneSource::parse(scene_name)).expect("scene loads");
     let ctx = GpuContext::new(std::env::var("CAUSTIC_ADAPTER").ok().as_deref()).expect("device");
     println!("adapter: {}", ctx.adapter);
-    let gpu = GpuScene::upload(&ctx, &scene).expect("upload");
+    let gpu = GpuScene::upload_with_layout(&ctx, &scene, &BuildOptions::default(), layout).expect("upload");
+    assert_eq!(gpu.node_layout, layout, "the scene has a tree in that layout");
     let triangles: Vec<_> = scene.triangles().collect();
     let cpu = caustic_bvh::flatten(&caustic_bvh::build(&triangles, &BuildOptions::default()), &triangles);
+    let wide = cpu.to_wide().expect("wide form");
+    let exact = cpu.to_wide_exact().expect("wide form");
     let bench = RayBench::new(&ctx, &gpu, &scene.camera, 192).expect("bench kernels");
     for kind in [RayKind::Primary, RayKind::Incoherent] {
         bench.run(kind, 1).expect("trace");
@@ -20,7 +30,11 @@ fn compare_on(scene_name: &str) {
         let (mut hits, mut different, mut worst_t) = (0usize, 0usize, 0f32);
         for traced in &rays {
             let ray = Ray { origin: traced.origin, direction: traced.direction, t_max: 3.0e38 };
-            let expected = cpu.closest_hit(&ray);
+            let expected = match layout {
+                NodeLayout::Binary => cpu.closest_hit(&ray),
+                NodeLayout::Wide => cpu.closest_hit_wide(&wide, &ray),
+                NodeLayout::WideExact => cpu.closest_hit_wide(&exact, &ray),
+            };
             hits += usize::from(expected.is_some());
             match (expected, traced.triangle) {
                 (Some(e), Some(t)) if e.triangle == t => worst_t = worst_t.max((e.t - traced.t).abs() / e.t),
@@ -28,7 +42,7 @@ fn compare_on(scene_name: &str) {
                 _ => different += 1,
             }
         }
-        println!("{scene_name} {kind:?}: {} rays, {hits} hits, {different} differ from the CPU twin, worst relative t error {worst_t:.2e}", rays.len());
+        println!("{scene_name} {layout:?} {kind:?}: {} rays, {hits} hits, {different} differ from the CPU twin, worst relative t error {worst_t:.2e}", rays.len());
         assert!(different * 10_000 <= rays.len(), "{different} of {} rays found another triangle than the CPU twin", rays.len());
         assert!(worst_t < 1e-5, "t differs by {worst_t:.2e} relative");
     }

@@ -9,15 +9,34 @@ fn parse(program: Program) -> naga::Module {
     naga::front::wgsl::parse_str(&source).unwrap_or_else(|e| panic!("{}: {}", program.label(), e.emit_to_string(&source)))
 }
 
+/// Parses and validates `source`, panicking with naga's message; returns the module.
+fn validate(what: &str, source: &str) -> naga::Module {
+    let module = naga::front::wgsl::parse_str(source).unwrap_or_else(|e| panic!("{what}: {}", e.emit_to_string(source)));
+    let mut validator = naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::all());
+    if let Err(e) = validator.validate(&module) {
+        panic!("{what}: {}", e.emit_to_string(source));
+    }
+    module
+}
+
 #[test]
 fn every_program_validates() {
     for program in Program::ALL {
-        let module = parse(program);
-        let mut validator = naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::all());
-        if let Err(e) = validator.validate(&module) {
-            panic!("{}: {}", program.label(), e.emit_to_string(&program.source()));
-        }
+        let module = validate(program.label(), &program.source());
         println!("{}: {} functions, {} entry points valid", program.label(), module.functions.len(), module.entry_points.len());
+    }
+}
+
+#[test]
+fn every_program_validates_with_the_wide_walk() {
+    for layout in [caustic_gpu::NodeLayout::Wide, caustic_gpu::NodeLayout::WideExact] {
+        let walk = caustic_gpu::shaders::wide_walk(layout).expect("a wide walk");
+        for program in Program::ALL {
+            let module = validate(program.label(), &program.source_replacing(caustic_gpu::specialize::TRAVERSAL_FILE, &walk));
+            let trace = module.functions.iter().any(|(_, f)| f.name.as_deref() == Some("order_wide_children"));
+            println!("{} with the {layout:?} walk: {} functions valid", program.label(), module.functions.len());
+            assert!(trace, "the wide walk replaced the binary one");
+        }
     }
 }
 
@@ -41,6 +60,8 @@ fn host_structs_match_wgsl_layout() {
         ("InspectBounce", size_of::<InspectBounce>()),
         ("InspectRecord", size_of::<InspectRecord>()),
         ("BvhNode", size_of::<caustic_bvh::GpuNode>()),
+        ("BvhWideNode", size_of::<caustic_bvh::GpuWideNode>()),
+        ("BvhWideExactNode", size_of::<caustic_bvh::GpuWideExactNode>()),
         ("BvhTriangle", size_of::<caustic_bvh::GpuTriangle>()),
         ("BvhShape", size_of::<caustic_bvh::GpuShape>()),
     ];

@@ -1,0 +1,98 @@
+// Stack-based traversal of the four-wide BVHs, nearest child first; with the node layout's
+// file before it (bvh/wide_quantised.wgsl or bvh/wide_exact.wgsl, which declare the node
+// array and `wide_node_entries`), it replaces bvh/traverse.wgsl in kernels for scenes uploaded
+// in a wide layout. The CPU twin is crates/caustic-bvh/src/traverse_wide.rs.
+
+// caustic_bvh::WIDE_STACK_SIZE, plus room for the three unconditional pushes of a node.
+const WIDE_STACK_SIZE: u32 = 64u;
+const WIDE_STACK_ROOM: u32 = 67u;
+
+// Entry distance of a child that is missed or empty: above every hit's (t_max is at most 3e38).
+const CHILD_MISSED: f32 = 3.4e38;
+
+// Four children's entry distances and words, sorted by compare-exchanges.
+struct WideOrder {
+    t: vec4<f32>,
+    child: vec4<u32>,
+}
+
+// Orders entries a and b (components of `order`) so the nearer comes first; ties keep their order.
+fn compare_exchange(order: WideOrder, a: u32, b: u32) -> WideOrder {
+    var out = order;
+    let swap = order.t[a] > order.t[b];
+    out.t[a] = select(order.t[a], order.t[b], swap);
+    out.t[b] = select(order.t[b], order.t[a], swap);
+    out.child[a] = select(order.child[a], order.child[b], swap);
+    out.child[b] = select(order.child[b], order.child[a], swap);
+    return out;
+}
+
+// The children of node `index` nearest first, as the CPU twin's five-exchange sorting network.
+fn order_wide_children(r: TraversalRay, index: u32, t_max: f32) -> WideOrder {
+    var order = wide_node_entries(r, index, t_max);
+    order = compare_exchange(order, 0u, 1u);
+    order = compare_exchange(order, 2u, 3u);
+    order = compare_exchange(order, 0u, 2u);
+    order = compare_exchange(order, 1u, 3u);
+    order = compare_exchange(order, 1u, 2u);
+    return order;
+}
+
+// Closest hit along the ray in (0, t_max); with `any_hit` it returns at the first hit found.
+// While-while like the binary walk. A node pushes its hit children but the nearest without
+// branching: each of children 3, 2, 1 is written to the stack top, which moves up only if
+// that child was hit (misses sort last).
+fn trace(ray: Ray, t_max: f32, any_hit: bool, cost: ptr<function, TraversalCost>) -> Hit {
+    let r = prepare_ray(ray);
+    var hit = Hit(t_max, 0.0, 0.0, NO_HIT, 0u);
+    var stack_child: array<u32, WIDE_STACK_ROOM>;
+    var sp = 0u;
+    var current = 0u;
+    // Tree levels of `current` and of the stacked subtrees, for BVH_LEVELS (bvh/hit.wgsl).
+    var level = 0u;
+    var stack_level: array<u32, WIDE_STACK_ROOM>;
+    loop {
+        while current != EMPTY_CHILD && !is_leaf(current) {
+            let order = order_wide_children(r, current, hit.t);
+            (*cost).nodes += 1u;
+            let base = min(sp, WIDE_STACK_SIZE);
+            let hits = vec4<u32>(order.t < vec4<f32>(CHILD_MISSED));
+            stack_child[base] = order.child.w;
+            stack_child[base + hits.w] = order.child.z;
+            stack_child[base + hits.w + hits.z] = order.child.y;
+            if BVH_LEVELS {
+                stack_level[base] = level + 1u;
+                stack_level[base + 1u] = level + 1u;
+                stack_level[base + 2u] = level + 1u;
+            }
+            sp = base + hits.w + hits.z + hits.y;
+            if hits.x != 0u {
+                current = order.child.x;
+                level++;
+            } else if sp == 0u {
+                current = EMPTY_CHILD;
+            } else {
+                sp--;
+                current = stack_child[sp];
+                if BVH_LEVELS {
+                    level = stack_level[sp];
+                }
+            }
+        }
+        if current == EMPTY_CHILD {
+            break;
+        }
+        if intersect_leaf(ray, r, current, any_hit, level, &hit, cost) {
+            return hit;
+        }
+        if sp == 0u {
+            break;
+        }
+        sp--;
+        current = stack_child[sp];
+        if BVH_LEVELS {
+            level = stack_level[sp];
+        }
+    }
+    return intersect_planes(ray, hit, any_hit);
+}
