@@ -24,6 +24,11 @@ struct TraversalCost {
 override BVH_LEVELS: bool = false;
 var<private> hit_level: u32;
 
+// The generated traversal of small scenes (crates/caustic-gpu/src/specialize.rs) skips the
+// faces of the scene's convex hull in shadow rays when this is on: set while no light lies
+// outside the hull (crates/caustic-gpu/src/shadow_hull.rs); other traversals ignore it.
+override SHADOW_HULL_CULL: bool = false;
+
 // The planes, which the tree cannot bound, after the tree.
 fn intersect_planes(ray: Ray, closest: Hit, any_hit: bool) -> Hit {
     var hit = closest;

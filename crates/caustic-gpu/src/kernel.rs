@@ -42,6 +42,9 @@ pub struct Kernel {
     /// program the scene needs ([`crate::requirements`]); every part for the general kernel
     /// ([`DataPath::Buffers`]).
     pub requirements: u32,
+    /// The `SHADOW_HULL_CULL` override (`bvh/hit.wgsl`): the generated traversal lets shadow
+    /// rays skip the scene's hull faces ([`crate::shadow_hull`]).
+    pub shadow_hull_cull: bool,
     /// The `PATHS_PER_INVOCATION` override (`integrator/path.wgsl`): how many of a tile's
     /// pixels one invocation of `render_sample` traces in turn ([`paths_per_invocation`]);
     /// 1 for the other entry points, which trace one pixel per invocation.
@@ -70,6 +73,7 @@ impl Kernel {
                 DataPath::Auto | DataPath::Traversal => gpu.requirements,
                 DataPath::Buffers => REQUIRES_ALL,
             },
+            shadow_hull_cull: gpu.shadow_hull_cull && specialised_traversal(gpu, settings).is_some(),
             paths_per_invocation,
         }
     }
@@ -108,6 +112,7 @@ impl Kernel {
         constants.push(("BVH_LEVELS", f64::from(u8::from(self.bvh_levels))));
         constants.push(("SCENE_REQUIRES", f64::from(self.requirements)));
         constants.push(("PATHS_PER_INVOCATION", f64::from(self.paths_per_invocation)));
+        constants.push(("SHADOW_HULL_CULL", f64::from(u8::from(self.shadow_hull_cull))));
         device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some(self.entry_point),
             layout: Some(&pipeline_layout),

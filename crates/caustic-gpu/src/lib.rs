@@ -29,6 +29,7 @@ pub mod requirements;
 mod scene_buffers;
 mod scene_data;
 pub mod shaders;
+pub mod shadow_hull;
 pub mod specialize;
 
 pub use bench::{BenchResult, ExternalRay, RayBench, RayKind, TracedRay};

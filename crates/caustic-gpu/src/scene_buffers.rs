@@ -2,6 +2,7 @@
 
 use crate::requirements::{GEOMETRY_REQUIREMENTS, scene_requirements, shading_requirements};
 use crate::scene_data::{SceneData, device_lights, device_materials};
+use crate::shadow_hull::ShadowHull;
 use crate::specialize;
 use crate::{GpuContext, GpuError};
 use caustic_bvh::{BuildOptions, BuildStats, GpuBvh};
@@ -72,6 +73,12 @@ pub struct GpuScene {
     /// with the primitives compiled in (replacing `bvh/traverse.wgsl`), which kernels may use
     /// instead of walking the BVH buffers.
     pub traversal: Option<String>,
+    /// For the same small scenes: the faces of the scene's convex hull, which the generated
+    /// traversal lets shadow rays skip while [`GpuScene::shadow_hull_cull`] holds.
+    pub shadow_hull: ShadowHull,
+    /// Whether no light lies outside [`GpuScene::shadow_hull`] (nor far away): the kernels'
+    /// `SHADOW_HULL_CULL` override, updated with the lights.
+    pub shadow_hull_cull: bool,
     /// For the same small scenes: the shading entries, materials and lights as WGSL
     /// constants ([`crate::bake`]), which kernels with the generated traversal read instead of
     /// the buffers; dropped by [`GpuScene::update_materials`].
@@ -119,6 +126,8 @@ impl GpuScene {
         let gpu_bvh: GpuBvh = caustic_bvh::flatten_with_motion(&bvh, &data.triangles, &data.shapes, &moving);
         // The specialised traversal has no motion: moving scenes walk the BVH.
         let traversal = if moving.any() { None } else { specialize::unrolled_traversal(&gpu_bvh) };
+        let shadow_hull = traversal.as_ref().map(|_| ShadowHull::new(&gpu_bvh)).unwrap_or_default();
+        let requirements = scene_requirements(&data, &scene.environment);
         let uploader = Uploader { ctx };
         let (environment_view, environment_color) = upload_environment(ctx, &scene.environment)?;
         let (nodes, node_layout) = upload_nodes(&uploader, &gpu_bvh, layout)?;
@@ -142,11 +151,13 @@ impl GpuScene {
             bounds: scene.bounds().unwrap_or((Vec3::ZERO, Vec3::ZERO)),
             tables: traversal.as_ref().and_then(|_| crate::bake::BakedTables::new(&data.shading, &data.materials, &data.lights)),
             traversal,
+            shadow_hull_cull: shadow_hull.culls_shadow_rays(&data.lights, requirements),
+            shadow_hull,
             lobe_mask: crate::scene_data::lobe_mask(scene),
             alpha_test: data.alpha_test,
             motion_blur: moving.any(),
             classic_features: crate::classic::scene_features(scene),
-            requirements: scene_requirements(&data, &scene.environment),
+            requirements,
         };
         ctx.check()?;
         Ok(uploaded)
@@ -164,6 +175,7 @@ impl GpuScene {
         self.lobe_mask = crate::scene_data::lobe_mask(scene);
         self.classic_features = crate::classic::scene_features(scene);
         self.requirements = (self.requirements & GEOMETRY_REQUIREMENTS) | shading_requirements(&materials, &lights, &scene.environment);
+        self.shadow_hull_cull = self.shadow_hull.culls_shadow_rays(&lights, self.requirements);
         // Edited scenes read their tables from the buffers: one recompile at the first edit,
         // none at later ones (a kernel with the tables baked in takes seconds to compile).
         self.tables = None;

@@ -9,6 +9,7 @@
 //! triangles, and every lane runs the same code. It pays while the primitives are few; the
 //! threshold, [`BAKE_MAX_PRIMITIVES`], is measured (docs/PERFORMANCE.md).
 
+use crate::shadow_hull::ShadowHull;
 use caustic_bvh::{GpuBvh, SHAPE_BIT};
 use glam::Vec3;
 use std::fmt::Write;
@@ -26,7 +27,8 @@ const UNROLLED_HELPERS: &str = include_str!("../../../shaders/bvh/unrolled.wgsl"
 
 /// A replacement for `shaders/bvh/traverse.wgsl` testing `bvh`'s primitives in their gathered
 /// order (so hit slots index `bvh_triangles` as the general kernel's do), or `None` when the
-/// scene has more than [`BAKE_MAX_PRIMITIVES`].
+/// scene has more than [`BAKE_MAX_PRIMITIVES`]. Shadow rays skip the faces of the scene's
+/// convex hull ([`ShadowHull::new`] of `bvh`) when the kernel's `SHADOW_HULL_CULL` is on.
 pub fn unrolled_traversal(bvh: &GpuBvh) -> Option<String> {
     if bvh.triangles.len() > BAKE_MAX_PRIMITIVES {
         return None;
@@ -38,8 +40,12 @@ pub fn unrolled_traversal(bvh: &GpuBvh) -> Option<String> {
          let r = prepare_ray(ray);\n    var hit = begin_trace(ray, t_max);\n",
     );
     let _ = writeln!(wgsl, "    (*cost).triangles += {}u;", bvh.triangles.len());
+    let hull: Vec<u32> = ShadowHull::new(bvh).slots().collect();
     for (slot, tri) in bvh.triangles.iter().enumerate() {
-        if tri.id & SHAPE_BIT != 0 {
+        if hull.contains(&(slot as u32)) {
+            let [v0, v1, v2] = tri.vertices();
+            let _ = writeln!(wgsl, "    if !(any_hit && SHADOW_HULL_CULL) {{\n        hit = test_triangle(r, hit, {}, {}, {}, {}u, {slot}u);\n    }}", vec3(v0), vec3(v1), vec3(v2), tri.id);
+        } else if tri.id & SHAPE_BIT != 0 {
             let shape = tri.id & !SHAPE_BIT;
             let _ = writeln!(wgsl, "    hit = test_shape(ray, hit, {shape}u);");
         } else {
@@ -101,6 +107,7 @@ mod tests {
         let wgsl = unrolled_traversal(&gpu).unwrap();
         let tests: Vec<&str> = wgsl.lines().filter(|l| l.contains("hit = test_triangle(")).collect();
         assert_eq!(tests.len(), 5);
+        assert_eq!(wgsl.matches("SHADOW_HULL_CULL").count(), 5, "five coplanar triangles: each is a face of the hull");
         for (slot, (line, tri)) in tests.iter().zip(&gpu.triangles).enumerate() {
             assert!(line.ends_with(&format!("{}u, {slot}u);", tri.id)), "{line}");
         }
