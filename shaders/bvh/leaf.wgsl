@@ -16,6 +16,39 @@ fn leaf_count(child: u32) -> u32 {
     return ((child >> 27u) & 0xfu) + 1u;
 }
 
+// Ties at shared edges. A ray through an edge two triangles share meets both at exactly the
+// same distance (the test is watertight); the closest hit then is the front face if either is:
+// at a convex edge of a closed mesh the ray meets the outside face, so no path slips inside
+// through the back of the other face. Every traversal applies it, so their answers do not
+// depend on the order they visit primitives in (the CPU twins: caustic_bvh's traversals).
+// The direction of the ray being traced, and whether the closest hit so far is the front
+// (counter-clockwise) face of its triangle as the ray meets it (shapes count as front).
+var<private> trace_direction: vec3<f32>;
+var<private> hit_front: bool;
+
+// No hit yet: the record every `trace` starts from.
+fn begin_trace(ray: Ray, t_max: f32) -> Hit {
+    trace_direction = ray.direction;
+    hit_front = false;
+    return Hit(t_max, 0.0, 0.0, NO_HIT, 0u);
+}
+
+// The range a triangle test gets: up to the closest hit's distance, that distance included
+// once there is a hit (the next float above it, exclusive).
+fn tie_inclusive(hit: Hit) -> f32 {
+    return select(hit.t, bitcast<f32>(bitcast<u32>(hit.t) + 1u), hit.triangle != NO_HIT);
+}
+
+// Whether a triangle hit at no more than the closest distance replaces it although not nearer.
+fn wins_tie(front: bool) -> bool {
+    return front && !hit_front;
+}
+
+// Whether the ray meets the counter-clockwise side of triangle v0 v1 v2.
+fn faces_ray(v0: vec3<f32>, v1: vec3<f32>, v2: vec3<f32>, direction: vec3<f32>) -> bool {
+    return dot(cross(v1 - v0, v2 - v0), direction) < 0.0;
+}
+
 // Tests the primitives of leaf word `leaf` (tree level `level`), narrowing `hit` to the
 // closest one; with `any_hit` it returns true at the first hit.
 fn intersect_leaf(ray: Ray, r: TraversalRay, leaf: u32, any_hit: bool, level: u32, hit: ptr<function, Hit>, cost: ptr<function, TraversalCost>) -> bool {
@@ -29,6 +62,7 @@ fn intersect_leaf(ray: Ray, r: TraversalRay, leaf: u32, any_hit: bool, level: u3
             let t = intersect_shape(ray_to_open(ray, tri.motion), shape, (*hit).t);
             if t > 0.0 {
                 *hit = Hit(t, 0.0, 0.0, SHAPE_BIT | shape.id, tri.id & ~SHAPE_BIT);
+                hit_front = true;
                 if BVH_LEVELS {
                     hit_level = level;
                 }
@@ -38,9 +72,12 @@ fn intersect_leaf(ray: Ray, r: TraversalRay, leaf: u32, any_hit: bool, level: u3
             }
             continue;
         }
-        let th = intersect_triangle(traversal_ray_to_open(r, ray, tri.motion), tri.v0, tri.v1, tri.v2, (*hit).t);
-        if th.t > 0.0 && (!ALPHA_TEST || alpha_visible(ray, tri.id, th.u, th.v)) {
+        let th = intersect_triangle(traversal_ray_to_open(r, ray, tri.motion), tri.v0, tri.v1, tri.v2, tie_inclusive(*hit));
+        // Moving triangles' corners are in their shutter-open frame: their ties go by order.
+        let front = tri.motion == 0u && faces_ray(tri.v0, tri.v1, tri.v2, ray.direction);
+        if th.t > 0.0 && (th.t < (*hit).t || wins_tie(front)) && (!ALPHA_TEST || alpha_visible(ray, tri.id, th.u, th.v)) {
             *hit = Hit(th.t, th.u, th.v, tri.id, i);
+            hit_front = front;
             if BVH_LEVELS {
                 hit_level = level;
             }

@@ -83,13 +83,14 @@ impl SlabRay {
     }
 }
 
-/// Work counters of one traversal, and the tree level of the leaf that holds the closest
-/// hit so far (the root node is level 0, its children level 1).
+/// Work counters of one traversal, the tree level of the leaf that holds the closest hit so
+/// far (the root node is level 0, its children level 1), and whether that hit is a front face.
 #[derive(Default)]
 pub(crate) struct Counters {
     pub(crate) nodes: usize,
     pub(crate) triangles: usize,
     pub(crate) hit_level: u32,
+    pub(crate) front: bool,
 }
 
 impl GpuBvh {
@@ -138,7 +139,7 @@ impl GpuBvh {
         let mut level = 0u32;
         loop {
             if current & LEAF_BIT != 0 {
-                if let Some(hit) = self.intersect_leaf(&clipped, current, any, counters) {
+                if let Some(hit) = self.intersect_leaf(&clipped, best.is_some(), current, any, counters) {
                     clipped.t_max = hit.t;
                     best = Some(hit);
                     counters.hit_level = level;
@@ -177,22 +178,26 @@ impl GpuBvh {
         plane.or(best)
     }
 
-    /// Tests the triangles of a leaf word, returning the nearest hit inside `ray`'s range.
-    pub(crate) fn intersect_leaf(
-        &self,
-        ray: &Ray,
-        leaf: u32,
-        any: bool,
-        counters: &mut Counters,
-    ) -> Option<Hit> {
+    /// Tests the triangles of a leaf word against `ray`, whose `t_max` is the closest hit's
+    /// distance when `has_hit`; returns the hit that replaces the closest one, if any: nearer,
+    /// or at exactly its distance on a front face where the closest so far is a back face
+    /// (`counters.front`). That tie rule is the shaders' (`shaders/bvh/leaf.wgsl`): a ray
+    /// through an edge two triangles share then meets the outside face of a closed mesh,
+    /// whatever order the walk visits them in.
+    pub(crate) fn intersect_leaf(&self, ray: &Ray, has_hit: bool, leaf: u32, any: bool, counters: &mut Counters) -> Option<Hit> {
         let (first, count) = decode_leaf(leaf);
         let mut clipped = *ray;
         let mut best = None;
+        let mut have = has_hit;
         for triangle in &self.triangles[first as usize..(first + count) as usize] {
             counters.triangles += 1;
-            if let Some(hit) = self.intersect_primitive(&clipped, triangle) {
+            let range = if have { f32::from_bits(clipped.t_max.to_bits() + 1) } else { clipped.t_max };
+            let Some((hit, front)) = self.intersect_primitive(&Ray { t_max: range, ..clipped }, triangle) else { continue };
+            if hit.t < clipped.t_max || (front && !counters.front) {
                 clipped.t_max = hit.t;
                 best = Some(hit);
+                counters.front = front;
+                have = true;
                 if any {
                     break;
                 }
@@ -201,14 +206,17 @@ impl GpuBvh {
         best
     }
 
-    /// One gathered record: a triangle, or the shape it stands for.
-    fn intersect_primitive(&self, ray: &Ray, record: &GpuTriangle) -> Option<Hit> {
+    /// One gathered record: a triangle, or the shape it stands for, and whether the ray meets
+    /// its front face (shapes count as front; moving triangles, whose corners are in their
+    /// shutter-open frame, as back, so their ties go by order).
+    fn intersect_primitive(&self, ray: &Ray, record: &GpuTriangle) -> Option<(Hit, bool)> {
         if record.id & SHAPE_BIT != 0 {
             let shape = &self.shapes[(record.id & !SHAPE_BIT) as usize];
-            return intersect_shape(ray, shape).map(|t| Hit { t, u: 0.0, v: 0.0, triangle: SHAPE_BIT | shape.id });
+            return intersect_shape(ray, shape).map(|t| (Hit { t, u: 0.0, v: 0.0, triangle: SHAPE_BIT | shape.id }, true));
         }
         let [v0, v1, v2] = record.vertices();
-        intersect_triangle(ray, v0, v1, v2).map(|(t, u, v)| Hit { t, u, v, triangle: record.id })
+        let front = record.motion == 0 && (v1 - v0).cross(v2 - v0).dot(ray.direction) < 0.0;
+        intersect_triangle(ray, v0, v1, v2).map(|(t, u, v)| (Hit { t, u, v, triangle: record.id }, front))
     }
 
     /// The planes, which no tree holds, tested after it.
@@ -309,6 +317,45 @@ mod tests {
             SlabRay::new(&behind).entry(Vec3::ZERO, Vec3::ONE, f32::INFINITY),
             f32::INFINITY
         );
+    }
+
+    /// A unit cube's twelve triangles, counter-clockwise seen from outside, in `order`.
+    fn cube(reversed: bool) -> Vec<[Vec3; 3]> {
+        let corner = |i: u32| Vec3::new((i & 1) as f32, ((i >> 1) & 1) as f32, ((i >> 2) & 1) as f32);
+        let quads = [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]];
+        let mut triangles: Vec<[Vec3; 3]> = quads
+            .iter()
+            .flat_map(|q| [[corner(q[0]), corner(q[1]), corner(q[2])], [corner(q[0]), corner(q[2]), corner(q[3])]])
+            .collect();
+        if reversed {
+            triangles.reverse();
+        }
+        triangles
+    }
+
+    #[test]
+    fn a_ray_through_a_shared_edge_meets_the_front_face_in_every_walk() {
+        // Down and outwards through the edge x = 1, y = 1: the top face (normal +y) faces the
+        // ray, the side face x = 1 shows it its back, both at exactly t = 0.5.
+        let ray = Ray { origin: Vec3::new(0.5, 1.5, 0.5), direction: Vec3::new(1.0, -1.0, 0.0), t_max: f32::INFINITY };
+        for reversed in [false, true] {
+            let triangles = cube(reversed);
+            for (i, [a, b, c]) in triangles.iter().enumerate() {
+                let n = (*b - *a).cross(*c - *a);
+                assert!(n.dot((*a + *b + *c) / 3.0 - Vec3::splat(0.5)) > 0.0, "triangle {i} faces outwards");
+            }
+            let bvh = crate::flatten(&crate::build(&triangles, &crate::BuildOptions::default()), &triangles);
+            let wide = bvh.to_wide().unwrap();
+            let exact = bvh.to_wide_exact().unwrap();
+            for (walk, hit) in [("binary", bvh.closest_hit(&ray)), ("wide", bvh.closest_hit_wide(&wide, &ray)), ("wide-exact", bvh.closest_hit_wide(&exact, &ray))] {
+                let hit = hit.expect("the ray meets the edge");
+                let [a, b, c] = triangles[hit.triangle as usize];
+                let normal = (b - a).cross(c - a).normalize();
+                println!("{walk} walk, reversed {reversed}: t {}, triangle {} with normal {normal}", hit.t, hit.triangle);
+                assert_eq!(hit.t, 0.5);
+                assert_eq!(normal, Vec3::Y, "{walk} walk: the top face, not the back of the side face");
+            }
+        }
     }
 
     /// The level of every leaf, by the index of its first gathered triangle, found by a
