@@ -19,8 +19,9 @@ fn leaf_count(child: u32) -> u32 {
 // Ties at shared edges. A ray through an edge two triangles share meets both at exactly the
 // same distance (the test is watertight); the closest hit then is the front face if either is:
 // at a convex edge of a closed mesh the ray meets the outside face, so no path slips inside
-// through the back of the other face. Every traversal applies it, so their answers do not
-// depend on the order they visit primitives in (the CPU twins: caustic_bvh's traversals).
+// through the back of the other face. Between two faces of the same side the lower scene
+// triangle index wins. Every traversal applies both rules, so their answers do not depend on
+// the order they visit primitives in (the CPU twins: caustic_bvh's traversals).
 // The direction of the ray being traced, and whether the closest hit so far is the front
 // (counter-clockwise) face of its triangle as the ray meets it (shapes count as front).
 var<private> trace_direction: vec3<f32>;
@@ -39,9 +40,10 @@ fn tie_inclusive(hit: Hit) -> f32 {
     return select(hit.t, bitcast<f32>(bitcast<u32>(hit.t) + 1u), hit.triangle != NO_HIT);
 }
 
-// Whether a triangle hit at no more than the closest distance replaces it although not nearer.
-fn wins_tie(front: bool) -> bool {
-    return front && !hit_front;
+// Whether triangle `id`, hit at no more than the closest distance, replaces `hit` although not
+// nearer: a front face against a back face, else the lower index.
+fn wins_tie(front: bool, id: u32, hit: Hit) -> bool {
+    return select(front && !hit_front, id < hit.triangle, front == hit_front);
 }
 
 // Whether the ray meets the counter-clockwise side of triangle v0 v1 v2.
@@ -75,7 +77,7 @@ fn intersect_leaf(ray: Ray, r: TraversalRay, leaf: u32, any_hit: bool, level: u3
         let th = intersect_triangle(traversal_ray_to_open(r, ray, tri.motion), tri.v0, tri.v1, tri.v2, tie_inclusive(*hit));
         // Moving triangles' corners are in their shutter-open frame: their ties go by order.
         let front = tri.motion == 0u && faces_ray(tri.v0, tri.v1, tri.v2, ray.direction);
-        if th.t > 0.0 && (th.t < (*hit).t || wins_tie(front)) && (!ALPHA_TEST || alpha_visible(ray, tri.id, th.u, th.v)) {
+        if th.t > 0.0 && (th.t < (*hit).t || wins_tie(front, tri.id, *hit)) && (!ALPHA_TEST || alpha_visible(ray, tri.id, th.u, th.v)) {
             *hit = Hit(th.t, th.u, th.v, tri.id, i);
             hit_front = front;
             if BVH_LEVELS {

@@ -2,15 +2,15 @@
 // place of bvh/traverse.wgsl: its `trace` calls test_triangle with each triangle's corners as
 // constants and test_shape for each bounded shape, in the BVH's gathered order.
 
-// `hit`, or the triangle v0 v1 v2 if the ray meets it closer, or at the same distance on its
-// front face where `hit` is a back face (bvh/leaf.wgsl `wins_tie`).
+// `hit`, or the triangle v0 v1 v2 if the ray meets it closer, or at the same distance and wins
+// the tie (bvh/leaf.wgsl `wins_tie`).
 fn test_triangle(r: TraversalRay, hit: Hit, v0: vec3<f32>, v1: vec3<f32>, v2: vec3<f32>, id: u32, slot: u32) -> Hit {
     let th = intersect_triangle(r, v0, v1, v2, tie_inclusive(hit));
     if !(th.t > 0.0) {
         return hit;
     }
     let front = faces_ray(v0, v1, v2, trace_direction);
-    if th.t < hit.t || wins_tie(front) {
+    if th.t < hit.t || wins_tie(front, id, hit) {
         hit_front = front;
         return Hit(th.t, th.u, th.v, id, slot);
     }

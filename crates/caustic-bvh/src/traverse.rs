@@ -139,7 +139,7 @@ impl GpuBvh {
         let mut level = 0u32;
         loop {
             if current & LEAF_BIT != 0 {
-                if let Some(hit) = self.intersect_leaf(&clipped, best.is_some(), current, any, counters) {
+                if let Some(hit) = self.intersect_leaf(&clipped, best, current, any, counters) {
                     clipped.t_max = hit.t;
                     best = Some(hit);
                     counters.hit_level = level;
@@ -178,26 +178,29 @@ impl GpuBvh {
         plane.or(best)
     }
 
-    /// Tests the triangles of a leaf word against `ray`, whose `t_max` is the closest hit's
-    /// distance when `has_hit`; returns the hit that replaces the closest one, if any: nearer,
-    /// or at exactly its distance on a front face where the closest so far is a back face
-    /// (`counters.front`). That tie rule is the shaders' (`shaders/bvh/leaf.wgsl`): a ray
-    /// through an edge two triangles share then meets the outside face of a closed mesh,
-    /// whatever order the walk visits them in.
-    pub(crate) fn intersect_leaf(&self, ray: &Ray, has_hit: bool, leaf: u32, any: bool, counters: &mut Counters) -> Option<Hit> {
+    /// Tests the triangles of a leaf word against `ray`, whose `t_max` is the distance of
+    /// `closest` when there is one; returns the hit that replaces it, if any: nearer, or at
+    /// exactly its distance and winning the tie: a front face against a back face
+    /// (`counters.front`), else the lower triangle index. That is the shaders' rule
+    /// (`shaders/bvh/leaf.wgsl`): a ray through an edge two triangles share meets the outside
+    /// face of a closed mesh, and every walk answers alike whatever order it visits them in.
+    pub(crate) fn intersect_leaf(&self, ray: &Ray, closest: Option<Hit>, leaf: u32, any: bool, counters: &mut Counters) -> Option<Hit> {
         let (first, count) = decode_leaf(leaf);
         let mut clipped = *ray;
         let mut best = None;
-        let mut have = has_hit;
+        let mut current = closest;
         for triangle in &self.triangles[first as usize..(first + count) as usize] {
             counters.triangles += 1;
-            let range = if have { f32::from_bits(clipped.t_max.to_bits() + 1) } else { clipped.t_max };
+            // Shapes take no part in ties: their range stays exclusive, as in the shaders.
+            let tie_range = current.is_some() && triangle.id & SHAPE_BIT == 0;
+            let range = if tie_range { f32::from_bits(clipped.t_max.to_bits() + 1) } else { clipped.t_max };
             let Some((hit, front)) = self.intersect_primitive(&Ray { t_max: range, ..clipped }, triangle) else { continue };
-            if hit.t < clipped.t_max || (front && !counters.front) {
+            let wins_tie = current.is_some_and(|c| if front == counters.front { hit.triangle < c.triangle } else { front });
+            if hit.t < clipped.t_max || wins_tie {
                 clipped.t_max = hit.t;
                 best = Some(hit);
+                current = best;
                 counters.front = front;
-                have = true;
                 if any {
                     break;
                 }
@@ -334,7 +337,7 @@ mod tests {
     }
 
     #[test]
-    fn a_ray_through_a_shared_edge_meets_the_front_face_in_every_walk() {
+    fn rays_through_shared_edges_meet_the_same_face_in_every_walk() {
         // Down and outwards through the edge x = 1, y = 1: the top face (normal +y) faces the
         // ray, the side face x = 1 shows it its back, both at exactly t = 0.5.
         let ray = Ray { origin: Vec3::new(0.5, 1.5, 0.5), direction: Vec3::new(1.0, -1.0, 0.0), t_max: f32::INFINITY };
@@ -354,6 +357,13 @@ mod tests {
                 println!("{walk} walk, reversed {reversed}: t {}, triangle {} with normal {normal}", hit.t, hit.triangle);
                 assert_eq!(hit.t, 0.5);
                 assert_eq!(normal, Vec3::Y, "{walk} walk: the top face, not the back of the side face");
+            }
+            // Straight down onto the diagonal the top face's two triangles share: both front
+            // faces, so the lower index wins.
+            let down = Ray { origin: Vec3::new(0.5, 2.0, 0.5), direction: Vec3::NEG_Y, t_max: f32::INFINITY };
+            let top: Vec<u32> = (0..12).filter(|&i| triangles[i as usize].iter().all(|v| v.y == 1.0)).collect();
+            for (walk, hit) in [("binary", bvh.closest_hit(&down)), ("wide", bvh.closest_hit_wide(&wide, &down)), ("wide-exact", bvh.closest_hit_wide(&exact, &down))] {
+                assert_eq!(hit.map(|h| (h.t, h.triangle)), Some((1.0, top[0])), "{walk} walk, reversed {reversed}: top triangles {top:?}");
             }
         }
     }

@@ -48,7 +48,7 @@ impl GpuBvh {
         let (mut current, mut level) = (0u32, 0u32);
         loop {
             if current & LEAF_BIT != 0 {
-                if let Some(hit) = self.intersect_leaf(&clipped, best.is_some(), current, any, counters) {
+                if let Some(hit) = self.intersect_leaf(&clipped, best, current, any, counters) {
                     clipped.t_max = hit.t;
                     best = Some(hit);
                     counters.hit_level = level;
