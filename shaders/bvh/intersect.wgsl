@@ -95,12 +95,15 @@ struct TriangleHit {
     t: f32,
     u: f32,
     v: f32,
+    // Whether the ray meets the counter-clockwise face: the sign of det, which the scaled
+    // barycentrics share (caustic_bvh::intersect_triangle_facing).
+    front: bool,
 }
 
 // Watertight ray-triangle test (Woop, Benthin & Wald, JCGT 2013), two-sided. Returns
 // t < 0 on a miss; (u, v) are the barycentric weights of v1 and v2.
 fn intersect_triangle(r: TraversalRay, v0: vec3<f32>, v1: vec3<f32>, v2: vec3<f32>, t_max: f32) -> TriangleHit {
-    let miss = TriangleHit(-1.0, 0.0, 0.0);
+    let miss = TriangleHit(-1.0, 0.0, 0.0, false);
     let a = v0 - r.origin;
     let b = v1 - r.origin;
     let c = v2 - r.origin;
@@ -142,7 +145,7 @@ fn intersect_triangle(r: TraversalRay, v0: vec3<f32>, v1: vec3<f32>, v2: vec3<f3
     if t <= t_error_bound(sheared_x, sheared_y, sheared_z, vec3<f32>(u, v, w), 1.0 / det) {
         return miss;
     }
-    return TriangleHit(t, v / det, w / det);
+    return TriangleHit(t, v / det, w / det, det > 0.0);
 }
 
 // gamma(n) = n eps / (1 - n eps), eps = 2^-24: relative error of n rounded operations.

@@ -22,14 +22,12 @@ fn leaf_count(child: u32) -> u32 {
 // through the back of the other face. Between two faces of the same side the lower scene
 // triangle index wins. Every traversal applies both rules, so their answers do not depend on
 // the order they visit primitives in (the CPU twins: caustic_bvh's traversals).
-// The direction of the ray being traced, and whether the closest hit so far is the front
-// (counter-clockwise) face of its triangle as the ray meets it (shapes count as front).
-var<private> trace_direction: vec3<f32>;
+// Whether the closest hit so far is the front (counter-clockwise) face of its triangle as the
+// ray meets it (shapes count as front).
 var<private> hit_front: bool;
 
 // No hit yet: the record every `trace` starts from.
 fn begin_trace(ray: Ray, t_max: f32) -> Hit {
-    trace_direction = ray.direction;
     hit_front = false;
     return Hit(t_max, 0.0, 0.0, NO_HIT, 0u);
 }
@@ -44,11 +42,6 @@ fn tie_inclusive(hit: Hit) -> f32 {
 // nearer: a front face against a back face, else the lower index.
 fn wins_tie(front: bool, id: u32, hit: Hit) -> bool {
     return select(front && !hit_front, id < hit.triangle, front == hit_front);
-}
-
-// Whether the ray meets the counter-clockwise side of triangle v0 v1 v2.
-fn faces_ray(v0: vec3<f32>, v1: vec3<f32>, v2: vec3<f32>, direction: vec3<f32>) -> bool {
-    return dot(cross(v1 - v0, v2 - v0), direction) < 0.0;
 }
 
 // Tests the primitives of leaf word `leaf` (tree level `level`), narrowing `hit` to the
@@ -76,7 +69,7 @@ fn intersect_leaf(ray: Ray, r: TraversalRay, leaf: u32, any_hit: bool, level: u3
         }
         let th = intersect_triangle(traversal_ray_to_open(r, ray, tri.motion), tri.v0, tri.v1, tri.v2, tie_inclusive(*hit));
         // Moving triangles' corners are in their shutter-open frame: their ties go by order.
-        let front = tri.motion == 0u && faces_ray(tri.v0, tri.v1, tri.v2, ray.direction);
+        let front = tri.motion == 0u && th.front;
         if th.t > 0.0 && (th.t < (*hit).t || wins_tie(front, tri.id, *hit)) && (!ALPHA_TEST || alpha_visible(ray, tri.id, th.u, th.v)) {
             *hit = Hit(th.t, th.u, th.v, tri.id, i);
             hit_front = front;

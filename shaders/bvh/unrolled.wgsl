@@ -9,9 +9,8 @@ fn test_triangle(r: TraversalRay, hit: Hit, v0: vec3<f32>, v1: vec3<f32>, v2: ve
     if !(th.t > 0.0) {
         return hit;
     }
-    let front = faces_ray(v0, v1, v2, trace_direction);
-    if th.t < hit.t || wins_tie(front, id, hit) {
-        hit_front = front;
+    if th.t < hit.t || wins_tie(th.front, id, hit) {
+        hit_front = th.front;
         return Hit(th.t, th.u, th.v, id, slot);
     }
     return hit;

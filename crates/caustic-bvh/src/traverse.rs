@@ -15,7 +15,7 @@ use glam::Vec3;
 use crate::build::MAX_DEPTH;
 use crate::layout::{EMPTY_CHILD, GpuBvh, GpuNode, GpuTriangle, LEAF_BIT, decode_leaf};
 use crate::shape::{SHAPE_BIT, intersect_shape};
-use crate::triangle::{Hit, Ray, intersect_triangle};
+use crate::triangle::{Hit, Ray, intersect_triangle_facing};
 
 /// Entries in the traversal stack. Every push happens at an interior node on the
 /// current path, at most one per level, so trees from [`crate::build`] (leaf depth
@@ -218,8 +218,7 @@ impl GpuBvh {
             return intersect_shape(ray, shape).map(|t| (Hit { t, u: 0.0, v: 0.0, triangle: SHAPE_BIT | shape.id }, true));
         }
         let [v0, v1, v2] = record.vertices();
-        let front = record.motion == 0 && (v1 - v0).cross(v2 - v0).dot(ray.direction) < 0.0;
-        intersect_triangle(ray, v0, v1, v2).map(|(t, u, v)| (Hit { t, u, v, triangle: record.id }, front))
+        intersect_triangle_facing(ray, v0, v1, v2).map(|(t, u, v, front)| (Hit { t, u, v, triangle: record.id }, front && record.motion == 0))
     }
 
     /// The planes, which no tree holds, tested after it.

@@ -70,6 +70,13 @@ fn largest_axis(v: Vec3) -> usize {
 ///    world origin, would otherwise hit the coplanar triangle beside its own).
 /// 9. `u = V*inv`, `v = W*inv`.
 pub fn intersect_triangle(ray: &Ray, v0: Vec3, v1: Vec3, v2: Vec3) -> Option<(f32, f32, f32)> {
+    intersect_triangle_facing(ray, v0, v1, v2).map(|(t, u, v, _)| (t, u, v))
+}
+
+/// [`intersect_triangle`] that also says whether the ray meets the triangle's front
+/// (counter-clockwise) face: the sign of `det`, which the scaled barycentrics share, so it
+/// costs nothing and agrees with the hit test itself (the traversals' tie rule uses it).
+pub fn intersect_triangle_facing(ray: &Ray, v0: Vec3, v1: Vec3, v2: Vec3) -> Option<(f32, f32, f32, bool)> {
     let d = ray.direction;
     let kz = largest_axis(d.abs());
     let (mut kx, mut ky) = ((kz + 1) % 3, (kz + 2) % 3);
@@ -127,7 +134,7 @@ pub fn intersect_triangle(ray: &Ray, v0: Vec3, v1: Vec3, v2: Vec3) -> Option<(f3
     if t <= t_error_bound(sheared, Vec3::new(u, v, w), inv_det) {
         return None;
     }
-    Some((t, v * inv_det, w * inv_det))
+    Some((t, v * inv_det, w * inv_det, det > 0.0))
 }
 
 /// `gamma(n) = n eps / (1 - n eps)` with `eps = 2^-24`: the relative error bound of `n`
@@ -207,6 +214,28 @@ mod tests {
             direction,
             t_max: f32::INFINITY,
         }
+    }
+
+    #[test]
+    fn the_facing_is_the_side_of_the_counter_clockwise_normal() {
+        // Rays along every axis and diagonals, both ways, at a triangle in each orientation.
+        let mut checked = 0;
+        for (i, normal) in [Vec3::X, Vec3::Y, Vec3::Z, Vec3::new(1.0, 2.0, -3.0).normalize()].into_iter().enumerate() {
+            let frame_u = normal.any_orthonormal_vector();
+            let frame_v = normal.cross(frame_u);
+            let tri = [-frame_u - frame_v, frame_u - frame_v, frame_v * 1.5];
+            assert!((tri[1] - tri[0]).cross(tri[2] - tri[0]).dot(normal) > 0.0);
+            for d in [Vec3::X, Vec3::NEG_X, Vec3::Y, Vec3::NEG_Y, Vec3::Z, Vec3::NEG_Z, Vec3::new(1.0, -0.5, 0.25), Vec3::new(-0.3, 0.7, -1.0)] {
+                if d.dot(normal).abs() < 0.1 {
+                    continue;
+                }
+                let origin = -d * 3.0 + frame_u * 0.1 * i as f32;
+                let (_, _, _, front) = intersect_triangle_facing(&ray(origin, d), tri[0], tri[1], tri[2]).expect("aimed at the triangle");
+                assert_eq!(front, d.dot(normal) < 0.0, "normal {normal}, direction {d}");
+                checked += 1;
+            }
+        }
+        assert!(checked >= 16);
     }
 
     #[test]

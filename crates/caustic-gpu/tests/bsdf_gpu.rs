@@ -391,17 +391,17 @@ struct TestOutput {
 fn test_kernel(index: u32) -> TestOutput {
     let t = test_inputs[index];
     let h = intersect_triangle(prepare_ray(Ray(t.origin, t.direction)), t.v0, t.v1, t.v2, 3.0e38);
-    return TestOutput(vec4<f32>(h.t, h.u, h.v, 0.0));
+    return TestOutput(vec4<f32>(h.t, h.u, h.v, select(0.0, 1.0, h.front)));
 }
 ";
 
 /// The harness on another kind of function: the watertight ray-triangle test
 /// (`shaders/bvh/intersect.wgsl`) against `caustic_bvh::intersect_triangle` on random rays
 /// aimed at random triangles (about half hit, many near edges). Hits must agree exactly in
-/// kind and to 1e-5 relative in distance and barycentrics.
+/// kind and facing, and to 1e-5 relative in distance and barycentrics.
 #[test]
 fn device_triangle_test_matches_its_twin() {
-    use caustic_bvh::{Ray, intersect_triangle};
+    use caustic_bvh::{Ray, intersect_triangle_facing};
     let ctx = context();
     let kernel = KernelTest::new(&ctx, &caustic_gpu::shaders::common_library(), TRIANGLE_KERNEL).expect("triangle kernel compiles");
     let mut rng = Pcg(23);
@@ -415,20 +415,22 @@ fn device_triangle_test_matches_its_twin() {
         })
         .collect();
     let hits: Vec<[f32; 4]> = kernel.run(&inputs, inputs.len()).expect("kernel runs");
-    let (mut both, mut differ, mut worst) = (0usize, 0usize, 0f32);
+    let (mut both, mut differ, mut worst, mut fronts) = (0usize, 0usize, 0f32, 0usize);
     for (input, hit) in inputs.iter().zip(&hits) {
         let v = |k: usize| Vec3::new(input[k][0], input[k][1], input[k][2]);
-        let cpu = intersect_triangle(&Ray { origin: v(0), direction: v(1), t_max: 3.0e38 }, v(2), v(3), v(4));
+        let cpu = intersect_triangle_facing(&Ray { origin: v(0), direction: v(1), t_max: 3.0e38 }, v(2), v(3), v(4));
         match cpu {
-            Some((t, u, w)) if hit[0] >= 0.0 => {
+            Some((t, u, w, front)) if hit[0] >= 0.0 && front == (hit[3] == 1.0) => {
                 both += 1;
+                fronts += usize::from(front);
                 worst = worst.max(rel(Vec3::new(t, u, w), Vec3::new(hit[0], hit[1], hit[2])));
             }
             None if hit[0] < 0.0 => {}
             _ => differ += 1,
         }
     }
-    println!("{} rays: {both} hits on both sides, {differ} disagree, worst relative difference {worst:.1e}", inputs.len());
-    assert_eq!(differ, 0, "device and CPU disagree on hit or miss");
+    println!("{} rays: {both} hits on both sides ({fronts} on front faces), {differ} disagree, worst relative difference {worst:.1e}", inputs.len());
+    assert_eq!(differ, 0, "device and CPU disagree on hit or miss, or on the face");
+    assert!(fronts > both / 4 && fronts < both * 3 / 4, "random triangles are met on both faces");
     assert!(worst < 1e-5, "hit distances or barycentrics differ by {worst:.1e}");
 }
