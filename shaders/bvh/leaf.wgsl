@@ -22,12 +22,13 @@ fn leaf_count(child: u32) -> u32 {
 // through the back of the other face. Between two faces of the same side the lower scene
 // triangle index wins. Every traversal applies both rules, so their answers do not depend on
 // the order they visit primitives in (the CPU twins: caustic_bvh's traversals).
+
 // Whether the closest hit so far is the front (counter-clockwise) face of its triangle as the
 // ray meets it (shapes count as front).
 var<private> hit_front: bool;
 
 // No hit yet: the record every `trace` starts from.
-fn begin_trace(ray: Ray, t_max: f32) -> Hit {
+fn begin_trace(t_max: f32) -> Hit {
     hit_front = false;
     return Hit(t_max, 0.0, 0.0, NO_HIT, 0u);
 }

@@ -14,7 +14,7 @@ const STACK_SIZE: u32 = 64u;
 // visited; separate loops pay each step only while some lane needs it.
 fn trace(ray: Ray, t_max: f32, any_hit: bool, cost: ptr<function, TraversalCost>) -> Hit {
     let r = prepare_ray(ray);
-    var hit = begin_trace(ray, t_max);
+    var hit = begin_trace(t_max);
     var stack_child: array<u32, STACK_SIZE>;
     var sp = 0u;
     var current = 0u;

@@ -44,7 +44,7 @@ fn order_wide_children(r: TraversalRay, index: u32, t_max: f32) -> WideOrder {
 // that child was hit (misses sort last).
 fn trace(ray: Ray, t_max: f32, any_hit: bool, cost: ptr<function, TraversalCost>) -> Hit {
     let r = prepare_ray(ray);
-    var hit = begin_trace(ray, t_max);
+    var hit = begin_trace(t_max);
     var stack_child: array<u32, WIDE_STACK_ROOM>;
     var sp = 0u;
     var current = 0u;
