@@ -280,7 +280,8 @@ fn the_window_stays_responsive_while_a_pass_takes_longer_than_a_frame() {
     let Some(xvfb) = Xvfb::start() else { return };
     // No --spp: the scripted run ends after its frames, long before the default target.
     let output = Command::new(env!("CARGO_BIN_EXE_caustic"))
-        .args(["view", "cornell", "--size", "256x256", "--frames", "40"])
+        // 512x512: a pass takes 2-3 frames' time here (256x256 passes got shorter than frames).
+        .args(["view", "cornell", "--size", "512x512", "--frames", "40"])
         .env("DISPLAY", &xvfb.display)
         .env_remove("WAYLAND_DISPLAY")
         .output()
@@ -290,10 +291,10 @@ fn the_window_stays_responsive_while_a_pass_takes_longer_than_a_frame() {
     let stdout = String::from_utf8_lossy(&output.stdout);
     let report: serde_json::Value = serde_json::from_str(stdout.lines().last().expect("a JSON report")).expect("JSON report");
     let samples_per_second = report["samples_per_second"].as_f64().unwrap();
-    let pass_ms = 256.0 * 256.0 / samples_per_second.max(1.0) * 1e3;
+    let pass_ms = 512.0 * 512.0 / samples_per_second.max(1.0) * 1e3;
     let median = report["frame_ms_median"].as_f64().unwrap();
     println!(
-        "256x256: one sample pass renders in {pass_ms:.0} ms; frames: median {median:.1} ms, p95 {:.1} ms, max {:.1} ms (target {} ms, render budget {:.1} ms), {} complete passes in {} frames",
+        "512x512: one sample pass renders in {pass_ms:.0} ms; frames: median {median:.1} ms, p95 {:.1} ms, max {:.1} ms (target {} ms, render budget {:.1} ms), {} complete passes in {} frames",
         report["frame_ms_p95"].as_f64().unwrap(),
         report["frame_ms_max"].as_f64().unwrap(),
         report["frame_ms_target"],

@@ -11,8 +11,8 @@ const SAMPLING_COSINE: u32 = 1u;
 const SAMPLING_BSDF: u32 = 2u;
 const LOBE_SLOTS: u32 = 7u;
 
-// The slots the scene's materials use, a bit each (crate::specialize::lobe_mask): the loops
-// skip the others, so a pipeline compiled for a scene of diffuse surfaces runs no code of
+// The slots the scene's materials use, a bit each (crate::specialize::lobe_mask): the sums
+// and the choice below skip the others, so a pipeline compiled for a scene of diffuse surfaces runs no code of
 // the other lobes.
 override LOBE_MASK: u32 = 0x7fu;
 
@@ -119,32 +119,41 @@ fn lobe_sample(m: Material, eta: f32, wo: vec3<f32>, u_lobe: f32, u: vec2<f32>, 
     }
 }
 
+// The sums and the choice below run their per-slot step once for each slot, the slot a
+// literal, rather than in a loop over the slots: with a literal, lobe_in_scene and the
+// per-slot switches fold once the step is inlined, so a scene's kernel keeps only the code
+// of the lobes it uses. In a loop, lavapipe (Mesa 22.3) ran every lobe's code, masked, and
+// a diffuse scene paid for all seven (docs/PERFORMANCE.md, "BSDF slots unrolled").
+
 fn total_selection(m: Material, wo: vec3<f32>) -> f32 {
-    var total = 0.0;
-    for (var slot = 0u; slot < LOBE_SLOTS; slot++) {
-        if lobe_in_scene(slot) {
-            total += lobe_selection(m, wo, slot);
-        }
+    return selection_in_scene(m, wo, 0u) + selection_in_scene(m, wo, 1u) + selection_in_scene(m, wo, 2u) + selection_in_scene(m, wo, 3u) + selection_in_scene(m, wo, 4u) + selection_in_scene(m, wo, 5u) + selection_in_scene(m, wo, 6u);
+}
+
+fn selection_in_scene(m: Material, wo: vec3<f32>, slot: u32) -> f32 {
+    if !lobe_in_scene(slot) {
+        return 0.0;
     }
-    return total;
+    return lobe_selection(m, wo, slot);
 }
 
 // BSDF times |cos theta_i|, summed over the lobes.
 fn eval_bsdf(m: Material, eta: f32, wo: vec3<f32>, wi: vec3<f32>) -> vec3<f32> {
-    var f = vec3<f32>(0.0);
-    for (var slot = 0u; slot < LOBE_SLOTS; slot++) {
-        if !lobe_in_scene(slot) {
-            continue;
-        }
-        var w = lobe_weight(m, wo, slot);
-        if slot == 0u {
-            w *= coat_transmission(m, wi.z);
-        }
-        if any(w != vec3<f32>(0.0)) {
-            f += w * lobe_eval(m, eta, wo, wi, slot);
-        }
+    return eval_slot(m, eta, wo, wi, 0u) + eval_slot(m, eta, wo, wi, 1u) + eval_slot(m, eta, wo, wi, 2u) + eval_slot(m, eta, wo, wi, 3u) + eval_slot(m, eta, wo, wi, 4u) + eval_slot(m, eta, wo, wi, 5u) + eval_slot(m, eta, wo, wi, 6u);
+}
+
+// One slot's weighted lobe value (0 outside the scene's lobes).
+fn eval_slot(m: Material, eta: f32, wo: vec3<f32>, wi: vec3<f32>, slot: u32) -> vec3<f32> {
+    if !lobe_in_scene(slot) {
+        return vec3<f32>(0.0);
     }
-    return f;
+    var w = lobe_weight(m, wo, slot);
+    if slot == 0u {
+        w *= coat_transmission(m, wi.z);
+    }
+    if all(w == vec3<f32>(0.0)) {
+        return vec3<f32>(0.0);
+    }
+    return w * lobe_eval(m, eta, wo, wi, slot);
 }
 
 // Density with which sample_bsdf draws wi by a non-delta lobe under `sampling`.
@@ -153,17 +162,95 @@ fn pdf_bsdf(m: Material, eta: f32, wo: vec3<f32>, wi: vec3<f32>, sampling: u32) 
     if total <= 0.0 {
         return 0.0;
     }
-    var pdf = 0.0;
-    for (var slot = 0u; slot < LOBE_SLOTS; slot++) {
-        if !lobe_in_scene(slot) {
-            continue;
-        }
-        let s = lobe_selection(m, wo, slot) / total;
-        if s > 0.0 {
-            pdf += s * lobe_pdf(m, eta, wo, wi, slot, sampling);
-        }
+    return pdf_slot(m, eta, wo, wi, sampling, total, 0u) + pdf_slot(m, eta, wo, wi, sampling, total, 1u) + pdf_slot(m, eta, wo, wi, sampling, total, 2u) + pdf_slot(m, eta, wo, wi, sampling, total, 3u) + pdf_slot(m, eta, wo, wi, sampling, total, 4u) + pdf_slot(m, eta, wo, wi, sampling, total, 5u) + pdf_slot(m, eta, wo, wi, sampling, total, 6u);
+}
+
+// One slot's share of pdf_bsdf: its selection probability times its density.
+fn pdf_slot(m: Material, eta: f32, wo: vec3<f32>, wi: vec3<f32>, sampling: u32, total: f32, slot: u32) -> f32 {
+    if !lobe_in_scene(slot) {
+        return 0.0;
     }
-    return pdf;
+    let s = lobe_selection(m, wo, slot) / total;
+    if !(s > 0.0) {
+        return 0.0;
+    }
+    return s * lobe_pdf(m, eta, wo, wi, slot, sampling);
+}
+
+// The lobe sample_bsdf picks: the first slot whose selection interval [start, start + p)
+// holds u_lobe, or the last slot of positive probability if rounding left u_lobe beyond all.
+struct LobeChoice {
+    // Where the next slot's interval begins.
+    start: f32,
+    chosen: u32,
+    chosen_p: f32,
+    // u_lobe rescaled to [0, 1) within the chosen interval.
+    u_rescaled: f32,
+    last: u32,
+    last_p: f32,
+}
+
+// The choice after considering `slot`.
+fn consider_slot(choice: LobeChoice, m: Material, wo: vec3<f32>, u_lobe: f32, total: f32, slot: u32) -> LobeChoice {
+    if !lobe_in_scene(slot) {
+        return choice;
+    }
+    let p = lobe_selection(m, wo, slot) / total;
+    if p <= 0.0 {
+        return choice;
+    }
+    var next = choice;
+    if choice.chosen == LOBE_SLOTS && u_lobe < choice.start + p {
+        next.chosen = slot;
+        next.chosen_p = p;
+        next.u_rescaled = min((u_lobe - choice.start) / p, 0.99999994);
+    }
+    next.start = choice.start + p;
+    next.last = slot;
+    next.last_p = p;
+    return next;
+}
+
+fn choose_lobe(m: Material, wo: vec3<f32>, u_lobe: f32, total: f32) -> LobeChoice {
+    var c = LobeChoice(0.0, LOBE_SLOTS, 0.0, 0.0, LOBE_SLOTS, 0.0);
+    c = consider_slot(c, m, wo, u_lobe, total, 0u);
+    c = consider_slot(c, m, wo, u_lobe, total, 1u);
+    c = consider_slot(c, m, wo, u_lobe, total, 2u);
+    c = consider_slot(c, m, wo, u_lobe, total, 3u);
+    c = consider_slot(c, m, wo, u_lobe, total, 4u);
+    c = consider_slot(c, m, wo, u_lobe, total, 5u);
+    c = consider_slot(c, m, wo, u_lobe, total, 6u);
+    if c.chosen == LOBE_SLOTS {
+        c.chosen = c.last;
+        c.chosen_p = c.last_p;
+        c.u_rescaled = 0.99999994;
+    }
+    return c;
+}
+
+// The chosen lobe's sample and weight (a run-time slot, so each slot is tested in turn).
+struct ChosenSample {
+    drawn: BsdfSample,
+    lobe_weight: vec3<f32>,
+}
+
+fn sample_if_chosen(sample: ChosenSample, m: Material, eta: f32, wo: vec3<f32>, c: LobeChoice, u: vec2<f32>, sampling: u32, slot: u32) -> ChosenSample {
+    if !lobe_in_scene(slot) || c.chosen != slot {
+        return sample;
+    }
+    return ChosenSample(lobe_sample(m, eta, wo, c.u_rescaled, u, slot, sampling), lobe_weight(m, wo, slot));
+}
+
+fn sample_chosen(m: Material, eta: f32, wo: vec3<f32>, c: LobeChoice, u: vec2<f32>, sampling: u32) -> ChosenSample {
+    var s = ChosenSample(no_sample(), vec3<f32>(0.0));
+    s = sample_if_chosen(s, m, eta, wo, c, u, sampling, 0u);
+    s = sample_if_chosen(s, m, eta, wo, c, u, sampling, 1u);
+    s = sample_if_chosen(s, m, eta, wo, c, u, sampling, 2u);
+    s = sample_if_chosen(s, m, eta, wo, c, u, sampling, 3u);
+    s = sample_if_chosen(s, m, eta, wo, c, u, sampling, 4u);
+    s = sample_if_chosen(s, m, eta, wo, c, u, sampling, 5u);
+    s = sample_if_chosen(s, m, eta, wo, c, u, sampling, 6u);
+    return s;
 }
 
 // Chooses a lobe with u_lobe (rescaled and passed on for the lobe's own discrete choice),
@@ -174,41 +261,15 @@ fn sample_bsdf(m: Material, eta: f32, wo: vec3<f32>, u_lobe: f32, u: vec2<f32>, 
     if total <= 0.0 {
         return no_sample();
     }
-    var start = 0.0;
-    var chosen = LOBE_SLOTS;
-    var last = LOBE_SLOTS;
-    var u_rescaled = 0.0;
-    var chosen_p = 0.0;
-    var last_p = 0.0;
-    for (var slot = 0u; slot < LOBE_SLOTS; slot++) {
-        if !lobe_in_scene(slot) {
-            continue;
-        }
-        let p = lobe_selection(m, wo, slot) / total;
-        if p <= 0.0 {
-            continue;
-        }
-        if chosen == LOBE_SLOTS && u_lobe < start + p {
-            chosen = slot;
-            chosen_p = p;
-            u_rescaled = min((u_lobe - start) / p, 0.99999994);
-        }
-        start += p;
-        last = slot;
-        last_p = p;
-    }
-    if chosen == LOBE_SLOTS {
-        chosen = last;
-        chosen_p = last_p;
-        u_rescaled = 0.99999994;
-    }
-    let drawn = lobe_sample(m, eta, wo, u_rescaled, u, chosen, sampling);
+    let choice = choose_lobe(m, wo, u_lobe, total);
+    let chosen = sample_chosen(m, eta, wo, choice, u, sampling);
+    let drawn = chosen.drawn;
     if drawn.pdf <= 0.0 {
         return no_sample();
     }
     if drawn.delta {
-        let weight = lobe_weight(m, wo, chosen) * drawn.weight / chosen_p;
-        return BsdfSample(drawn.wi, drawn.pdf * chosen_p, weight, drawn.eta, true);
+        let weight = chosen.lobe_weight * drawn.weight / choice.chosen_p;
+        return BsdfSample(drawn.wi, drawn.pdf * choice.chosen_p, weight, drawn.eta, true);
     }
     let pdf = pdf_bsdf(m, eta, wo, drawn.wi, sampling);
     if !(pdf > 0.0 && pdf < 3.0e38) {

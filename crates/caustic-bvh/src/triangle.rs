@@ -57,11 +57,10 @@ fn largest_axis(v: Vec3) -> usize {
 /// 2. Shear constants `sx = d[kx]/d[kz]`, `sy = d[ky]/d[kz]`, `sz = 1/d[kz]`.
 /// 3. `A = v0 - o`, `B = v1 - o`, `C = v2 - o`; `Ax = A[kx] - sx*A[kz]`,
 ///    `Ay = A[ky] - sy*A[kz]`, likewise for `B`, `C`.
-/// 4. Scaled barycentrics `U = Cx*By - Cy*Bx`, `V = Ax*Cy - Ay*Cx`, `W = Bx*Ay - By*Ax`.
-///    One that rounds to exactly 0 is recomputed by [`refine_edge`] (the paper recomputes
-///    in `f64`, which shaders lack); a zero that remains counts as on the edge and is
-///    accepted by both neighbours.
-/// 5. Miss if the signs are mixed: `(U<0 || V<0 || W<0) && (U>0 || V>0 || W>0)`.
+/// 4. Scaled barycentrics `U = Cx*By - Cy*Bx`, `V = Ax*Cy - Ay*Cx`, `W = Bx*Ay - By*Ax`;
+///    a zero counts as on the edge and is accepted by both neighbours.
+/// 5. Miss if the signs are mixed: `(U<0 || V<0 || W<0) && (U>0 || V>0 || W>0)`, or if two
+///    are exactly 0 at a vertex off the ray ([`edge_on_at_vertex`]).
 /// 6. `det = U + V + W`; miss if `det == 0` (ray in the triangle's plane or degenerate).
 /// 7. `Az = sz*A[kz]`, `Bz = sz*B[kz]`, `Cz = sz*C[kz]`; `T = U*Az + V*Bz + W*Cz`.
 /// 8. `inv = 1/det`, `t = T*inv`; miss unless `t > 0 && t < t_max` (NaN fails too) and
@@ -97,19 +96,13 @@ pub fn intersect_triangle_facing(ray: &Ray, v0: Vec3, v1: Vec3, v2: Vec3) -> Opt
     let cx = c[kx] - sx * c[kz];
     let cy = c[ky] - sy * c[kz];
 
-    let mut u = cx * by - cy * bx;
-    let mut v = ax * cy - ay * cx;
-    let mut w = bx * ay - by * ax;
-    if u == 0.0 {
-        u = refine_edge(cx, by, cy, bx);
-    }
-    if v == 0.0 {
-        v = refine_edge(ax, cy, ay, cx);
-    }
-    if w == 0.0 {
-        w = refine_edge(bx, ay, by, ax);
-    }
+    let u = cx * by - cy * bx;
+    let v = ax * cy - ay * cx;
+    let w = bx * ay - by * ax;
     if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
+        return None;
+    }
+    if edge_on_at_vertex([u, v, w], [(ax, ay), (bx, by), (cx, cy)]) {
         return None;
     }
     let det = u + v + w;
@@ -161,27 +154,25 @@ fn t_error_bound(sheared: [Vec3; 3], edges: Vec3, inv_det: f32) -> f32 {
     3.0 * ((GAMMA_3 * max_z + delta_z) * max_e_inv + (delta_e * inv) * max_z)
 }
 
-/// `p*q - r*s` for an edge function whose `f32` evaluation rounded to exactly 0.
+/// Whether two scaled barycentrics are exactly 0, so the test would report a hit at the
+/// vertex they share, while that vertex is not on the ray (its sheared `x, y` not both 0).
 ///
-/// Each factor is split by masking into a 12-bit high part and the exact rest, so every
-/// partial product is exact; the partial differences are summed large to small. The sign
-/// is right unless the true value is below about 2^-36 of the products, where plain `f32`
-/// goes wrong below 2^-24: two rounded-to-zero edge functions of a sliver (aspect 1e7)
-/// made rays report hits at its corner from far away (found by
-/// `tests/extreme_triangles.rs`). Exact negations stay exact negations (an edge shared by
-/// two triangles is refined in both or neither), so watertightness is kept. Only integer
-/// masking and exact products: no compiler folding or contraction can change it, so the
-/// WGSL twin (`refine_edge` in `shaders/bvh/intersect.wgsl`) gives the same bits.
-pub fn refine_edge(p: f32, q: f32, r: f32, s: f32) -> f32 {
-    let split = |x: f32| {
-        let high = f32::from_bits(x.to_bits() & 0xFFFF_F000);
-        (high, x - high)
-    };
-    let ((ph, pl), (qh, ql), (rh, rl), (sh, sl)) = (split(p), split(q), split(r), split(s));
-    let high = ph * qh - rh * sh;
-    let middle = (ph * ql + pl * qh) - (rh * sl + rl * sh);
-    let low = pl * ql - rl * sl;
-    high + (middle + low)
+/// Two edge functions through a vertex vanish together only if the ray passes through the
+/// vertex or the three sheared vertices are collinear with the ray: the triangle is seen
+/// edge-on, a sliver or grazed. In f32 that happens without the ray being near the vertex:
+/// for a ray 1.9 units from a sliver of aspect 1e7, two edge functions rounded to exactly 0
+/// (exact values 1.8e-7 and 8.9e-9) with the third -1.3e-7, no mixed signs, and the test
+/// reported a hit at the sliver's corner (found by `tests/extreme_triangles.rs`). Such a
+/// triangle has no area towards the ray, so it is missed; a mesh stays watertight because
+/// its neighbours across those edges see the same zeros (exact negations) and take the
+/// ray. A ray through a vertex exactly (axis-aligned rays through grid vertices) hits it.
+/// The paper recomputes zero edge functions in f64, which shaders lack; an exact
+/// recomputation from split factors cost lavapipe a fifth of a Cornell box pass and its
+/// compiler folded it back into the plain f32 products (docs/ROBUSTNESS.md).
+fn edge_on_at_vertex(edges: [f32; 3], sheared: [(f32, f32); 3]) -> bool {
+    let off_ray = |(x, y): (f32, f32)| x != 0.0 || y != 0.0;
+    let [u, v, w] = edges.map(|e| e == 0.0);
+    (v && w && off_ray(sheared[0])) || (u && w && off_ray(sheared[1])) || (u && v && off_ray(sheared[2]))
 }
 
 /// The nearest hit found by testing every triangle: the ground truth for the BVH.

@@ -188,20 +188,30 @@ fn slivers_degenerate_triangles_and_edge_rays_agree_with_brute_force() {
 }
 
 /// The ray and sliver (aspect 1e7) that made the watertight test report a hit at the sliver's
-/// corner 1.9 units away: two of its edge functions rounded to exactly 0 in f32 although their
+/// corner 1.9 units away: two of its edge functions round to exactly 0 in f32 although their
 /// exact values (from the same transformed coordinates) are 1.8e-7 and 8.9e-9, with the third
-/// -1.3e-7: mixed signs, a miss.
+/// -1.3e-7. The corner they share is not on the ray, so the sliver is seen edge-on: a miss.
+/// A ray through a vertex exactly still hits every triangle around it.
 #[test]
-fn sliver_edge_functions_that_round_to_zero_are_refined() {
+fn edge_on_slivers_miss_and_rays_through_vertices_hit() {
     let ray = Ray { origin: Vec3::new(2.790382, -2.3988943, 1.7151849), direction: Vec3::new(-0.75664127, 0.63296473, -0.738395), t_max: f32::INFINITY };
     let sliver = [Vec3::new(1.5, -0.5, -0.5), Vec3::new(2.5, -0.5, -0.5), Vec3::new(2.0, -0.5, -0.4999999)];
     let hit = caustic_bvh::intersect_triangle(&ray, sliver[0], sliver[1], sliver[2]);
     let (cx, cy, bx, by) = (-1.443_862_9_f32, 1.237_704_f32, -1.931_805_5_f32, 1.655_976_7_f32);
-    let (plain, refined) = (cx * by - cy * bx, caustic_bvh::refine_edge(cx, by, cy, bx));
-    let exact = f64::from(cx) * f64::from(by) - f64::from(cy) * f64::from(bx);
-    println!("sliver: hit {hit:?}; edge function C x B: plain f32 {plain:e}, refined {refined:e}, exact {exact:e}");
-    assert_eq!(plain, 0.0, "the case needs the plain edge function to round to 0");
-    let bound = 2f64.powi(-34) * (f64::from(cx) * f64::from(by)).abs();
-    assert!((f64::from(refined) - exact).abs() <= bound, "refined {refined:e}, exact {exact:e}: error above 2^-34 of the products");
+    let (plain, exact) = (cx * by - cy * bx, f64::from(cx) * f64::from(by) - f64::from(cy) * f64::from(bx));
+    println!("sliver: hit {hit:?}; edge function C x B: f32 {plain:e}, exact {exact:e}");
+    assert_eq!(plain, 0.0, "the case needs the edge function to round to 0");
     assert_eq!(hit, None, "a ray 1.9 units from the sliver hits it");
+    let fan = [Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, 1.0, 0.0), Vec3::new(-1.0, 0.0, 0.0), Vec3::new(0.0, -1.0, 0.0)];
+    for direction in [Vec3::Z, Vec3::NEG_Z] {
+        let ray = Ray { origin: Vec3::new(0.0, 0.0, 2.0) - 4.0 * direction.max(Vec3::ZERO), direction, t_max: f32::INFINITY };
+        for k in 0..4 {
+            let corners = [Vec3::ZERO, fan[k], fan[(k + 1) % 4]];
+            for rotation in 0..3 {
+                let [v0, v1, v2] = [0, 1, 2].map(|i| corners[(i + rotation) % 3]);
+                let hit = caustic_bvh::intersect_triangle(&ray, v0, v1, v2);
+                assert!(hit.is_some_and(|(t, _, _)| (t - 2.0).abs() < 1e-6), "a ray through the fan's centre misses triangle {k} (rotation {rotation}): {hit:?}");
+            }
+        }
+    }
 }

@@ -434,3 +434,32 @@ fn device_triangle_test_matches_its_twin() {
     assert!(fronts > both / 4 && fronts < both * 3 / 4, "random triangles are met on both faces");
     assert!(worst < 1e-5, "hit distances or barycentrics differ by {worst:.1e}");
 }
+
+/// The triangle test's edge-on rule on the device, as on the CPU
+/// (`tests/extreme_triangles.rs` of caustic-bvh): the ray 1.9 units from a sliver of aspect
+/// 1e7, two of whose edge functions round to 0, misses it; rays exactly through the centre
+/// of a fan of four triangles, from both sides and with every rotation of the corners, hit
+/// each triangle at its shared corner.
+#[test]
+fn device_triangle_test_misses_edge_on_slivers_and_hits_through_vertices() {
+    let ctx = context();
+    let kernel = KernelTest::new(&ctx, &caustic_gpu::shaders::common_library(), TRIANGLE_KERNEL).expect("triangle kernel compiles");
+    let row = |v: Vec3| [v.x, v.y, v.z, 0.0];
+    let sliver = [Vec3::new(1.5, -0.5, -0.5), Vec3::new(2.5, -0.5, -0.5), Vec3::new(2.0, -0.5, -0.4999999)];
+    let mut inputs = vec![[row(Vec3::new(2.790382, -2.3988943, 1.7151849)), row(Vec3::new(-0.75664127, 0.63296473, -0.738395)), row(sliver[0]), row(sliver[1]), row(sliver[2])]];
+    let fan = [Vec3::X, Vec3::Y, Vec3::NEG_X, Vec3::NEG_Y];
+    for direction in [Vec3::Z, Vec3::NEG_Z] {
+        let origin = Vec3::new(0.0, 0.0, 2.0) - 4.0 * direction.max(Vec3::ZERO);
+        for k in 0..4 {
+            let corners = [Vec3::ZERO, fan[k], fan[(k + 1) % 4]];
+            for rotation in 0..3 {
+                inputs.push([row(origin), row(direction), row(corners[rotation]), row(corners[(rotation + 1) % 3]), row(corners[(rotation + 2) % 3])]);
+            }
+        }
+    }
+    let hits: Vec<[f32; 4]> = kernel.run(&inputs, inputs.len()).expect("kernel runs");
+    println!("sliver: device t {}; fan: device t {:?}", hits[0][0], hits[1..].iter().map(|h| h[0]).collect::<Vec<_>>());
+    assert!(hits[0][0] < 0.0, "the device hits the sliver from 1.9 units away");
+    let missed = hits[1..].iter().filter(|h| (h[0] - 2.0).abs() > 1e-6).count();
+    assert_eq!(missed, 0, "rays through the fan's centre miss {missed} of its triangles on the device");
+}
