@@ -96,9 +96,9 @@ struct BvhWideNode {
     origin: vec3<f32>,
     exponents: u32,
     lo: vec3<u32>,
-    child_count: u32,
+    _pad0: u32,
     hi: vec3<u32>,
-    _pad: u32,
+    _pad1: u32,
     children: vec4<u32>,
 }
 

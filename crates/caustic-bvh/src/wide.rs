@@ -49,12 +49,12 @@ pub struct GpuWideNode {
     pub exponents: u32,
     /// Quantised minima: byte `i` of `lo[a]` is child `i`'s minimum on axis `a`.
     pub lo: [u32; 3],
-    /// Number of children in use (the others are [`EMPTY_CHILD`]).
-    pub child_count: u32,
+    /// Padding to keep the WGSL struct 16-byte aligned.
+    pub _pad0: u32,
     /// Quantised maxima, like `lo`.
     pub hi: [u32; 3],
-    /// Padding to keep the WGSL struct 16-byte aligned.
-    pub _pad: u32,
+    /// Padding, as `_pad0`.
+    pub _pad1: u32,
     /// Child words.
     pub children: [u32; 4],
 }
@@ -62,6 +62,11 @@ pub struct GpuWideNode {
 const _: () = assert!(size_of::<GpuWideNode>() == 64);
 
 impl GpuWideNode {
+    /// Number of children in use (the others are [`EMPTY_CHILD`]).
+    pub fn child_count(&self) -> usize {
+        self.children.iter().filter(|&&c| c != EMPTY_CHILD).count()
+    }
+
     /// The per-axis steps.
     pub fn steps(&self) -> Vec3 {
         let biased = UVec3::new(self.exponents & 0xff, (self.exponents >> 8) & 0xff, (self.exponents >> 16) & 0xff);
@@ -248,7 +253,7 @@ impl GpuBvh {
 
 /// The wide node holding `children` (at most four) with outward-rounded boxes.
 fn quantise(children: &[(Aabb, u32)]) -> Result<GpuWideNode, WideError> {
-    let mut node = GpuWideNode { children: [EMPTY_CHILD; 4], child_count: children.len() as u32, ..GpuWideNode::zeroed() };
+    let mut node = GpuWideNode { children: [EMPTY_CHILD; 4], ..GpuWideNode::zeroed() };
     let union = children.iter().fold(Aabb::empty(), |acc, c| acc.union(&c.0));
     if children.is_empty() || union.is_empty() {
         return Ok(node);
@@ -364,11 +369,11 @@ mod tests {
     fn small_and_empty_trees_convert() {
         let empty = flatten(&build(&[], &BuildOptions::default()), &[]);
         let wide = empty.to_wide().unwrap();
-        assert_eq!((wide.nodes.len(), wide.nodes[0].child_count, wide.nodes[0].children), (1, 0, [EMPTY_CHILD; 4]));
+        assert_eq!((wide.nodes.len(), wide.nodes[0].child_count(), wide.nodes[0].children), (1, 0, [EMPTY_CHILD; 4]));
         let tri = [[Vec3::ZERO, Vec3::X, Vec3::Y]];
         let one = flatten(&build(&tri, &BuildOptions::default()), &tri);
         let wide = one.to_wide().unwrap();
-        assert_eq!(wide.nodes[0].child_count, 1);
+        assert_eq!(wide.nodes[0].child_count(), 1);
         assert_eq!(wide.nodes[0].children[0], one.nodes[0].child0);
     }
 

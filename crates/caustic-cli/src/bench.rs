@@ -107,6 +107,9 @@ fn bench_ray_set(ctx: &GpuContext, name: &str, rays: &[ExternalRay], args: &Benc
     let scene = load_scene(&SceneSource::parse(name))?;
     let load_ms = start.elapsed().as_secs_f64() * 1e3;
     let gpu_scene = GpuScene::upload_with_layout(ctx, &scene, &build_options(args), args.bvh_layout)?;
+    if let Some(note) = gpu_scene.layout_note() {
+        eprintln!("{note}");
+    }
     let bench = RayBench::with_rays(ctx, &gpu_scene, rays)?;
     let result = bench.run(RayKind::External, args.repeats)?;
     if let Some(path) = &args.hits {
@@ -161,6 +164,9 @@ fn bench_mesh(ctx: &GpuContext, name: &str, args: &BenchArgs) -> anyhow::Result<
     let scene = load_scene(&SceneSource::parse(name))?;
     let load_ms = start.elapsed().as_secs_f64() * 1e3;
     let gpu_scene = GpuScene::upload_with_layout(ctx, &scene, &build_options(args), args.bvh_layout)?;
+    if let Some(note) = gpu_scene.layout_note() {
+        eprintln!("{note}");
+    }
     let SamplePassTimes { kernel_ms, first_pass_ms, best_ms: render_ms_1spp } = sample_pass_times(ctx, &scene, &gpu_scene, args)?;
     let bench = RayBench::new(ctx, &gpu_scene, &scene.camera, args.grid)?;
     let primary: BenchResult = bench.run(RayKind::Primary, args.repeats)?;

@@ -116,6 +116,9 @@ pub fn run(args: &ConvergeArgs) -> anyhow::Result<()> {
     let ctx = GpuContext::new(args.device.adapter.as_deref())?;
     eprintln!("adapter: {}", ctx.adapter);
     let gpu_scene = GpuScene::upload(&ctx, &scene)?;
+    if let Some(note) = gpu_scene.layout_note() {
+        eprintln!("{note}");
+    }
     let settings = RenderSettings {
         integrator,
         pass: scene.options.pass,

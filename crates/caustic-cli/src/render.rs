@@ -275,6 +275,9 @@ pub fn accumulate(
     interrupted: &AtomicBool,
 ) -> anyhow::Result<Accumulated> {
     let gpu_scene = GpuScene::upload(ctx, scene)?;
+    if let Some(note) = gpu_scene.layout_note() {
+        eprintln!("{note}");
+    }
     let mut tracer = PathTracer::new(ctx, scene, &gpu_scene, settings)?;
     let progress = progress_bar(budget);
     let start = Instant::now();

@@ -129,7 +129,7 @@ impl Kernel {
 
 /// The traversal the kernel is compiled with in place of `bvh/traverse.wgsl`, if any.
 fn traversal(gpu: &GpuScene, settings: &RenderSettings) -> Option<String> {
-    specialised_traversal(gpu, settings).or_else(|| walk_replacement(gpu))
+    specialised_traversal(gpu, settings).cloned().or_else(|| walk_replacement(gpu))
 }
 
 /// The walk of `gpu`'s node layout when it is not the binary one `bvh/traverse.wgsl` reads.
@@ -138,13 +138,13 @@ pub(crate) fn walk_replacement(gpu: &GpuScene) -> Option<String> {
 }
 
 /// The scene-specialised traversal (the primitives compiled in), if the kernel may use it.
-fn specialised_traversal(gpu: &GpuScene, settings: &RenderSettings) -> Option<String> {
+fn specialised_traversal<'a>(gpu: &'a GpuScene, settings: &RenderSettings) -> Option<&'a String> {
     // The BVH debug views show the BVH traversal's work and tree, which the specialised one skips.
     let bvh_cost = matches!(settings.debug, Some(DebugView::NodeVisits | DebugView::PrimitiveTests | DebugView::BvhLevel));
     // The specialised traversal has no alpha test and no motion: alpha-tested and moving
     // scenes walk the BVH.
     match settings.data_path {
-        DataPath::Auto | DataPath::Traversal if !bvh_cost && !gpu.alpha_test && !gpu.motion_blur => gpu.traversal.clone(),
+        DataPath::Auto | DataPath::Traversal if !bvh_cost && !gpu.alpha_test && !gpu.motion_blur => gpu.traversal.as_ref(),
         DataPath::Auto | DataPath::Traversal | DataPath::Buffers => None,
     }
 }

@@ -39,6 +39,9 @@ pub struct GpuScene {
     pub nodes: wgpu::Buffer,
     /// The layout of `nodes`.
     pub node_layout: NodeLayout,
+    /// Why `nodes` are binary although a four-wide layout was asked for (the tree has no
+    /// such form), for the front ends to report; `None` when the layout is the one asked for.
+    pub layout_fallback: Option<caustic_bvh::WideError>,
     /// `BvhTriangle` array (binding 2): triangles and records standing for shapes.
     pub triangles: wgpu::Buffer,
     /// `BvhShape` array (binding 9): bounded shapes, then planes.
@@ -101,6 +104,12 @@ pub struct GpuScene {
 }
 
 impl GpuScene {
+    /// A line for the user when the nodes fell back to the binary layout
+    /// ([`GpuScene::layout_fallback`]): the walk is slower, the image the same.
+    pub fn layout_note(&self) -> Option<String> {
+        self.layout_fallback.as_ref().map(|why| format!("note: BVH nodes kept in the binary layout ({why}); the four-wide walk is faster, the image is the same"))
+    }
+
     /// Builds the BVH on the CPU and uploads everything. Fails with a clear error when a buffer
     /// exceeds the device's storage binding limit or the BVH is deeper than the kernels allow.
     pub fn upload(ctx: &GpuContext, scene: &Scene) -> Result<GpuScene, GpuError> {
@@ -125,15 +134,17 @@ impl GpuScene {
         }
         let gpu_bvh: GpuBvh = caustic_bvh::flatten_with_motion(&bvh, &data.triangles, &data.shapes, &moving);
         // The specialised traversal has no motion: moving scenes walk the BVH.
-        let traversal = if moving.any() { None } else { specialize::unrolled_traversal(&gpu_bvh) };
-        let shadow_hull = traversal.as_ref().map(|_| ShadowHull::new(&gpu_bvh)).unwrap_or_default();
+        let small = !moving.any() && gpu_bvh.triangles.len() <= specialize::BAKE_MAX_PRIMITIVES;
+        let shadow_hull = if small { ShadowHull::new(&gpu_bvh) } else { ShadowHull::default() };
+        let traversal = if small { specialize::unrolled_traversal(&gpu_bvh, &shadow_hull) } else { None };
         let requirements = scene_requirements(&data, &scene.environment);
         let uploader = Uploader { ctx };
         let (environment_view, environment_color) = upload_environment(ctx, &scene.environment)?;
-        let (nodes, node_layout) = upload_nodes(&uploader, &gpu_bvh, layout)?;
+        let (nodes, node_layout, layout_fallback) = upload_nodes(&uploader, &gpu_bvh, layout)?;
         let uploaded = GpuScene {
             nodes,
             node_layout,
+            layout_fallback,
             triangles: uploader.storage("BVH triangles", &gpu_bvh.triangles)?,
             shapes: uploader.storage("shapes", &caustic_bvh::shapes_and_motions(&gpu_bvh, &moving))?,
             first_plane: gpu_bvh.first_plane,
@@ -196,15 +207,15 @@ impl GpuScene {
 }
 
 /// The node buffer of `bvh` in `layout`, or in the binary layout where the tree has no such form.
-fn upload_nodes(uploader: &Uploader, bvh: &GpuBvh, layout: NodeLayout) -> Result<(wgpu::Buffer, NodeLayout), GpuError> {
+fn upload_nodes(uploader: &Uploader, bvh: &GpuBvh, layout: NodeLayout) -> Result<(wgpu::Buffer, NodeLayout, Option<caustic_bvh::WideError>), GpuError> {
     let wide = match layout {
-        NodeLayout::Wide => bvh.to_wide().ok().map(|w| uploader.storage("BVH wide nodes", &w.nodes)),
-        NodeLayout::WideExact => bvh.to_wide_exact().ok().map(|w| uploader.storage("BVH wide exact nodes", &w.nodes)),
-        NodeLayout::Binary => None,
+        NodeLayout::Wide => bvh.to_wide().map(|w| uploader.storage("BVH wide nodes", &w.nodes)),
+        NodeLayout::WideExact => bvh.to_wide_exact().map(|w| uploader.storage("BVH wide exact nodes", &w.nodes)),
+        NodeLayout::Binary => return Ok((uploader.storage("BVH nodes", &bvh.nodes)?, layout, None)),
     };
     match wide {
-        Some(buffer) => Ok((buffer?, layout)),
-        None => Ok((uploader.storage("BVH nodes", &bvh.nodes)?, NodeLayout::Binary)),
+        Ok(buffer) => Ok((buffer?, layout, None)),
+        Err(why) => Ok((uploader.storage("BVH nodes", &bvh.nodes)?, NodeLayout::Binary, Some(why))),
     }
 }
 

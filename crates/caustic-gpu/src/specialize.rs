@@ -27,9 +27,9 @@ const UNROLLED_HELPERS: &str = include_str!("../../../shaders/bvh/unrolled.wgsl"
 
 /// A replacement for `shaders/bvh/traverse.wgsl` testing `bvh`'s primitives in their gathered
 /// order (so hit slots index `bvh_triangles` as the general kernel's do), or `None` when the
-/// scene has more than [`BAKE_MAX_PRIMITIVES`]. Shadow rays skip the faces of the scene's
-/// convex hull ([`ShadowHull::new`] of `bvh`) when the kernel's `SHADOW_HULL_CULL` is on.
-pub fn unrolled_traversal(bvh: &GpuBvh) -> Option<String> {
+/// scene has more than [`BAKE_MAX_PRIMITIVES`]. Shadow rays skip the faces of `hull` (the
+/// scene's [`ShadowHull::new`] of `bvh`) when the kernel's `SHADOW_HULL_CULL` is on.
+pub fn unrolled_traversal(bvh: &GpuBvh, hull: &ShadowHull) -> Option<String> {
     if bvh.triangles.len() > BAKE_MAX_PRIMITIVES {
         return None;
     }
@@ -40,7 +40,7 @@ pub fn unrolled_traversal(bvh: &GpuBvh) -> Option<String> {
          let r = prepare_ray(ray);\n    var hit = begin_trace(t_max);\n",
     );
     let _ = writeln!(wgsl, "    (*cost).triangles += {}u;", bvh.triangles.len());
-    let hull: Vec<u32> = ShadowHull::new(bvh).slots().collect();
+    let hull: Vec<u32> = hull.slots().collect();
     for (slot, tri) in bvh.triangles.iter().enumerate() {
         if hull.contains(&(slot as u32)) {
             let [v0, v1, v2] = tri.vertices();
@@ -104,7 +104,7 @@ mod tests {
         let triangles: Vec<[Vec3; 3]> =
             (0..5).map(|i| [Vec3::new(i as f32, 0.0, 0.0), Vec3::new(i as f32 + 1.0, 0.0, 0.0), Vec3::new(i as f32, 1.0, 0.0)]).collect();
         let gpu = bvh_of(&triangles);
-        let wgsl = unrolled_traversal(&gpu).unwrap();
+        let wgsl = unrolled_traversal(&gpu, &ShadowHull::new(&gpu)).unwrap();
         let tests: Vec<&str> = wgsl.lines().filter(|l| l.contains("hit = test_triangle(")).collect();
         assert_eq!(tests.len(), 5);
         assert_eq!(wgsl.matches("SHADOW_HULL_CULL").count(), 5, "five coplanar triangles: each is a face of the hull");
@@ -129,6 +129,7 @@ mod tests {
     #[test]
     fn large_scenes_keep_the_bvh() {
         let triangles = vec![[Vec3::ZERO, Vec3::X, Vec3::Y]; BAKE_MAX_PRIMITIVES + 1];
-        assert!(unrolled_traversal(&bvh_of(&triangles)).is_none());
+        let bvh = bvh_of(&triangles);
+        assert!(unrolled_traversal(&bvh, &ShadowHull::new(&bvh)).is_none());
     }
 }

@@ -62,3 +62,27 @@ fn device_traversal_matches_the_cpu_twin_on_the_dragon() {
     }
     compare_on(dragon.to_str().unwrap());
 }
+
+/// A tree the quantised layout cannot hold (a triangle spanning -3e38..3e38, whose box's
+/// extent overflows f32) is uploaded binary, says why for the front ends to report, and
+/// the Cornell box alone keeps the layout asked for.
+#[test]
+fn a_tree_without_a_wide_form_falls_back_to_binary_and_says_why() {
+    let ctx = GpuContext::new(std::env::var("CAUSTIC_ADAPTER").ok().as_deref()).expect("device");
+    let mut scene = caustic_scene::cornell_box();
+    let plain = GpuScene::upload_with_layout(&ctx, &scene, &BuildOptions::default(), NodeLayout::Wide).expect("upload");
+    assert_eq!((plain.node_layout, plain.layout_note()), (NodeLayout::Wide, None));
+    let mut huge = scene.meshes[0].clone();
+    huge.positions = vec![glam::Vec3::new(-3e38, 0.0, 0.0), glam::Vec3::new(3e38, 0.0, 0.0), glam::Vec3::new(0.0, 3e38, 1.0)];
+    huge.normals.clear();
+    huge.uvs.clear();
+    huge.uvs1.clear();
+    huge.tangents.clear();
+    huge.indices = vec![[0, 1, 2]];
+    scene.meshes.push(huge);
+    let gpu = GpuScene::upload_with_layout(&ctx, &scene, &BuildOptions::default(), NodeLayout::Wide).expect("upload");
+    let note = gpu.layout_note();
+    println!("{note:?}");
+    assert_eq!((gpu.node_layout, gpu.layout_fallback.clone()), (NodeLayout::Binary, Some(caustic_bvh::WideError::Unquantisable)));
+    assert!(note.is_some_and(|n| n.contains("binary") && n.contains("too large")));
+}

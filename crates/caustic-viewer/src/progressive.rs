@@ -59,6 +59,9 @@ impl Progressive {
     /// the display texture.
     pub fn new(ctx: &'static GpuContext, scene: Scene, settings: RenderSettings) -> Result<Progressive, GpuError> {
         let gpu = GpuScene::upload(ctx, &scene)?;
+        if let Some(note) = gpu.layout_note() {
+            eprintln!("{note}");
+        }
         let began = Instant::now();
         let tracer = PathTracer::new(ctx, &scene, &gpu, &settings)?;
         let stats = RenderStats { kernel_ms: began.elapsed().as_secs_f64() * 1e3, ..RenderStats::default() };
