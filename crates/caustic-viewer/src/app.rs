@@ -21,6 +21,10 @@ use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
+/// How long after the last input the window counts as idle, and rendering gets
+/// [`crate::progressive::IDLE_RENDER_SHARE`] of each frame.
+const IDLE_AFTER: Duration = Duration::from_secs(1);
+
 /// What the panel edits.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct Controls {
@@ -105,6 +109,9 @@ pub(crate) struct ViewerApp {
     renderer: Arc<RwLock<egui_wgpu::Renderer>>,
     last_frame: Option<Instant>,
     last_render: Duration,
+    /// When the window last saw input (pointer, keys, any event): the budget's idle share
+    /// waits [`IDLE_AFTER`] after it.
+    last_input: Instant,
     frame_times: Vec<f64>,
     /// Time spent in [`eframe::App::ui`] per frame (layout, rendering, display pass), ms.
     ui_times: Vec<f64>,
@@ -181,6 +188,7 @@ impl ViewerApp {
             renderer,
             last_frame: None,
             last_render: Duration::ZERO,
+            last_input: Instant::now(),
             frame_times: Vec::new(),
             ui_times: Vec::new(),
             script: options.script.map(|s| (s, ScriptPhase::Rendering)),
@@ -401,6 +409,14 @@ impl ViewerApp {
         }
     }
 
+    /// Records input this frame and tells the budget whether the window is idle.
+    fn note_input(&mut self, ctx: &egui::Context) {
+        if ctx.input(|i| !i.events.is_empty() || i.pointer.any_down() || !i.keys_down.is_empty()) {
+            self.last_input = Instant::now();
+        }
+        self.budget.set_idle(self.last_input.elapsed() >= IDLE_AFTER);
+    }
+
     /// Measures the frame time and feeds the budget.
     fn time_frame(&mut self) {
         let now = Instant::now();
@@ -514,6 +530,7 @@ impl eframe::App for ViewerApp {
         self.time_frame();
         let began = Instant::now();
         let ctx = ui.ctx().clone();
+        self.note_input(&ctx);
         egui::Panel::right("settings").resizable(true).default_size(330.0).show(ui, |ui| {
             egui::ScrollArea::vertical().show(ui, |ui| self.panel(ui));
         });

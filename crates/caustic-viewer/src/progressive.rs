@@ -208,26 +208,34 @@ impl Progressive {
 /// Keeps the frame time near a target by giving rendering what the rest of the frame (UI,
 /// drawing, presenting) leaves of it. When the rest alone takes longer than the target (a
 /// large window drawn by a CPU device), the target cannot be met: rendering then still gets
-/// [`MIN_RENDER_SHARE`] of the frame, so the image keeps converging at a useful rate while
-/// the frame time stays within 1 / (1 - share) of the least possible.
+/// [`MIN_RENDER_SHARE`] of the frame while the user interacts, so the image keeps
+/// converging at a useful rate while the frame time stays within 1 / (1 - share) of the
+/// least possible, and [`IDLE_RENDER_SHARE`] while nobody touches the window, when fewer
+/// frames cost nothing and the samples are what the user waits for.
 #[derive(Clone, Copy, Debug)]
 pub struct FrameBudget {
     /// The frame time aimed at.
     pub target: Duration,
     /// Smoothed time of a frame outside rendering, in seconds.
     overhead: f64,
+    /// Whether the window has seen no input lately ([`FrameBudget::set_idle`]).
+    idle: bool,
 }
 
 /// The least time a frame renders.
 const MIN_RENDER: Duration = Duration::from_millis(2);
 
-/// The least share of a frame that rendering gets.
+/// The least share of a frame that rendering gets while the user interacts.
 pub const MIN_RENDER_SHARE: f64 = 1.0 / 3.0;
+
+/// The least share of a frame that rendering gets while the window is idle: on lavapipe,
+/// where drawing the window takes about 60 ms, frames of about 300 ms (docs/PERFORMANCE.md).
+pub const IDLE_RENDER_SHARE: f64 = 0.8;
 
 impl FrameBudget {
     /// A controller aiming at `target` per frame.
     pub fn new(target: Duration) -> FrameBudget {
-        FrameBudget { target, overhead: 0.0 }
+        FrameBudget { target, overhead: 0.0, idle: false }
     }
 
     /// Records a frame that took `frame` in all, `render` of it rendering.
@@ -236,11 +244,18 @@ impl FrameBudget {
         self.overhead = if self.overhead == 0.0 { overhead } else { 0.8 * self.overhead + 0.2 * overhead };
     }
 
+    /// Whether the window is idle (no input lately): rendering's share rises to
+    /// [`IDLE_RENDER_SHARE`].
+    pub fn set_idle(&mut self, idle: bool) {
+        self.idle = idle;
+    }
+
     /// The render time for the next frame.
     pub fn render_budget(&self) -> Duration {
         let remaining = self.target.as_secs_f64() - self.overhead;
-        let share = self.overhead * MIN_RENDER_SHARE / (1.0 - MIN_RENDER_SHARE);
-        Duration::from_secs_f64(remaining.max(share)).max(MIN_RENDER)
+        let share = if self.idle { IDLE_RENDER_SHARE } else { MIN_RENDER_SHARE };
+        let least = self.overhead * share / (1.0 - share);
+        Duration::from_secs_f64(remaining.max(least)).max(MIN_RENDER)
     }
 }
 
@@ -269,5 +284,27 @@ mod tests {
         }
         let render = budget.render_budget().as_secs_f64() * 1e3;
         assert!((render - 60.0).abs() < 0.5, "120 ms of UI: a third of a 180 ms frame renders, got {render:.2}");
+    }
+
+    #[test]
+    fn an_idle_window_gives_rendering_most_of_a_slow_frame_and_no_more_of_a_fast_one() {
+        let settle = |budget: &mut FrameBudget, ui_ms: u64| {
+            for _ in 0..100 {
+                let render = budget.render_budget();
+                budget.record(render + Duration::from_millis(ui_ms), render);
+            }
+            budget.render_budget().as_secs_f64() * 1e3
+        };
+        let mut slow = FrameBudget::new(Duration::from_millis(33));
+        slow.set_idle(true);
+        let render = settle(&mut slow, 60);
+        assert!((render - 240.0).abs() < 0.5, "60 ms of UI, idle: 80% of a 300 ms frame renders, got {render:.2}");
+        slow.set_idle(false);
+        let render = slow.render_budget().as_secs_f64() * 1e3;
+        assert!((render - 30.0).abs() < 0.5, "input brings the interactive share back at once, got {render:.2}");
+        let mut fast = FrameBudget::new(Duration::from_millis(33));
+        fast.set_idle(true);
+        let render = settle(&mut fast, 5);
+        assert!((render - 28.0).abs() < 0.5, "5 ms of UI, idle: the frame target still holds, got {render:.2}");
     }
 }
