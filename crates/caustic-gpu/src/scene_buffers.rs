@@ -134,9 +134,8 @@ impl GpuScene {
         }
         let gpu_bvh: GpuBvh = caustic_bvh::flatten_with_motion(&bvh, &data.triangles, &data.shapes, &moving);
         // The specialised traversal has no motion: moving scenes walk the BVH.
-        let small = !moving.any() && gpu_bvh.triangles.len() <= specialize::BAKE_MAX_PRIMITIVES;
-        let shadow_hull = if small { ShadowHull::new(&gpu_bvh) } else { ShadowHull::default() };
-        let traversal = if small { specialize::unrolled_traversal(&gpu_bvh, &shadow_hull) } else { None };
+        let unrolled = if moving.any() { None } else { specialize::unrolled_traversal(&gpu_bvh) };
+        let (traversal, shadow_hull) = unrolled.map_or((None, ShadowHull::default()), |u| (Some(u.wgsl), u.hull));
         let requirements = scene_requirements(&data, &scene.environment);
         let uploader = Uploader { ctx };
         let (environment_view, environment_color) = upload_environment(ctx, &scene.environment)?;

@@ -38,8 +38,7 @@ fn specialised_and_general_kernels_render_the_same_image() {
 fn the_specialised_program_validates() {
     let mut scene = caustic_scene::cornell_box();
     scene.resolution = (4, 4);
-    let bvh = cornell_bvh(&scene);
-    let data = caustic_gpu::specialize::unrolled_traversal(&bvh, &caustic_gpu::shadow_hull::ShadowHull::new(&bvh)).expect("small scene");
+    let data = caustic_gpu::specialize::unrolled_traversal(&cornell_bvh(&scene)).expect("small scene").wgsl;
     let source = caustic_gpu::shaders::Program::PathTracer.source_replacing(caustic_gpu::specialize::TRAVERSAL_FILE, &data);
     let module = naga::front::wgsl::parse_str(&source).unwrap_or_else(|e| panic!("{}", e.emit_to_string(&source)));
     let mut validator = naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::all());
