@@ -50,4 +50,4 @@ pub use shape::{GpuShape, SHAPE_BIT, ShapeInput, ShapeKind, intersect_shape};
 pub use split::MAX_BINS;
 pub use traverse::{MIN_DIRECTION, ON_PLANE_EXIT, SLAB_EXIT_SCALE, STACK_SIZE};
 pub use wide::{GpuWideExactNode, GpuWideNode, WIDE_ARITY, WIDE_STACK_SIZE, WideError, WideNode, WideNodes};
-pub use triangle::{Hit, Ray, closest_hit_brute_force, intersect_triangle, intersect_triangle_facing};
+pub use triangle::{Hit, Ray, closest_hit_brute_force, intersect_triangle, intersect_triangle_facing, unit_cube_triangles};

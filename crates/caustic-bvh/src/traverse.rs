@@ -321,14 +321,9 @@ mod tests {
         );
     }
 
-    /// A unit cube's twelve triangles, counter-clockwise seen from outside, in `order`.
+    /// [`crate::unit_cube_triangles`], in reverse order if `reversed`.
     fn cube(reversed: bool) -> Vec<[Vec3; 3]> {
-        let corner = |i: u32| Vec3::new((i & 1) as f32, ((i >> 1) & 1) as f32, ((i >> 2) & 1) as f32);
-        let quads = [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]];
-        let mut triangles: Vec<[Vec3; 3]> = quads
-            .iter()
-            .flat_map(|q| [[corner(q[0]), corner(q[1]), corner(q[2])], [corner(q[0]), corner(q[2]), corner(q[3])]])
-            .collect();
+        let mut triangles = crate::unit_cube_triangles();
         if reversed {
             triangles.reverse();
         }

@@ -154,6 +154,14 @@ fn t_error_bound(sheared: [Vec3; 3], edges: Vec3, inv_det: f32) -> f32 {
     3.0 * ((GAMMA_3 * max_z + delta_z) * max_e_inv + (delta_e * inv) * max_z)
 }
 
+/// A unit cube's twelve triangles (corners 0 and 1 on every axis), counter-clockwise seen
+/// from outside: the closed mesh the tests of edge ties, hulls and leaks are built on.
+pub fn unit_cube_triangles() -> Vec<[Vec3; 3]> {
+    let corner = |i: u32| Vec3::new((i & 1) as f32, ((i >> 1) & 1) as f32, ((i >> 2) & 1) as f32);
+    let quads = [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]];
+    quads.iter().flat_map(|q| [[corner(q[0]), corner(q[1]), corner(q[2])], [corner(q[0]), corner(q[2]), corner(q[3])]]).collect()
+}
+
 /// Whether two scaled barycentrics are exactly 0, so the test would report a hit at the
 /// vertex they share, while that vertex is not on the ray (its sheared `x, y` not both 0).
 ///

@@ -134,12 +134,7 @@ mod tests {
 
     /// A closed unit cube's twelve triangles and a small triangle floating inside it.
     fn cube_with_inner_triangle() -> Vec<[Vec3; 3]> {
-        let corner = |i: u32| Vec3::new((i & 1) as f32, ((i >> 1) & 1) as f32, ((i >> 2) & 1) as f32);
-        let quads = [[0, 1, 3, 2], [4, 6, 7, 5], [0, 4, 5, 1], [2, 3, 7, 6], [0, 2, 6, 4], [1, 5, 7, 3]];
-        let mut triangles: Vec<[Vec3; 3]> = quads
-            .iter()
-            .flat_map(|q| [[corner(q[0]), corner(q[1]), corner(q[2])], [corner(q[0]), corner(q[2]), corner(q[3])]])
-            .collect();
+        let mut triangles = caustic_bvh::unit_cube_triangles();
         triangles.push([Vec3::splat(0.4), Vec3::new(0.6, 0.4, 0.5), Vec3::new(0.4, 0.6, 0.5)]);
         triangles
     }
