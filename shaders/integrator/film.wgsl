@@ -10,9 +10,15 @@ var<private> filter_weight: f32 = 1.0;
 // Pixel index of invocation `local` of the current tile; sets up the plane range and the
 // pass's pixel sampling constants.
 fn begin_pixel(local: u32) -> u32 {
+    load_pass_constants();
+    return tile_pixel(local);
+}
+
+// Sets up the plane range and the pass's pixel sampling constants, which tracing and the
+// samplers read from private variables.
+fn load_pass_constants() {
     plane_range = vec2<u32>(frame.first_plane, frame.shape_count);
     pixel_sampling = frame.pixel_sampling;
-    return tile_pixel(local);
 }
 
 // Pixel index of position `local` of the current tile.

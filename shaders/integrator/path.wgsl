@@ -28,32 +28,52 @@ fn same_side(si: SurfaceInteraction, world: vec3<f32>, local_z: f32) -> bool {
     return (dot(world, si.ng) > 0.0) == (local_z > 0.0);
 }
 
-// Direct light at a surface from one light sample, MIS-weighted against BSDF sampling.
-fn next_event(si: SurfaceInteraction, local: Frame3, wo: vec3<f32>, rng: ptr<function, Rng>) -> vec3<f32> {
+// One light sample's connection from a surface: the shadow ray, and what it carries if the
+// ray is unoccluded (already MIS-weighted against BSDF sampling). `connects` is false when the
+// sample carries nothing whatever the visibility. The megakernel tests the shadow ray at once
+// (next_event); the wavefront split queues it for its connect stage (integrator/wavefront.wgsl).
+struct LightConnection {
+    shadow: ShadowRay,
+    contribution: vec3<f32>,
+    weight: f32,
+    connects: bool,
+}
+
+fn light_connection(si: SurfaceInteraction, local: Frame3, wo: vec3<f32>, rng: ptr<function, Rng>) -> LightConnection {
     let u_select = next_f32(rng);
     let u_point = next_2d(rng);
+    let nothing = LightConnection(ShadowRay(Ray(si.p, si.ns), 0.0), vec3<f32>(0.0), 0.0, false);
     if frame.light_count == 0u {
-        return vec3<f32>(0.0);
+        return nothing;
     }
     let ls = sample_light(si.p, u_select, u_point);
     inspect_light(u_select, ls);
     let wi_local = vec3<f32>(dot(ls.wi, local.t), dot(ls.wi, local.b), dot(ls.wi, si.ns));
     if ls.pdf <= 0.0 || next_event_mode() == NEE_OFF || !same_side(si, ls.wi, wi_local.z) {
-        return vec3<f32>(0.0);
+        return nothing;
     }
     let eta = relative_ior(si);
     let f = eval_bsdf(si.material, eta, wo, wi_local);
     if all(f == vec3<f32>(0.0)) {
-        return vec3<f32>(0.0);
+        return nothing;
     }
     let shadow = shadow_ray(si.p, spawn_ray(si, ls.wi).origin, ls.wi, ls.distance);
-    if occluded(shadow.ray, shadow.t_max) {
+    let mis = power_heuristic(f32(light_sample_count()) * ls.pdf, pdf_bsdf(si.material, eta, wo, wi_local, sampling_mode()));
+    let weight = select(mis, 1.0, ls.is_delta || next_event_mode() == NEE_ON);
+    return LightConnection(shadow, f * ls.radiance * (weight / ls.pdf), weight, true);
+}
+
+// Direct light at a surface from one light sample, MIS-weighted against BSDF sampling.
+fn next_event(si: SurfaceInteraction, local: Frame3, wo: vec3<f32>, rng: ptr<function, Rng>) -> vec3<f32> {
+    let connection = light_connection(si, local, wo, rng);
+    if !connection.connects {
+        return vec3<f32>(0.0);
+    }
+    if occluded(connection.shadow.ray, connection.shadow.t_max) {
         inspect_light_occluded();
         return vec3<f32>(0.0);
     }
-    let mis = power_heuristic(f32(light_sample_count()) * ls.pdf, pdf_bsdf(si.material, eta, wo, wi_local, sampling_mode()));
-    let weight = select(mis, 1.0, ls.is_delta || next_event_mode() == NEE_ON);
-    return inspect_light_result(weight, f * ls.radiance * (weight / ls.pdf));
+    return inspect_light_result(connection.weight, connection.contribution);
 }
 
 // Light samples per path vertex (the scene's `lightsamples`, CSE168 hw4).
@@ -104,37 +124,56 @@ fn begin_path(primary: Ray) -> PathState {
     return PathState(primary, vec3<f32>(0.0), vec3<f32>(1.0), 0.0, false, 1.0, 0u);
 }
 
-// Traces the path's next ray and scatters where it lands: emission found, next-event
-// estimation, a BSDF sample, Russian roulette. Returns false when the path has ended (its
-// radiance is then final).
-fn extend_path(path: ptr<function, PathState>, rng: ptr<function, Rng>) -> bool {
-    let bounce = (*path).bounce;
+// Adds what a path whose ray escaped finds: the environment, MIS-weighted.
+fn escape_path(path: ptr<function, PathState>) {
+    let direction = (*path).ray.direction;
+    let pdf_light = environment_light_pdf(direction);
+    (*path).radiance += (*path).throughput * environment_radiance(direction) * emission_weight((*path).bounce, (*path).after_delta, (*path).bsdf_pdf, pdf_light);
+    inspect_end(END_ESCAPED, (*path).radiance);
+}
+
+// The surface a path's ray reached: attenuates the throughput by the medium crossed and adds
+// the emission found there, MIS-weighted.
+fn arrive_at_surface(path: ptr<function, PathState>, hit: Hit) -> SurfaceInteraction {
     let ray = (*path).ray;
-    let hit = closest_hit(ray, 3.0e38);
-    inspect_ray(bounce, ray, hit, (*path).throughput, (*path).radiance);
-    if hit.triangle == NO_HIT {
-        let pdf_light = environment_light_pdf(ray.direction);
-        (*path).radiance += (*path).throughput * environment_radiance(ray.direction) * emission_weight(bounce, (*path).after_delta, (*path).bsdf_pdf, pdf_light);
-        inspect_end(END_ESCAPED, (*path).radiance);
-        return false;
-    }
-    path_vertices = bounce + 1u;
+    path_vertices = (*path).bounce + 1u;
     let si = surface_interaction(ray, hit);
     (*path).throughput *= medium_transmittance(si, hit.t);
     if si.front_face && any(si.material.emission > vec3<f32>(0.0)) {
-        let weight = emission_weight(bounce, (*path).after_delta, (*path).bsdf_pdf, emitter_light_pdf(ray, hit));
+        let weight = emission_weight((*path).bounce, (*path).after_delta, (*path).bsdf_pdf, emitter_light_pdf(ray, hit));
         (*path).radiance += (*path).throughput * si.material.emission * weight;
     }
-    if bounce >= min(frame.max_depth, SAFETY_MAX_BOUNCES) {
+    return si;
+}
+
+// Whether the path may scatter at its current vertex (the depth limit is not reached).
+fn may_scatter(path: ptr<function, PathState>) -> bool {
+    if (*path).bounce >= min(frame.max_depth, SAFETY_MAX_BOUNCES) {
         inspect_end(END_MAX_DEPTH, (*path).radiance);
         return false;
     }
+    return true;
+}
+
+// The shading frame at a surface and the outgoing direction (towards where the ray came
+// from) in it.
+struct ScatteringFrame {
+    local: Frame3,
+    wo: vec3<f32>,
+}
+
+fn scattering_frame(si: SurfaceInteraction, ray: Ray) -> ScatteringFrame {
     let local = shading_frame(si.material, si.ns);
     let wo = vec3<f32>(dot(-ray.direction, local.t), dot(-ray.direction, local.b), dot(-ray.direction, si.ns));
-    (*path).radiance += (*path).throughput * next_events(si, local, wo, rng);
+    return ScatteringFrame(local, wo);
+}
+
+// Samples the BSDF for the path's next ray, then Russian roulette. Returns false when the path
+// has ended (absorbed or cut).
+fn scatter(path: ptr<function, PathState>, si: SurfaceInteraction, sf: ScatteringFrame, rng: ptr<function, Rng>) -> bool {
     let u_lobe = next_f32(rng);
-    let bs = sample_bsdf(si.material, relative_ior(si), wo, u_lobe, next_2d(rng), sampling_mode());
-    let wi = frame_to_world(local, bs.wi);
+    let bs = sample_bsdf(si.material, relative_ior(si), sf.wo, u_lobe, next_2d(rng), sampling_mode());
+    let wi = frame_to_world(sf.local, bs.wi);
     inspect_bsdf(wi, bs.pdf, bs.weight);
     if bs.pdf <= 0.0 || !same_side(si, wi, bs.wi.z) {
         inspect_end(END_ABSORBED, (*path).radiance);
@@ -144,7 +183,7 @@ fn extend_path(path: ptr<function, PathState>, rng: ptr<function, Rng>) -> bool 
     (*path).bsdf_pdf = bs.pdf;
     (*path).after_delta = bs.delta;
     (*path).eta_scale *= bs.eta * bs.eta;
-    if bounce + 1u >= frame.rr_start {
+    if (*path).bounce + 1u >= frame.rr_start {
         let t = (*path).throughput;
         let survive = min(max(t.x, max(t.y, t.z)) * (*path).eta_scale, 0.95);
         if next_f32(rng) >= survive {
@@ -154,8 +193,28 @@ fn extend_path(path: ptr<function, PathState>, rng: ptr<function, Rng>) -> bool 
         (*path).throughput /= survive;
     }
     (*path).ray = spawn_ray(si, wi);
-    (*path).bounce = bounce + 1u;
+    (*path).bounce += 1u;
     return true;
+}
+
+// Traces the path's next ray and scatters where it lands: emission found, next-event
+// estimation, a BSDF sample, Russian roulette. Returns false when the path has ended (its
+// radiance is then final).
+fn extend_path(path: ptr<function, PathState>, rng: ptr<function, Rng>) -> bool {
+    let ray = (*path).ray;
+    let hit = closest_hit(ray, 3.0e38);
+    inspect_ray((*path).bounce, ray, hit, (*path).throughput, (*path).radiance);
+    if hit.triangle == NO_HIT {
+        escape_path(path);
+        return false;
+    }
+    let si = arrive_at_surface(path, hit);
+    if !may_scatter(path) {
+        return false;
+    }
+    let sf = scattering_frame(si, ray);
+    (*path).radiance += (*path).throughput * next_events(si, sf.local, sf.wo, rng);
+    return scatter(path, si, sf, rng);
 }
 
 // The radiance one path starting with `primary` carries to the camera.

@@ -116,6 +116,11 @@ pub struct RenderArgs {
     /// mitchell or lanczos, optionally :RADIUS in pixels.
     #[arg(long, default_value = "box", value_name = "NAME[:RADIUS]", value_parser = caustic_gpu::filter::PixelFilter::parse)]
     pub filter: caustic_gpu::filter::PixelFilter,
+    /// How the path tracer is cut into dispatches (docs/PERFORMANCE.md): megakernel (each path
+    /// to its end in one kernel, the default) or wavefront (per bounce, extend / shade /
+    /// connect over queues of live paths). The image does not depend on it.
+    #[arg(long, default_value = "megakernel", value_parser = parse_kernel_shape)]
+    pub kernel_shape: caustic_gpu::KernelShape,
     /// What the command line changes in the scene.
     #[command(flatten)]
     pub overrides: SceneOverrides,
@@ -397,6 +402,11 @@ pub struct BenchArgs {
     /// regeneration; default: 32 on CPU devices, 1 on GPUs). The image does not depend on it.
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
     pub paths_per_invocation: Option<u32>,
+    /// How the 1-spp render's path tracer is cut into dispatches: megakernel (each path to
+    /// its end in one kernel, the default) or wavefront (per bounce, extend / shade / connect
+    /// over queues of live paths). The image does not depend on it.
+    #[arg(long, default_value = "megakernel", value_parser = parse_kernel_shape)]
+    pub kernel_shape: caustic_gpu::KernelShape,
     /// BVH split method: sah (binned surface area heuristic) or midpoint (the classic
     /// builder, for comparison).
     #[arg(long, default_value = "sah", value_parser = parse_split)]
@@ -428,6 +438,15 @@ pub fn parse_node_layout(text: &str) -> Result<caustic_gpu::NodeLayout, String> 
         "wide" => Ok(caustic_gpu::NodeLayout::Wide),
         "wide-exact" => Ok(caustic_gpu::NodeLayout::WideExact),
         _ => Err(format!("unknown BVH layout {text:?}: expected wide, wide-exact or binary")),
+    }
+}
+
+/// Parses `megakernel` or `wavefront` (see [`caustic_gpu::KernelShape`]).
+pub fn parse_kernel_shape(text: &str) -> Result<caustic_gpu::KernelShape, String> {
+    match text {
+        "megakernel" => Ok(caustic_gpu::KernelShape::Megakernel),
+        "wavefront" => Ok(caustic_gpu::KernelShape::Wavefront),
+        _ => Err(format!("'{text}': use megakernel or wavefront")),
     }
 }
 

@@ -206,7 +206,12 @@ struct SamplePassTimes {
 /// Times the path tracer's creation, its first sample pass over the whole image (which pays
 /// for what the driver compiles at first use) and the best of `repeats` passes after it.
 fn sample_pass_times(ctx: &GpuContext, scene: &caustic_scene::Scene, gpu: &GpuScene, args: &BenchArgs) -> anyhow::Result<SamplePassTimes> {
-    let settings = RenderSettings { data_path: args.data_path, paths_per_invocation: args.paths_per_invocation, ..RenderSettings::default() };
+    let settings = RenderSettings {
+        data_path: args.data_path,
+        paths_per_invocation: args.paths_per_invocation,
+        shape: args.kernel_shape,
+        ..RenderSettings::default()
+    };
     let ms = |start: Instant| start.elapsed().as_secs_f64() * 1e3;
     let start = Instant::now();
     let mut tracer = PathTracer::new(ctx, scene, gpu, &settings)?;

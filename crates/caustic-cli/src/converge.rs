@@ -45,6 +45,10 @@ pub struct ConvergeArgs {
     /// small scenes' primitives tested in turn; see caustic_gpu::DataPath).
     #[arg(long, default_value = "auto", value_parser = crate::args::parse_data_path)]
     pub data_path: caustic_gpu::DataPath,
+    /// How the path tracer is cut into dispatches: megakernel (the default) or wavefront
+    /// (see caustic_gpu::KernelShape); the image does not depend on it.
+    #[arg(long, default_value = "megakernel", value_parser = crate::args::parse_kernel_shape)]
+    pub kernel_shape: caustic_gpu::KernelShape,
     /// Sample generator: independent, sobol (Owen-scrambled), stratified (floor(sqrt(spp))
     /// strata per axis) or stratified:N.
     #[arg(long, default_value = "sobol", value_parser = crate::args::parse_sampler)]
@@ -126,6 +130,7 @@ pub fn run(args: &ConvergeArgs) -> anyhow::Result<()> {
         seed: args.overrides.seed,
         features: args.overrides.classic_features(),
         data_path: args.data_path,
+        shape: args.kernel_shape,
         sampler: args.sampler.for_samples(Some(spp)),
         filter: args.filter,
         ..RenderSettings::default()

@@ -4,7 +4,8 @@
 //! [`Kernel`]s share one compiled pipeline; a change of any part recompiles.
 
 use crate::bake::BakedTables;
-use crate::path_tracer::{DataPath, DebugView, RenderSettings, depth_limit};
+use crate::path_tracer::depth_limit;
+use crate::render_settings::{DataPath, DebugView, RenderSettings};
 use crate::requirements::{REQUIRES_ALL, REQUIRES_INSPECTOR};
 use crate::shaders::Program;
 use crate::specialize::TRAVERSAL_FILE;
@@ -90,11 +91,11 @@ impl Kernel {
 
     /// Compiles the kernel against the integrators' bind group layout.
     pub fn compile(&self, device: &wgpu::Device, layout: &wgpu::BindGroupLayout) -> wgpu::ComputePipeline {
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("integrators"),
-            bind_group_layouts: &[Some(layout)],
-            immediate_size: 0,
-        });
+        self.pipeline(device, &self.module(device), &[layout], self.entry_point)
+    }
+
+    /// The kernel's program: the path tracer's WGSL with the traversal and tables replaced.
+    pub fn module(&self, device: &wgpu::Device) -> wgpu::ShaderModule {
         let source = match &self.traversal {
             Some(t) => Program::PathTracer.source_replacing(TRAVERSAL_FILE, t),
             None => Program::PathTracer.source(),
@@ -103,9 +104,20 @@ impl Kernel {
             Some(tables) => tables.apply(&source),
             None => source,
         };
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some(Program::PathTracer.label()),
             source: wgpu::ShaderSource::Wgsl(source.into()),
+        })
+    }
+
+    /// The pipeline of `entry_point` of `module` (made by [`Kernel::module`]) with the
+    /// kernel's override constants, for bind groups of `layouts` (group 0 the integrators').
+    pub fn pipeline(&self, device: &wgpu::Device, module: &wgpu::ShaderModule, layouts: &[&wgpu::BindGroupLayout], entry_point: &str) -> wgpu::ComputePipeline {
+        let layouts: Vec<_> = layouts.iter().map(|l| Some(*l)).collect();
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("integrators"),
+            bind_group_layouts: &layouts,
+            immediate_size: 0,
         });
         let mut constants = vec![("SAMPLER", f64::from(self.sampler)), ("LOBE_MASK", f64::from(self.lobe_mask)), ("MOTION_BLUR", f64::from(u8::from(self.motion_blur))), ("ALPHA_TEST", f64::from(u8::from(self.alpha_test)))];
         constants.extend(self.classic.overrides());
@@ -114,10 +126,10 @@ impl Kernel {
         constants.push(("PATHS_PER_INVOCATION", f64::from(self.paths_per_invocation)));
         constants.push(("SHADOW_HULL_CULL", f64::from(u8::from(self.shadow_hull_cull))));
         device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some(self.entry_point),
+            label: Some(entry_point),
             layout: Some(&pipeline_layout),
-            module: &module,
-            entry_point: Some(self.entry_point),
+            module,
+            entry_point: Some(entry_point),
             compilation_options: wgpu::PipelineCompilationOptions {
                 constants: &constants,
                 ..Default::default()

@@ -1,185 +1,15 @@
 //! The accumulating path tracer: one bounded dispatch per tile and sample pass.
 
-use crate::features::ClassicFeatures;
-use crate::filter::PixelFilter;
 use crate::gpu_types::{transport_flags, AccumTexel, Frame, InspectRecord, PixelSampling, NO_PIXEL};
 use crate::inspector::PathRecord;
 use crate::readback::read_buffer;
 use crate::kernel::Kernel;
+use crate::render_settings::RenderSettings;
+use crate::wavefront::{KernelShape, Wavefront};
 use crate::{GpuContext, GpuError, GpuScene};
 use caustic_image::Image;
 use caustic_scene::{Integrator, NextEvent, RenderPass, Scene};
 use std::time::{Duration, Instant};
-
-/// Integrator settings.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct RenderSettings {
-    /// Which light-transport algorithm runs. `Direct` runs the path tracer limited to one
-    /// bounce, which converges to the same direct-lighting image.
-    pub integrator: Integrator,
-    /// Which image is accumulated: the integrator's, depth, normals, or the path-traced photo.
-    pub pass: RenderPass,
-    /// A debug view to accumulate instead of the pass, if any.
-    pub debug: Option<DebugView>,
-    /// Maximum number of bounces (scattering events); `None` = unbounded, paths end by Russian
-    /// roulette. 0 shows only emitters and the environment seen directly.
-    pub max_depth: Option<u32>,
-    /// Seed decorrelating whole renders; the same seed gives the same image.
-    pub seed: u32,
-    /// Bounces before Russian roulette starts.
-    pub rr_start: u32,
-    /// Global index of the first sample drawn: a render of samples `first_sample..` draws the
-    /// same random numbers as the matching passes of a render started at 0.
-    pub first_sample: u32,
-    /// Target duration of one submit; the tile size adapts to it so that no submit runs long
-    /// and a stop request is honoured within about this time.
-    pub target_submit: Duration,
-    /// How the kernels find the primitives a ray hits.
-    pub data_path: DataPath,
-    /// Where the random numbers come from.
-    pub sampler: Sampler,
-    /// The pixel reconstruction filter (`shaders/common/filter.wgsl`).
-    pub filter: PixelFilter,
-    /// The classic ray tracer's feature switches (`--feature`, [`crate::features`]).
-    pub features: ClassicFeatures,
-    /// Pixels one invocation of the path tracer traces in turn (path regeneration,
-    /// `integrator/path.wgsl`); `None`: the device's default
-    /// ([`crate::kernel::paths_per_invocation`]). The image does not depend on it.
-    pub paths_per_invocation: Option<u32>,
-}
-
-/// The sample generator (`shaders/common/rng.wgsl`, chosen by its `SAMPLER` override).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum Sampler {
-    /// Independent uniform numbers (PCG hash).
-    Independent,
-    /// Owen-scrambled Sobol: each dimension pair stratified over a pixel's samples (the
-    /// default: 1.4x lower relMSE than independent numbers at 16 spp on the Cornell box).
-    #[default]
-    Sobol,
-    /// Jittered stratification with this many strata per axis: each block of n^2
-    /// consecutive samples puts one point in every cell of an n x n grid, per dimension pair
-    /// (and one in each of n^2 intervals per 1-D dimension), cells visited in a random order.
-    Stratified(u32),
-}
-
-impl Sampler {
-    /// The value of the shaders' `SAMPLER` override constant.
-    pub fn override_value(self) -> f64 {
-        match self {
-            Sampler::Independent => 0.0,
-            Sampler::Sobol => 1.0,
-            Sampler::Stratified(_) => 2.0,
-        }
-    }
-
-    /// The stratified sampler for a render of `spp` samples per pixel: floor(sqrt(spp))
-    /// strata per axis (so a square spp is exactly n x n jittered), at most
-    /// [`MAX_STRATA`]; 16 when the count is not known in advance (a time limit).
-    pub fn stratified_for(spp: Option<u32>) -> Sampler {
-        let n = spp.map_or(16, |spp| (f64::from(spp).sqrt().floor() as u32).clamp(1, MAX_STRATA));
-        Sampler::Stratified(n)
-    }
-
-    /// Strata per axis (1 for the other samplers, which ignore it).
-    fn strata(self) -> u32 {
-        match self {
-            Sampler::Stratified(n) => n.clamp(1, MAX_STRATA),
-            _ => 1,
-        }
-    }
-}
-
-/// The most strata per axis of [`Sampler::Stratified`] (blocks of 65,536 samples).
-pub const MAX_STRATA: u32 = 256;
-
-/// How the kernels find the primitives a ray hits.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum DataPath {
-    /// Small scenes' primitives compiled into a generated traversal that tests them in turn
-    /// ([`GpuScene::traversal`], at most [`crate::specialize::BAKE_MAX_PRIMITIVES`]) and their
-    /// shading entries, materials and lights compiled in as constants ([`GpuScene::tables`]),
-    /// larger scenes' BVH and tables read from storage buffers (the default: faster on small
-    /// scenes, the same image; docs/PERFORMANCE.md).
-    #[default]
-    Auto,
-    /// Small scenes' primitives compiled in as with `Auto`, but their shading entries,
-    /// materials and lights read from the buffers: the previous specialised kernel, kept to
-    /// measure what the baked tables gain.
-    Traversal,
-    /// Always the BVH in storage buffers, and every optional part of the program compiled in
-    /// ([`crate::requirements::REQUIRES_ALL`]) whatever the scene requires: the general kernel.
-    Buffers,
-}
-
-impl Default for RenderSettings {
-    fn default() -> Self {
-        RenderSettings {
-            integrator: Integrator::PathTracer,
-            pass: RenderPass::Image,
-            debug: None,
-            max_depth: None,
-            seed: 0,
-            rr_start: 3,
-            first_sample: 0,
-            target_submit: Duration::from_millis(100),
-            data_path: DataPath::Auto,
-            sampler: Sampler::Sobol,
-            filter: PixelFilter::default(),
-            features: ClassicFeatures::default(),
-            paths_per_invocation: None,
-        }
-    }
-}
-
-/// Debug views: what the kernels do per pixel (`shaders/integrator/debug.wgsl`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[repr(u32)]
-pub enum DebugView {
-    /// BVH nodes visited by the camera ray (a heat map).
-    NodeVisits = 1,
-    /// Primitives (triangles, shapes) tested by the camera ray (a heat map).
-    PrimitiveTests = 2,
-    /// Texture coordinates (fractional part) as red and green.
-    Uv = 3,
-    /// Diffuse albedo of the first hit.
-    Albedo = 4,
-    /// Material index of the first hit (-1 where the camera ray escapes).
-    MaterialId = 5,
-    /// Surface hits of one path-traced path.
-    Bounces = 6,
-    /// The NaN/Inf finder: the path-traced image, whose non-finite samples the film counts
-    /// per pixel ([`PathTracer::nonfinite_counts`]); [`crate::debug_image`] marks those pixels.
-    NonFinite = 7,
-    /// Tree level of the BVH leaf that holds the camera ray's closest hit (a colour ramp;
-    /// 0 where it escapes or meets a plane); [`caustic_bvh::GpuBvh::closest_hit_level`] is
-    /// its CPU twin.
-    BvhLevel = 8,
-}
-
-impl DebugView {
-    /// Every view, with its command-line name.
-    pub const ALL: [(&'static str, DebugView); 8] = [
-        ("node-visits", DebugView::NodeVisits),
-        ("primitive-tests", DebugView::PrimitiveTests),
-        ("uv", DebugView::Uv),
-        ("albedo", DebugView::Albedo),
-        ("material-id", DebugView::MaterialId),
-        ("bounces", DebugView::Bounces),
-        ("nonfinite", DebugView::NonFinite),
-        ("bvh-level", DebugView::BvhLevel),
-    ];
-
-    /// Whether the view is a count, shown as a heat map.
-    pub fn is_count(self) -> bool {
-        matches!(self, DebugView::NodeVisits | DebugView::PrimitiveTests | DebugView::Bounces | DebugView::BvhLevel)
-    }
-
-    /// The view's command-line name.
-    pub fn name(self) -> &'static str {
-        DebugView::ALL.iter().find(|(_, v)| *v == self).map_or("?", |(name, _)| name)
-    }
-}
 
 /// How a sample pass ended.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -199,9 +29,9 @@ const TEXEL_BYTES: u64 = std::mem::size_of::<AccumTexel>() as u64;
 /// the per-pixel mean with [`PathTracer::image`].
 pub struct PathTracer<'a> {
     ctx: &'a GpuContext,
-    pipeline: wgpu::ComputePipeline,
+    stages: Stages,
     layout: wgpu::BindGroupLayout,
-    /// The kernel `pipeline` runs.
+    /// The kernel `stages` run.
     kernel: Kernel,
     bind_group: wgpu::BindGroup,
     frame_buffer: wgpu::Buffer,
@@ -230,7 +60,7 @@ impl<'a> PathTracer<'a> {
         let frame_buffer = ctx.buffer_with_data("frame", bytemuck::bytes_of(&frame), wgpu::BufferUsages::STORAGE);
         let layout = bind_group_layout(device);
         let kernel = Kernel::for_render(ctx, gpu, settings);
-        let pipeline = kernel.compile(device, &layout);
+        let stages = Stages::new(ctx, &kernel, &layout, settings.shape, &frame)?;
         let inspection = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("inspection"),
             size: std::mem::size_of::<InspectRecord>() as u64,
@@ -242,7 +72,7 @@ impl<'a> PathTracer<'a> {
         ctx.check()?;
         Ok(PathTracer {
             ctx,
-            pipeline,
+            stages,
             layout,
             kernel,
             inspector: None,
@@ -269,8 +99,9 @@ impl<'a> PathTracer<'a> {
     /// new one would.
     pub fn restart(&mut self, scene: &Scene, gpu: &GpuScene, settings: &RenderSettings) -> Result<(), GpuError> {
         let wanted = Kernel::for_render(self.ctx, gpu, settings);
-        if wanted != self.kernel {
-            self.pipeline = wanted.compile(&self.ctx.device, &self.layout);
+        let frame = frame_constants(scene, gpu, settings);
+        if wanted != self.kernel || !self.stages.fit(settings.shape, &frame) {
+            self.stages = Stages::new(self.ctx, &wanted, &self.layout, settings.shape, &frame)?;
             self.kernel = wanted;
         }
         if scene.resolution == (self.frame.width, self.frame.height) {
@@ -281,7 +112,7 @@ impl<'a> PathTracer<'a> {
         } else {
             (self.accumulation, self.nonfinite_counts) = accumulation_buffers(self.ctx, scene.resolution)?;
         }
-        self.frame = frame_constants(scene, gpu, settings);
+        self.frame = frame;
         let film = Film { accumulation: &self.accumulation, nonfinite_counts: &self.nonfinite_counts, inspection: &self.inspection };
         self.bind_group = bind_group(&self.ctx.device, &self.layout, &self.frame_buffer, gpu, &film);
         self.target_submit = settings.target_submit;
@@ -306,7 +137,7 @@ impl<'a> PathTracer<'a> {
             if stop() {
                 return Ok(PassOutcome::Stopped);
             }
-            let tile = self.tile_pixels.min(pixels - self.next_pixel);
+            let tile = self.tile_pixels.min(pixels - self.next_pixel).min(self.stages.max_tile_pixels());
             let began = Instant::now();
             self.dispatch_tile(self.next_pixel, tile)?;
             self.adapt_tile_size(tile, began.elapsed());
@@ -318,13 +149,27 @@ impl<'a> PathTracer<'a> {
     }
 
     fn dispatch_tile(&mut self, start: u32, pixels: u32) -> Result<(), GpuError> {
+        self.write_tile(start, pixels);
+        match &self.stages {
+            Stages::Megakernel(pipeline) => self.run_megakernel(pipeline, pixels),
+            Stages::Wavefront(wavefront) => wavefront.trace_tile(self.ctx, &self.bind_group, pixels, self.frame.max_depth.min(SAFETY_MAX_BOUNCES)),
+        }
+    }
+
+    /// Sets the frame constants' tile and uploads them.
+    fn write_tile(&mut self, start: u32, pixels: u32) {
         self.frame.tile_start = start;
         self.frame.tile_pixels = pixels;
         self.ctx.queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&self.frame));
+    }
+
+    /// One dispatch of `pipeline` (a build of [`PathTracer::kernel`]) over the tile of
+    /// `pixels` pixels [`PathTracer::write_tile`] set.
+    fn run_megakernel(&self, pipeline: &wgpu::ComputePipeline, pixels: u32) -> Result<(), GpuError> {
         let mut encoder = self.ctx.device.create_command_encoder(&Default::default());
         {
             let mut pass = encoder.begin_compute_pass(&Default::default());
-            pass.set_pipeline(&self.pipeline);
+            pass.set_pipeline(pipeline);
             pass.set_bind_group(0, &self.bind_group, &[]);
             pass.dispatch_workgroups(self.kernel.invocations(pixels).div_ceil(WORKGROUP_SIZE), 1, 1);
         }
@@ -407,9 +252,8 @@ impl<'a> PathTracer<'a> {
         self.frame.inspect_pixel = pixel;
         let film = self.save_pixel(pixel);
         let inspecting = self.inspecting_pipeline();
-        let rendering = std::mem::replace(&mut self.pipeline, inspecting);
-        let traced = self.dispatch_tile(pixel, 1);
-        self.pipeline = rendering;
+        self.write_tile(pixel, 1);
+        let traced = self.run_megakernel(&inspecting, 1);
         self.restore_pixel(pixel, &film);
         self.frame = saved;
         traced?;
@@ -458,6 +302,56 @@ impl<'a> PathTracer<'a> {
     pub fn nonfinite_samples(&self) -> Result<u64, GpuError> {
         Ok(self.nonfinite_counts()?.iter().map(|&c| u64::from(c)).sum())
     }
+}
+
+/// The compiled kernel's dispatches: one pipeline, or the wavefront's stages.
+enum Stages {
+    Megakernel(wgpu::ComputePipeline),
+    Wavefront(Wavefront),
+}
+
+/// Most pixels a wavefront tile holds: its queues are allocated for this many paths.
+const WAVEFRONT_MAX_TILE_PIXELS: u32 = 1 << 18;
+
+/// The path tracer's safety cap on bounces (`SAFETY_MAX_BOUNCES` in integrator/path.wgsl).
+const SAFETY_MAX_BOUNCES: u32 = 1024;
+
+impl Stages {
+    /// `kernel` compiled in `shape` for `frame`'s image and light samples.
+    fn new(ctx: &GpuContext, kernel: &Kernel, layout: &wgpu::BindGroupLayout, shape: KernelShape, frame: &Frame) -> Result<Stages, GpuError> {
+        match shape {
+            KernelShape::Megakernel => Ok(Stages::Megakernel(kernel.compile(&ctx.device, layout))),
+            KernelShape::Wavefront if kernel.entry_point != "render_sample" => Err(GpuError::Scene(format!(
+                "the wavefront kernel shape splits the path tracer (integrators pathtracer and direct, image pass, no debug view); this render runs {}",
+                kernel.entry_point
+            ))),
+            KernelShape::Wavefront => {
+                let (capacity, light_samples) = wavefront_size(frame);
+                Ok(Stages::Wavefront(Wavefront::new(ctx, kernel, layout, capacity, light_samples)?))
+            }
+        }
+    }
+
+    /// Whether these stages are of `shape` and (a wavefront's) sized for `frame`.
+    fn fit(&self, shape: KernelShape, frame: &Frame) -> bool {
+        match self {
+            Stages::Megakernel(_) => shape == KernelShape::Megakernel,
+            Stages::Wavefront(w) => shape == KernelShape::Wavefront && (w.capacity, w.light_samples) == wavefront_size(frame),
+        }
+    }
+
+    /// The largest tile one dispatch may cover.
+    fn max_tile_pixels(&self) -> u32 {
+        match self {
+            Stages::Megakernel(_) => MAX_TILE_PIXELS,
+            Stages::Wavefront(w) => w.capacity,
+        }
+    }
+}
+
+/// Tile capacity and light samples per vertex of a wavefront for `frame`'s image.
+fn wavefront_size(frame: &Frame) -> (u32, u32) {
+    ((frame.width * frame.height).clamp(1, WAVEFRONT_MAX_TILE_PIXELS), frame.pixel_sampling.light_samples.max(1))
 }
 
 /// Zeroed accumulation and non-finite count buffers for an image of `resolution`, checked

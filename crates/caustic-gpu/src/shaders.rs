@@ -54,7 +54,7 @@ pub fn wide_walk(layout: crate::NodeLayout) -> Option<String> {
     Some(format!("// ---- shaders/{} ----\n{}\n// ---- shaders/{} ----\n{}", nodes.name, nodes.source, WIDE_TRAVERSAL.name, WIDE_TRAVERSAL.source))
 }
 
-const PATH_TRACER: [ShaderFile; 26] = [
+const PATH_TRACER: [ShaderFile; 27] = [
     shader_file!("integrator/bindings.wgsl"),
     shader_file!("integrator/camera.wgsl"),
     shader_file!("integrator/environment.wgsl"),
@@ -74,6 +74,7 @@ const PATH_TRACER: [ShaderFile; 26] = [
     shader_file!("lights/shapes.wgsl"),
     shader_file!("lights/sample.wgsl"),
     shader_file!("integrator/path.wgsl"),
+    shader_file!("integrator/wavefront.wgsl"),
     shader_file!("classic/features.wgsl"),
     shader_file!("classic/interface.wgsl"),
     shader_file!("classic/lighting.wgsl"),

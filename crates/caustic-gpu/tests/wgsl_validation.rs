@@ -64,6 +64,10 @@ fn host_structs_match_wgsl_layout() {
         ("BvhWideExactNode", size_of::<caustic_bvh::GpuWideExactNode>()),
         ("BvhTriangle", size_of::<caustic_bvh::GpuTriangle>()),
         ("BvhShape", size_of::<caustic_bvh::GpuShape>()),
+        ("WavefrontPath", size_of::<caustic_gpu::wavefront::WavefrontPath>()),
+        ("WavefrontShadow", size_of::<caustic_gpu::wavefront::WavefrontShadow>()),
+        ("WavefrontControl", size_of::<caustic_gpu::wavefront::WavefrontControl>()),
+        ("Hit", caustic_gpu::wavefront::HIT_BYTES as usize),
     ];
     for (name, host) in expected {
         let wgsl = wgsl_struct_size(&module, name);

@@ -1,0 +1,250 @@
+//! The path tracer as a wavefront (`shaders/integrator/wavefront.wgsl`): per bounce, extend,
+//! shade and connect dispatches over compacted queues instead of one kernel that runs each
+//! path to its end. It renders the megakernel's paths value for value; it exists to measure
+//! the kernel shape ([`KernelShape`], docs/PERFORMANCE.md), and for devices where short
+//! specialised kernels beat one long one.
+
+use crate::kernel::Kernel;
+use crate::readback::read_buffer;
+use crate::{GpuContext, GpuError};
+use bytemuck::{Pod, Zeroable};
+
+/// How the path tracer's work is cut into dispatches.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum KernelShape {
+    /// One kernel traces each path from the camera to its end (`render_sample`, the default:
+    /// the faster shape on lavapipe, docs/PERFORMANCE.md).
+    #[default]
+    Megakernel,
+    /// Generate, then per bounce extend / shade / connect over queues of live paths.
+    Wavefront,
+}
+
+/// A path between the wavefront's stages (`WavefrontPath` in WGSL). Only the device reads
+/// it; the host needs its size.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct WavefrontPath {
+    /// Origin of the ray the path traces next.
+    pub origin: [f32; 3],
+    /// Density of the BSDF sample that made the ray.
+    pub bsdf_pdf: f32,
+    /// Direction of that ray.
+    pub direction: [f32; 3],
+    /// Product of eta^2 over the refractions so far.
+    pub eta_scale: f32,
+    /// Radiance gathered so far.
+    pub radiance: [f32; 3],
+    /// Bounces so far.
+    pub bounce: u32,
+    /// Path throughput.
+    pub throughput: [f32; 3],
+    /// Whether the last bounce was a delta lobe (0 or 1).
+    pub after_delta: u32,
+    /// Throughput the current vertex's light samples are weighted by.
+    pub light_throughput: [f32; 3],
+    /// The camera sample's filter weight.
+    pub filter_weight: f32,
+    /// Random-number state (`Rng`: state, index, dimension).
+    pub rng: [u32; 3],
+    /// The path's time over the shutter (motion blur).
+    pub ray_time: f32,
+}
+
+/// One light sample's shadow ray and its unoccluded contribution (`WavefrontShadow`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct WavefrontShadow {
+    /// Shadow ray origin.
+    pub origin: [f32; 3],
+    /// Distance the shadow ray may travel.
+    pub t_max: f32,
+    /// Unit direction to the light point.
+    pub direction: [f32; 3],
+    /// Whether the sample carries light when unoccluded (0 or 1).
+    pub connects: u32,
+    /// f Le w / pdf, before the path throughput.
+    pub contribution: [f32; 3],
+    /// Padding.
+    pub _pad: u32,
+}
+
+/// Queue lengths and indirect dispatch sizes (`WavefrontControl`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct WavefrontControl {
+    /// Live paths of even and odd bounces.
+    pub path_count: [u32; 2],
+    /// Queued shadow rays of even and odd bounces.
+    pub shadow_count: [u32; 2],
+    /// The bounce extend and shade work on.
+    pub bounce: u32,
+    /// Padding (WGSL aligns the vec3 to 16 bytes).
+    pub _pad0: [u32; 3],
+    /// Workgroups of the next extend and shade.
+    pub path_groups: [u32; 3],
+    /// Padding.
+    pub _pad1: u32,
+    /// Workgroups of the next connect.
+    pub shadow_groups: [u32; 3],
+    /// Padding.
+    pub _pad2: u32,
+}
+
+/// Size of WGSL's `Hit` (t, u, v, triangle, slot), which the extend stage stores per path.
+pub const HIT_BYTES: u64 = 20;
+
+/// Bounces encoded per submit before the live-path count is read back.
+const BOUNCES_PER_CHECK: u32 = 8;
+
+const GROUP: u32 = 64;
+
+/// The wavefront's pipelines and its queues, sized for tiles of up to `capacity` pixels.
+pub(crate) struct Wavefront {
+    generate: wgpu::ComputePipeline,
+    extend: wgpu::ComputePipeline,
+    shade: wgpu::ComputePipeline,
+    advance: wgpu::ComputePipeline,
+    connect: wgpu::ComputePipeline,
+    film: wgpu::ComputePipeline,
+    control: wgpu::Buffer,
+    /// The indirect dispatch sizes, copied from `control` after each bounce: a buffer may not
+    /// be bound for storage in the dispatch that reads its sizes.
+    dispatch_sizes: wgpu::Buffer,
+    bind_group: wgpu::BindGroup,
+    /// Most pixels a tile may have.
+    pub capacity: u32,
+    /// Light samples per vertex the shadow buffer holds.
+    pub light_samples: u32,
+}
+
+impl Wavefront {
+    /// Compiles `kernel`'s wavefront entry points and allocates queues for tiles of up to
+    /// `capacity` pixels with `light_samples` light samples per path vertex.
+    pub fn new(ctx: &GpuContext, kernel: &Kernel, integrators: &wgpu::BindGroupLayout, capacity: u32, light_samples: u32) -> Result<Wavefront, GpuError> {
+        let device = &ctx.device;
+        let layout = bind_group_layout(device);
+        let module = kernel.module(device);
+        let pipeline = |entry| kernel.pipeline(device, &module, &[integrators, &layout], entry);
+        let sizes = [
+            ("wavefront paths", size_of::<WavefrontPath>() as u64 * u64::from(capacity)),
+            ("wavefront hits", HIT_BYTES * u64::from(capacity)),
+            ("wavefront shadow rays", size_of::<WavefrontShadow>() as u64 * u64::from(capacity) * u64::from(light_samples)),
+            ("wavefront queues", 4 * 3 * u64::from(capacity)),
+        ];
+        let mut buffers = Vec::new();
+        for (label, size) in sizes {
+            if size > ctx.max_storage_binding() {
+                return Err(GpuError::Limit { what: format!("the {label} of {capacity}-pixel tiles"), need: size, limit: ctx.max_storage_binding() });
+            }
+            buffers.push(storage(device, label, size, wgpu::BufferUsages::empty()));
+        }
+        let control = storage(device, "wavefront control", size_of::<WavefrontControl>() as u64, wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST);
+        buffers.push(control.clone());
+        let dispatch_sizes = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("wavefront dispatch sizes"),
+            size: DISPATCH_SIZES_BYTES,
+            usage: wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let entries: Vec<_> = buffers.iter().enumerate().map(|(i, b)| wgpu::BindGroupEntry { binding: i as u32, resource: b.as_entire_binding() }).collect();
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("wavefront"), layout: &layout, entries: &entries });
+        let wavefront = Wavefront {
+            generate: pipeline("wavefront_generate"),
+            extend: pipeline("wavefront_extend"),
+            shade: pipeline("wavefront_shade"),
+            advance: pipeline("wavefront_advance"),
+            connect: pipeline("wavefront_connect"),
+            film: pipeline("wavefront_film"),
+            control,
+            dispatch_sizes,
+            bind_group,
+            capacity,
+            light_samples,
+        };
+        ctx.check()?;
+        Ok(wavefront)
+    }
+
+    /// Traces one sample of each of the tile's `pixels` pixels (the frame buffer already holds
+    /// the tile) to the end of every path, at most `max_bounces + 1` rounds, and records them.
+    pub fn trace_tile(&self, ctx: &GpuContext, integrators: &wgpu::BindGroup, pixels: u32, max_bounces: u32) -> Result<(), GpuError> {
+        let groups = pixels.div_ceil(GROUP);
+        let start = WavefrontControl { path_count: [pixels, 0], path_groups: [groups, 1, 1], shadow_groups: [0, 1, 1], ..Default::default() };
+        ctx.queue.write_buffer(&self.control, 0, bytemuck::bytes_of(&start));
+        ctx.queue.write_buffer(&self.dispatch_sizes, 0, &bytemuck::bytes_of(&start)[DISPATCH_SIZES_OFFSET as usize..]);
+        let mut encoder = ctx.device.create_command_encoder(&Default::default());
+        self.encode_pass(&mut encoder, integrators, |pass| {
+            pass.set_pipeline(&self.generate);
+            pass.dispatch_workgroups(groups, 1, 1);
+        });
+        let mut rounds = 0;
+        while rounds <= max_bounces {
+            for _ in 0..BOUNCES_PER_CHECK.min(max_bounces - rounds + 1) {
+                self.encode_bounce(&mut encoder, integrators);
+                rounds += 1;
+            }
+            ctx.queue.submit([encoder.finish()]);
+            encoder = ctx.device.create_command_encoder(&Default::default());
+            let control: Vec<WavefrontControl> = read_buffer(ctx, &self.control)?;
+            if control[0].path_groups[0] == 0 {
+                break;
+            }
+        }
+        self.encode_pass(&mut encoder, integrators, |pass| {
+            self.connect(pass);
+            pass.set_pipeline(&self.film);
+            pass.dispatch_workgroups(groups, 1, 1);
+        });
+        ctx.queue.submit([encoder.finish()]);
+        ctx.wait()
+    }
+
+    /// The previous bounce's shadow rays, then one bounce of the live paths; the next dispatch
+    /// sizes are copied where the indirect dispatches read them.
+    fn encode_bounce(&self, encoder: &mut wgpu::CommandEncoder, integrators: &wgpu::BindGroup) {
+        self.encode_pass(encoder, integrators, |pass| {
+            self.connect(pass);
+            pass.set_pipeline(&self.extend);
+            pass.dispatch_workgroups_indirect(&self.dispatch_sizes, 0);
+            pass.set_pipeline(&self.shade);
+            pass.dispatch_workgroups_indirect(&self.dispatch_sizes, 0);
+            pass.set_pipeline(&self.advance);
+            pass.dispatch_workgroups(1, 1, 1);
+        });
+        encoder.copy_buffer_to_buffer(&self.control, DISPATCH_SIZES_OFFSET, &self.dispatch_sizes, 0, DISPATCH_SIZES_BYTES);
+    }
+
+    fn connect(&self, pass: &mut wgpu::ComputePass) {
+        pass.set_pipeline(&self.connect);
+        pass.dispatch_workgroups_indirect(&self.dispatch_sizes, SHADOW_GROUPS_OFFSET - DISPATCH_SIZES_OFFSET);
+    }
+
+    fn encode_pass(&self, encoder: &mut wgpu::CommandEncoder, integrators: &wgpu::BindGroup, encode: impl FnOnce(&mut wgpu::ComputePass)) {
+        let mut pass = encoder.begin_compute_pass(&Default::default());
+        pass.set_bind_group(0, integrators, &[]);
+        pass.set_bind_group(1, &self.bind_group, &[]);
+        encode(&mut pass);
+    }
+}
+
+/// Where the dispatch sizes start in [`WavefrontControl`], and their bytes (path groups, then
+/// shadow-ray groups, each a vec3 padded to 16 bytes).
+const DISPATCH_SIZES_OFFSET: u64 = std::mem::offset_of!(WavefrontControl, path_groups) as u64;
+const DISPATCH_SIZES_BYTES: u64 = size_of::<WavefrontControl>() as u64 - DISPATCH_SIZES_OFFSET;
+const SHADOW_GROUPS_OFFSET: u64 = std::mem::offset_of!(WavefrontControl, shadow_groups) as u64;
+
+fn storage(device: &wgpu::Device, label: &str, size: u64, extra: wgpu::BufferUsages) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size: size.max(4), usage: wgpu::BufferUsages::STORAGE | extra, mapped_at_creation: false })
+}
+
+/// Group 1 of the wavefront entry points: paths, hits, shadow rays, queues, control.
+fn bind_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
+    let entry = |binding| wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Storage { read_only: false }, has_dynamic_offset: false, min_binding_size: None },
+        count: None,
+    };
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("wavefront"), entries: &(0..5).map(entry).collect::<Vec<_>>() })
+}
