@@ -80,18 +80,18 @@ fn load_path(p: u32, rng: ptr<function, Rng>) -> PathState {
     return PathState(Ray(w.origin, w.direction), w.radiance, w.throughput, w.bsdf_pdf, w.after_delta != 0u, w.eta_scale, w.bounce);
 }
 
+// Field by field: the other fields are the stage's to keep, and a whole-struct store would
+// read them first.
 fn store_path(p: u32, path: PathState, rng: Rng) {
-    var w = wavefront_paths[p];
-    w.origin = path.ray.origin;
-    w.direction = path.ray.direction;
-    w.radiance = path.radiance;
-    w.throughput = path.throughput;
-    w.bsdf_pdf = path.bsdf_pdf;
-    w.after_delta = u32(path.after_delta);
-    w.eta_scale = path.eta_scale;
-    w.bounce = path.bounce;
-    w.rng = rng;
-    wavefront_paths[p] = w;
+    wavefront_paths[p].origin = path.ray.origin;
+    wavefront_paths[p].direction = path.ray.direction;
+    wavefront_paths[p].radiance = path.radiance;
+    wavefront_paths[p].throughput = path.throughput;
+    wavefront_paths[p].bsdf_pdf = path.bsdf_pdf;
+    wavefront_paths[p].after_delta = u32(path.after_delta);
+    wavefront_paths[p].eta_scale = path.eta_scale;
+    wavefront_paths[p].bounce = path.bounce;
+    wavefront_paths[p].rng = rng;
 }
 
 fn dispatch_size(count: u32) -> vec3<u32> {

@@ -3,7 +3,7 @@
 use crate::args::BenchArgs;
 use crate::ray_file::{read_rays, write_hits};
 use caustic_bvh::{BuildOptions, SplitMethod};
-use caustic_gpu::{BenchResult, ExternalRay, GpuContext, GpuScene, PathTracer, RayBench, RayKind, RenderSettings};
+use caustic_gpu::{BenchResult, ExternalRay, GpuContext, GpuScene, KernelShape, PathTracer, RayBench, RayKind, RenderSettings};
 use caustic_scene::{SceneSource, load_scene};
 use serde::Serialize;
 use std::time::Instant;
@@ -28,6 +28,10 @@ struct MeshReport {
     kernel_ms: f64,
     /// The first sample pass, which also pays for what the driver compiles at first use.
     first_pass_ms: f64,
+    /// `megakernel` or `wavefront` (`--kernel-shape`).
+    kernel_shape: String,
+    /// With the wavefront shape: one more pass with its stages timed one at a time.
+    wavefront_profile: Option<StageProfile>,
     rays: u64,
     primary_mrays_per_second: f64,
     primary_nodes_per_ray: f64,
@@ -35,6 +39,45 @@ struct MeshReport {
     incoherent_mrays_per_second: f64,
     incoherent_nodes_per_ray: f64,
     incoherent_hit_fraction: f64,
+}
+
+/// Where a wavefront pass's time went ([`caustic_gpu::wavefront::WavefrontProfile`]).
+#[derive(Debug, Serialize)]
+struct StageProfile {
+    generate_ms: f64,
+    extend_ms: f64,
+    shade_ms: f64,
+    connect_ms: f64,
+    film_ms: f64,
+    control_ms: f64,
+    total_ms: f64,
+    live_paths: Vec<u64>,
+    shadow_rays: Vec<u64>,
+}
+
+impl StageProfile {
+    fn new(p: caustic_gpu::wavefront::WavefrontProfile) -> StageProfile {
+        StageProfile {
+            generate_ms: p.generate_ms,
+            extend_ms: p.extend_ms,
+            shade_ms: p.shade_ms,
+            connect_ms: p.connect_ms,
+            film_ms: p.film_ms,
+            control_ms: p.control_ms,
+            total_ms: p.total_ms(),
+            live_paths: p.live_paths,
+            shadow_rays: p.shadow_rays,
+        }
+    }
+
+    fn print(&self) {
+        println!(
+            "  wavefront stages, ms: generate {:.1}, extend {:.1}, shade {:.1}, connect {:.1}, film {:.1}, control {:.1} (total {:.1}, each dispatch waited for)",
+            self.generate_ms, self.extend_ms, self.shade_ms, self.connect_ms, self.film_ms, self.control_ms, self.total_ms
+        );
+        println!("  live paths per bounce: {:?}", self.live_paths);
+        println!("  shadow rays per bounce: {:?}", self.shadow_rays);
+    }
 }
 
 /// One mesh's figures on an external ray set.
@@ -167,7 +210,7 @@ fn bench_mesh(ctx: &GpuContext, name: &str, args: &BenchArgs) -> anyhow::Result<
     if let Some(note) = gpu_scene.layout_note() {
         eprintln!("{note}");
     }
-    let SamplePassTimes { kernel_ms, first_pass_ms, best_ms: render_ms_1spp } = sample_pass_times(ctx, &scene, &gpu_scene, args)?;
+    let SamplePassTimes { kernel_ms, first_pass_ms, best_ms: render_ms_1spp, wavefront_profile } = sample_pass_times(ctx, &scene, &gpu_scene, args)?;
     let bench = RayBench::new(ctx, &gpu_scene, &scene.camera, args.grid)?;
     let primary: BenchResult = bench.run(RayKind::Primary, args.repeats)?;
     let incoherent: BenchResult = bench.run(RayKind::Incoherent, args.repeats)?;
@@ -186,6 +229,8 @@ fn bench_mesh(ctx: &GpuContext, name: &str, args: &BenchArgs) -> anyhow::Result<
         render_ms_1spp,
         kernel_ms,
         first_pass_ms,
+        kernel_shape: shape_name(args.kernel_shape).to_string(),
+        wavefront_profile,
         rays: primary.rays,
         primary_mrays_per_second: primary.mrays_per_second,
         primary_nodes_per_ray: primary.mean_nodes_visited,
@@ -201,6 +246,7 @@ struct SamplePassTimes {
     kernel_ms: f64,
     first_pass_ms: f64,
     best_ms: f64,
+    wavefront_profile: Option<StageProfile>,
 }
 
 /// Times the path tracer's creation, its first sample pass over the whole image (which pays
@@ -225,7 +271,18 @@ fn sample_pass_times(ctx: &GpuContext, scene: &caustic_scene::Scene, gpu: &GpuSc
         tracer.render_sample()?;
         best_ms = best_ms.min(ms(start));
     }
-    Ok(SamplePassTimes { kernel_ms, first_pass_ms, best_ms })
+    let wavefront_profile = match args.kernel_shape {
+        KernelShape::Wavefront => Some(StageProfile::new(tracer.profile_wavefront_pass()?)),
+        KernelShape::Megakernel => None,
+    };
+    Ok(SamplePassTimes { kernel_ms, first_pass_ms, best_ms, wavefront_profile })
+}
+
+fn shape_name(shape: KernelShape) -> &'static str {
+    match shape {
+        KernelShape::Megakernel => "megakernel",
+        KernelShape::Wavefront => "wavefront",
+    }
 }
 
 fn split_name(split: SplitMethod) -> &'static str {
@@ -258,4 +315,7 @@ fn print_row(r: &MeshReport, header: bool) {
         r.kernel_ms,
         r.first_pass_ms
     );
+    if let Some(profile) = &r.wavefront_profile {
+        profile.print();
+    }
 }

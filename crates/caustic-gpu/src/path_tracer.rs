@@ -5,7 +5,7 @@ use crate::inspector::PathRecord;
 use crate::readback::read_buffer;
 use crate::kernel::Kernel;
 use crate::render_settings::RenderSettings;
-use crate::wavefront::{KernelShape, Wavefront};
+use crate::wavefront::{KernelShape, Wavefront, WavefrontProfile};
 use crate::{GpuContext, GpuError, GpuScene};
 use caustic_image::Image;
 use caustic_scene::{Integrator, NextEvent, RenderPass, Scene};
@@ -175,6 +175,30 @@ impl<'a> PathTracer<'a> {
         }
         self.ctx.queue.submit([encoder.finish()]);
         self.ctx.wait()
+    }
+
+    /// Adds one sample to every pixel as [`PathTracer::render_sample`] does, with the
+    /// wavefront's stages dispatched and timed one at a time (so the pass is slower than
+    /// usual): where a wavefront pass's time goes. An error for a megakernel tracer.
+    pub fn profile_wavefront_pass(&mut self) -> Result<WavefrontProfile, GpuError> {
+        let Stages::Wavefront(wavefront) = &self.stages else {
+            return Err(GpuError::Scene("profiling a wavefront pass needs a tracer of the wavefront kernel shape".into()));
+        };
+        let capacity = wavefront.capacity;
+        let mut profile = WavefrontProfile::default();
+        let pixels = self.frame.width * self.frame.height;
+        self.frame.sample_index = self.first_sample + self.complete_passes;
+        while self.next_pixel < pixels {
+            let tile = capacity.min(pixels - self.next_pixel);
+            self.write_tile(self.next_pixel, tile);
+            if let Stages::Wavefront(wavefront) = &self.stages {
+                wavefront.trace_tile_profiled(self.ctx, &self.bind_group, tile, self.frame.max_depth.min(SAFETY_MAX_BOUNCES), &mut profile)?;
+            }
+            self.next_pixel += tile;
+        }
+        self.next_pixel = 0;
+        self.complete_passes += 1;
+        Ok(profile)
     }
 
     /// Scales the tile so the next submit takes about the target time.

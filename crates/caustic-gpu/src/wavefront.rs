@@ -91,6 +91,43 @@ pub struct WavefrontControl {
     pub _pad2: u32,
 }
 
+/// Where a wavefront pass's time went ([`crate::PathTracer::profile_wavefront_pass`]): each
+/// stage's milliseconds over the pass, every dispatch submitted and waited for alone, and how
+/// many paths and shadow rays each bounce's queues held (the work compaction leaves).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct WavefrontProfile {
+    /// Camera rays.
+    pub generate_ms: f64,
+    /// Closest hits.
+    pub extend_ms: f64,
+    /// Emission, light samples, BSDF samples, Russian roulette.
+    pub shade_ms: f64,
+    /// Shadow rays.
+    pub connect_ms: f64,
+    /// Recording the samples.
+    pub film_ms: f64,
+    /// Sizing the next dispatches, copying the sizes and reading the counts back.
+    pub control_ms: f64,
+    /// Live paths at bounce i, summed over the pass's tiles.
+    pub live_paths: Vec<u64>,
+    /// Shadow rays queued at bounce i (paths whose light samples may carry light).
+    pub shadow_rays: Vec<u64>,
+}
+
+impl WavefrontProfile {
+    /// The stages' milliseconds summed.
+    pub fn total_ms(&self) -> f64 {
+        self.generate_ms + self.extend_ms + self.shade_ms + self.connect_ms + self.film_ms + self.control_ms
+    }
+
+    fn add_count(counts: &mut Vec<u64>, bounce: usize, count: u32) {
+        if counts.len() <= bounce {
+            counts.resize(bounce + 1, 0);
+        }
+        counts[bounce] += u64::from(count);
+    }
+}
+
 /// Size of WGSL's `Hit` (t, u, v, triangle, slot), which the extend stage stores per path.
 pub const HIT_BYTES: u64 = 20;
 
@@ -169,10 +206,7 @@ impl Wavefront {
     /// Traces one sample of each of the tile's `pixels` pixels (the frame buffer already holds
     /// the tile) to the end of every path, at most `max_bounces + 1` rounds, and records them.
     pub fn trace_tile(&self, ctx: &GpuContext, integrators: &wgpu::BindGroup, pixels: u32, max_bounces: u32) -> Result<(), GpuError> {
-        let groups = pixels.div_ceil(GROUP);
-        let start = WavefrontControl { path_count: [pixels, 0], path_groups: [groups, 1, 1], shadow_groups: [0, 1, 1], ..Default::default() };
-        ctx.queue.write_buffer(&self.control, 0, bytemuck::bytes_of(&start));
-        ctx.queue.write_buffer(&self.dispatch_sizes, 0, &bytemuck::bytes_of(&start)[DISPATCH_SIZES_OFFSET as usize..]);
+        let groups = self.start_tile(ctx, pixels);
         let mut encoder = ctx.device.create_command_encoder(&Default::default());
         self.encode_pass(&mut encoder, integrators, |pass| {
             pass.set_pipeline(&self.generate);
@@ -198,6 +232,66 @@ impl Wavefront {
         });
         ctx.queue.submit([encoder.finish()]);
         ctx.wait()
+    }
+
+    /// Queues all `pixels` paths of a tile for bounce 0, no shadow rays; returns the
+    /// workgroups that cover the tile.
+    fn start_tile(&self, ctx: &GpuContext, pixels: u32) -> u32 {
+        let groups = pixels.div_ceil(GROUP);
+        let start = WavefrontControl { path_count: [pixels, 0], path_groups: [groups, 1, 1], shadow_groups: [0, 1, 1], ..Default::default() };
+        ctx.queue.write_buffer(&self.control, 0, bytemuck::bytes_of(&start));
+        ctx.queue.write_buffer(&self.dispatch_sizes, 0, &bytemuck::bytes_of(&start)[DISPATCH_SIZES_OFFSET as usize..]);
+        groups
+    }
+
+    /// [`Wavefront::trace_tile`] one stage at a time, each submitted and waited for alone,
+    /// adding the stages' times and the queues' counts to `profile`.
+    pub fn trace_tile_profiled(&self, ctx: &GpuContext, integrators: &wgpu::BindGroup, pixels: u32, max_bounces: u32, profile: &mut WavefrontProfile) -> Result<(), GpuError> {
+        let groups = self.start_tile(ctx, pixels);
+        let timed = |encode: &dyn Fn(&mut wgpu::CommandEncoder)| -> Result<f64, GpuError> {
+            let began = std::time::Instant::now();
+            let mut encoder = ctx.device.create_command_encoder(&Default::default());
+            encode(&mut encoder);
+            ctx.queue.submit([encoder.finish()]);
+            ctx.wait()?;
+            Ok(began.elapsed().as_secs_f64() * 1e3)
+        };
+        let stage = |pipeline: &wgpu::ComputePipeline, size: Dispatch| {
+            timed(&|encoder| {
+                self.encode_pass(encoder, integrators, |pass| {
+                    pass.set_pipeline(pipeline);
+                    match size {
+                        Dispatch::Direct(n) => pass.dispatch_workgroups(n, 1, 1),
+                        Dispatch::Indirect(offset) => pass.dispatch_workgroups_indirect(&self.dispatch_sizes, offset),
+                    }
+                })
+            })
+        };
+        profile.generate_ms += stage(&self.generate, Dispatch::Direct(groups))?;
+        for bounce in 0..=max_bounces as usize {
+            let began = std::time::Instant::now();
+            let control: WavefrontControl = read_buffer(ctx, &self.control)?[0];
+            profile.control_ms += began.elapsed().as_secs_f64() * 1e3;
+            let live = control.path_count[bounce % 2];
+            if live == 0 {
+                break;
+            }
+            WavefrontProfile::add_count(&mut profile.live_paths, bounce, live);
+            profile.extend_ms += stage(&self.extend, Dispatch::Indirect(0))?;
+            profile.shade_ms += stage(&self.shade, Dispatch::Indirect(0))?;
+            profile.control_ms += timed(&|encoder| {
+                self.encode_pass(encoder, integrators, |pass| {
+                    pass.set_pipeline(&self.advance);
+                    pass.dispatch_workgroups(1, 1, 1);
+                });
+                encoder.copy_buffer_to_buffer(&self.control, DISPATCH_SIZES_OFFSET, &self.dispatch_sizes, 0, DISPATCH_SIZES_BYTES);
+            })?;
+            let control: WavefrontControl = read_buffer(ctx, &self.control)?[0];
+            WavefrontProfile::add_count(&mut profile.shadow_rays, bounce, control.shadow_count[bounce % 2]);
+            profile.connect_ms += stage(&self.connect, Dispatch::Indirect(SHADOW_GROUPS_OFFSET - DISPATCH_SIZES_OFFSET))?;
+        }
+        profile.film_ms += stage(&self.film, Dispatch::Direct(groups))?;
+        Ok(())
     }
 
     /// The previous bounce's shadow rays, then one bounce of the live paths; the next dispatch
@@ -226,6 +320,13 @@ impl Wavefront {
         pass.set_bind_group(1, &self.bind_group, &[]);
         encode(&mut pass);
     }
+}
+
+/// How one profiled stage is sized: workgroups, or the offset of its indirect sizes.
+#[derive(Clone, Copy)]
+enum Dispatch {
+    Direct(u32),
+    Indirect(u64),
 }
 
 /// Where the dispatch sizes start in [`WavefrontControl`], and their bytes (path groups, then

@@ -101,3 +101,29 @@ fn wavefront_refuses_what_it_does_not_split() {
     println!("{message}");
     assert!(message.contains("wavefront") && message.contains("render_classic"), "the error names the shape and the kernel: {message}");
 }
+
+#[test]
+fn a_profiled_wavefront_pass_counts_its_queues_and_adds_the_same_sample() {
+    let ctx = device();
+    let scene = Scene { resolution: (48, 40), ..caustic_scene::cornell_box() };
+    let gpu = GpuScene::upload(&ctx, &scene).expect("upload");
+    let wavefront = RenderSettings { shape: KernelShape::Wavefront, ..path_traced() };
+    let mut tracer = PathTracer::new(&ctx, &scene, &gpu, &wavefront).expect("tracer");
+    tracer.render_sample().expect("pass");
+    let profile = tracer.profile_wavefront_pass().expect("profiled pass");
+    println!("{profile:?}");
+    let pixels = u64::from(48u32 * 40);
+    assert_eq!(profile.live_paths[0], pixels, "every camera ray is traced");
+    assert!(profile.live_paths.windows(2).all(|w| w[1] <= w[0]), "paths only end: {:?}", profile.live_paths);
+    assert!(profile.live_paths.len() > 3 && profile.live_paths[1] < pixels, "paths end at different bounces");
+    assert!(profile.shadow_rays.iter().zip(&profile.live_paths).all(|(s, l)| s <= l), "at most one shadow-ray entry per live path");
+    assert!(profile.shadow_rays[0] > 0 && profile.extend_ms > 0.0 && profile.shade_ms > 0.0, "the stages ran");
+    assert_eq!(tracer.samples_per_pixel(), 2);
+    let profiled = tracer.image().expect("image").pixels;
+    let plain = render(&ctx, &scene, &wavefront, 2);
+    let (relative, differing) = difference(&plain, &profiled);
+    println!("profiled pass against a plain one: {relative:.3e}, {differing} values differ");
+    assert!(relative <= 1e-5, "the profiled pass adds the sample a plain pass does");
+    let mut mega = PathTracer::new(&ctx, &scene, &gpu, &path_traced()).expect("tracer");
+    assert!(mega.profile_wavefront_pass().is_err(), "a megakernel tracer has no wavefront stages to profile");
+}
