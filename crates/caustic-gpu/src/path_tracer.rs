@@ -122,6 +122,13 @@ impl<'a> PathTracer<'a> {
         self.ctx.check()
     }
 
+    /// Sets the target duration of one submit ([`RenderSettings::target_submit`]) from now
+    /// on: a caller whose time budget grows (an idle window) may submit longer tiles, which
+    /// on a CPU device spend less of the pass waiting on submits and on the last workgroups.
+    pub fn set_target_submit(&mut self, target: Duration) {
+        self.target_submit = target;
+    }
+
     /// Adds one sample to every pixel and waits for the device.
     pub fn render_sample(&mut self) -> Result<(), GpuError> {
         self.render_sample_until(&|| false).map(|_| ())
