@@ -52,7 +52,7 @@ struct StageProfile {
     control_ms: f64,
     total_ms: f64,
     live_paths: Vec<u64>,
-    shadow_rays: Vec<u64>,
+    connecting_paths: Vec<u64>,
 }
 
 impl StageProfile {
@@ -66,7 +66,7 @@ impl StageProfile {
             control_ms: p.control_ms,
             total_ms: p.total_ms(),
             live_paths: p.live_paths,
-            shadow_rays: p.shadow_rays,
+            connecting_paths: p.connecting_paths,
         }
     }
 
@@ -76,7 +76,7 @@ impl StageProfile {
             self.generate_ms, self.extend_ms, self.shade_ms, self.connect_ms, self.film_ms, self.control_ms, self.total_ms
         );
         println!("  live paths per bounce: {:?}", self.live_paths);
-        println!("  shadow rays per bounce: {:?}", self.shadow_rays);
+        println!("  paths with shadow rays per bounce: {:?}", self.connecting_paths);
     }
 }
 

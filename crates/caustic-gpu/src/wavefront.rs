@@ -110,8 +110,9 @@ pub struct WavefrontProfile {
     pub control_ms: f64,
     /// Live paths at bounce i, summed over the pass's tiles.
     pub live_paths: Vec<u64>,
-    /// Shadow rays queued at bounce i (paths whose light samples may carry light).
-    pub shadow_rays: Vec<u64>,
+    /// Paths queued for the connect stage at bounce i: those with a light sample that may
+    /// carry light (each holds one shadow ray per light sample of the vertex).
+    pub connecting_paths: Vec<u64>,
 }
 
 impl WavefrontProfile {
@@ -287,7 +288,7 @@ impl Wavefront {
                 encoder.copy_buffer_to_buffer(&self.control, DISPATCH_SIZES_OFFSET, &self.dispatch_sizes, 0, DISPATCH_SIZES_BYTES);
             })?;
             let control: WavefrontControl = read_buffer(ctx, &self.control)?[0];
-            WavefrontProfile::add_count(&mut profile.shadow_rays, bounce, control.shadow_count[bounce % 2]);
+            WavefrontProfile::add_count(&mut profile.connecting_paths, bounce, control.shadow_count[bounce % 2]);
             profile.connect_ms += stage(&self.connect, Dispatch::Indirect(SHADOW_GROUPS_OFFSET - DISPATCH_SIZES_OFFSET))?;
         }
         profile.film_ms += stage(&self.film, Dispatch::Direct(groups))?;

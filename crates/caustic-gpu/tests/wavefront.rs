@@ -116,8 +116,8 @@ fn a_profiled_wavefront_pass_counts_its_queues_and_adds_the_same_sample() {
     assert_eq!(profile.live_paths[0], pixels, "every camera ray is traced");
     assert!(profile.live_paths.windows(2).all(|w| w[1] <= w[0]), "paths only end: {:?}", profile.live_paths);
     assert!(profile.live_paths.len() > 3 && profile.live_paths[1] < pixels, "paths end at different bounces");
-    assert!(profile.shadow_rays.iter().zip(&profile.live_paths).all(|(s, l)| s <= l), "at most one shadow-ray entry per live path");
-    assert!(profile.shadow_rays[0] > 0 && profile.extend_ms > 0.0 && profile.shade_ms > 0.0, "the stages ran");
+    assert!(profile.connecting_paths.iter().zip(&profile.live_paths).all(|(s, l)| s <= l), "a live path is queued for connect at most once");
+    assert!(profile.connecting_paths[0] > 0 && profile.extend_ms > 0.0 && profile.shade_ms > 0.0, "the stages ran");
     assert_eq!(tracer.samples_per_pixel(), 2);
     let profiled = tracer.image().expect("image").pixels;
     let plain = render(&ctx, &scene, &wavefront, 2);
