@@ -280,13 +280,7 @@ impl Wavefront {
             WavefrontProfile::add_count(&mut profile.live_paths, bounce, live);
             profile.extend_ms += stage(&self.extend, Dispatch::Indirect(0))?;
             profile.shade_ms += stage(&self.shade, Dispatch::Indirect(0))?;
-            profile.control_ms += timed(&|encoder| {
-                self.encode_pass(encoder, integrators, |pass| {
-                    pass.set_pipeline(&self.advance);
-                    pass.dispatch_workgroups(1, 1, 1);
-                });
-                encoder.copy_buffer_to_buffer(&self.control, DISPATCH_SIZES_OFFSET, &self.dispatch_sizes, 0, DISPATCH_SIZES_BYTES);
-            })?;
+            profile.control_ms += timed(&|encoder| self.encode_advance(encoder, integrators))?;
             let control: WavefrontControl = read_buffer(ctx, &self.control)?[0];
             WavefrontProfile::add_count(&mut profile.connecting_paths, bounce, control.shadow_count[bounce % 2]);
             profile.connect_ms += stage(&self.connect, Dispatch::Indirect(SHADOW_GROUPS_OFFSET - DISPATCH_SIZES_OFFSET))?;
@@ -295,8 +289,8 @@ impl Wavefront {
         Ok(())
     }
 
-    /// The previous bounce's shadow rays, then one bounce of the live paths; the next dispatch
-    /// sizes are copied where the indirect dispatches read them.
+    /// The previous bounce's shadow rays, then one bounce of the live paths and the sizes of
+    /// the next dispatches.
     fn encode_bounce(&self, encoder: &mut wgpu::CommandEncoder, integrators: &wgpu::BindGroup) {
         self.encode_pass(encoder, integrators, |pass| {
             self.connect(pass);
@@ -304,6 +298,14 @@ impl Wavefront {
             pass.dispatch_workgroups_indirect(&self.dispatch_sizes, 0);
             pass.set_pipeline(&self.shade);
             pass.dispatch_workgroups_indirect(&self.dispatch_sizes, 0);
+        });
+        self.encode_advance(encoder, integrators);
+    }
+
+    /// The advance stage, then its dispatch sizes copied where the indirect dispatches read
+    /// them.
+    fn encode_advance(&self, encoder: &mut wgpu::CommandEncoder, integrators: &wgpu::BindGroup) {
+        self.encode_pass(encoder, integrators, |pass| {
             pass.set_pipeline(&self.advance);
             pass.dispatch_workgroups(1, 1, 1);
         });
