@@ -22,7 +22,7 @@ use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 /// How long after the last input the window counts as idle, and rendering gets
-/// [`crate::progressive::IDLE_RENDER_SHARE`] of each frame.
+/// most of each frame ([`crate::progressive::FrameBudget`]).
 const IDLE_AFTER: Duration = Duration::from_secs(1);
 
 /// What the panel edits.
@@ -531,7 +531,7 @@ impl eframe::App for ViewerApp {
         let began = Instant::now();
         let ctx = ui.ctx().clone();
         self.note_input(&ctx);
-        egui::Panel::right("settings").resizable(true).default_size(330.0).show(ui, |ui| {
+        egui::Panel::right("settings").resizable(true).default_size(crate::PANEL_WIDTH).max_size(crate::PANEL_MAX_WIDTH).show(ui, |ui| {
             egui::ScrollArea::vertical().show(ui, |ui| self.panel(ui));
         });
         egui::CentralPanel::default().show(ui, |ui| self.image_area(ui));

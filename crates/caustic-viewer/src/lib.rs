@@ -82,6 +82,25 @@ pub struct Script {
     pub save: Option<PathBuf>,
 }
 
+/// The settings panel's width in points, margins included (the user may drag it wider, to at
+/// most [`PANEL_MAX_WIDTH`]).
+pub const PANEL_WIDTH: f32 = 330.0;
+
+/// The widest the settings panel may be dragged.
+pub const PANEL_MAX_WIDTH: f32 = 640.0;
+
+/// The image area's margin on each side (egui's central panel).
+const IMAGE_MARGIN: f32 = 8.0;
+
+/// The window's inner size for an image of `resolution`: the image pixel for pixel beside the
+/// settings panel, within 720x560 (room for the panel) and 1600x1000 (a larger image is
+/// drawn scaled down). On a CPU device every window pixel costs drawing time each frame
+/// (docs/VIEWER.md), so the window has none to spare.
+pub fn window_size((width, height): (u32, u32)) -> [f32; 2] {
+    let margins = 2.0 * IMAGE_MARGIN;
+    [(width as f32 + margins + PANEL_WIDTH).clamp(720.0, 1600.0), (height as f32 + margins).clamp(560.0, 1000.0)]
+}
+
 /// Opens the window and runs until it is closed (or the script ends). Errors of a scripted run
 /// (a failed save, a device error) are returned.
 pub fn run(options: ViewerOptions) -> anyhow::Result<()> {
@@ -95,7 +114,7 @@ pub fn run(options: ViewerOptions) -> anyhow::Result<()> {
     }));
     setup.device_descriptor = Arc::new(GpuContext::device_descriptor);
     let native = eframe::NativeOptions {
-        viewport: egui::ViewportBuilder::default().with_title(title.clone()).with_inner_size([1280.0, 800.0]),
+        viewport: egui::ViewportBuilder::default().with_title(title.clone()).with_inner_size(window_size(options.scene.resolution)),
         renderer: eframe::Renderer::Wgpu,
         wgpu_options: egui_wgpu::WgpuConfiguration { wgpu_setup: setup.into(), ..Default::default() },
         ..Default::default()

@@ -114,7 +114,7 @@ impl ViewerApp {
                 ui.ctx().copy_text(command.clone());
             }
         });
-        ui.add(egui::Label::new(RichText::new(&command).monospace().small()).selectable(true));
+        ui.add(egui::Label::new(RichText::new(&command).monospace().small()).selectable(true).wrap());
     }
 
     fn camera_section(&mut self, ui: &mut Ui) {
@@ -145,14 +145,11 @@ impl ViewerApp {
         lens_rows(ui, &mut camera);
         let v = |v: glam::Vec3| format!("{:.4}, {:.4}, {:.4}", v.x, v.y, v.z);
         ui.label(format!("eye {}\ntarget {}", v(camera.eye), v(camera.target)));
-        ui.label(
-            RichText::new(concat!(
-                "drag: orbit · shift/middle drag: pan · right drag: look · wheel: zoom · ",
-                "WASD, Q/E: fly (shift: faster) · click: pick · ctrl + click: inspect the pixel's path"
-            ))
-                .small()
-                .weak(),
+        let hint = concat!(
+            "drag: orbit · shift/middle drag: pan · right drag: look · wheel: zoom · ",
+            "WASD, Q/E: fly (shift: faster) · click: pick · ctrl + click: inspect the pixel's path"
         );
+        ui.add(egui::Label::new(RichText::new(hint).small().weak()).wrap());
         self.set_camera(camera);
     }
 
@@ -229,7 +226,7 @@ impl ViewerApp {
         egui::Grid::new("stats").num_columns(2).striped(true).show(ui, |ui| {
             let mut row = |name: &str, value: String| {
                 ui.label(name);
-                ui.label(value);
+                ui.add(egui::Label::new(value).wrap());
                 ui.end_row();
             };
             row("samples per pixel", format!("{} / {}{converged}", stats.spp, self.controls.spp_target));

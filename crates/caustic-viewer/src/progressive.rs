@@ -223,8 +223,10 @@ pub fn submit_target(budget: Duration, least: Duration) -> Duration {
 /// large window drawn by a CPU device), the target cannot be met: rendering then still gets
 /// [`MIN_RENDER_SHARE`] of the frame while the user interacts, so the image keeps
 /// converging at a useful rate while the frame time stays within 1 / (1 - share) of the
-/// least possible, and [`IDLE_RENDER_SHARE`] while nobody touches the window, when fewer
-/// frames cost nothing and the samples are what the user waits for.
+/// least possible. While nobody touches the window, fewer frames cost nothing and the
+/// samples are what the user waits for: rendering gets [`IDLE_RENDER_SHARE`] of the frame
+/// as long as frames stay within [`IDLE_FRAME_LIMIT`], and never less than
+/// [`IDLE_LEAST_SHARE`].
 #[derive(Clone, Copy, Debug)]
 pub struct FrameBudget {
     /// The frame time aimed at.
@@ -241,9 +243,22 @@ const MIN_RENDER: Duration = Duration::from_millis(2);
 /// The least share of a frame that rendering gets while the user interacts.
 pub const MIN_RENDER_SHARE: f64 = 1.0 / 3.0;
 
-/// The least share of a frame that rendering gets while the window is idle: on lavapipe,
-/// where drawing the window takes about 60 ms, frames of about 300 ms (docs/PERFORMANCE.md).
-pub const IDLE_RENDER_SHARE: f64 = 0.8;
+/// The share of a frame that rendering gets while the window is idle, unless that makes the
+/// frame longer than [`IDLE_FRAME_LIMIT`]: the user sees 90% of the rendering rate.
+pub const IDLE_RENDER_SHARE: f64 = 0.9;
+
+/// The longest idle frame [`IDLE_RENDER_SHARE`] may ask for: the first input after an idle
+/// spell waits for the frame in progress, at most about this long.
+pub const IDLE_FRAME_LIMIT: Duration = Duration::from_millis(500);
+
+/// The least share of an idle frame that rendering gets, however long the window takes to
+/// draw (a large window on a CPU device).
+pub const IDLE_LEAST_SHARE: f64 = 0.8;
+
+/// The render time that gives rendering `share` of a frame whose rest takes `overhead`.
+fn render_for_share(overhead: f64, share: f64) -> f64 {
+    overhead * share / (1.0 - share)
+}
 
 impl FrameBudget {
     /// A controller aiming at `target` per frame.
@@ -257,8 +272,7 @@ impl FrameBudget {
         self.overhead = if self.overhead == 0.0 { overhead } else { 0.8 * self.overhead + 0.2 * overhead };
     }
 
-    /// Whether the window is idle (no input lately): rendering's share rises to
-    /// [`IDLE_RENDER_SHARE`].
+    /// Whether the window is idle (no input lately): see [`FrameBudget`].
     pub fn set_idle(&mut self, idle: bool) {
         self.idle = idle;
     }
@@ -266,8 +280,12 @@ impl FrameBudget {
     /// The render time for the next frame.
     pub fn render_budget(&self) -> Duration {
         let remaining = self.target.as_secs_f64() - self.overhead;
-        let share = if self.idle { IDLE_RENDER_SHARE } else { MIN_RENDER_SHARE };
-        let least = self.overhead * share / (1.0 - share);
+        let least = if self.idle {
+            let within_limit = IDLE_FRAME_LIMIT.as_secs_f64() - self.overhead;
+            render_for_share(self.overhead, IDLE_RENDER_SHARE).min(within_limit).max(render_for_share(self.overhead, IDLE_LEAST_SHARE))
+        } else {
+            render_for_share(self.overhead, MIN_RENDER_SHARE)
+        };
         Duration::from_secs_f64(remaining.max(least)).max(MIN_RENDER)
     }
 }
@@ -307,24 +325,26 @@ mod tests {
     }
 
     #[test]
-    fn an_idle_window_gives_rendering_most_of_a_slow_frame_and_no_more_of_a_fast_one() {
-        let settle = |budget: &mut FrameBudget, ui_ms: u64| {
+    fn an_idle_window_gives_rendering_most_of_each_frame_within_the_idle_frame_limit() {
+        let settle = |ui_ms: u64| {
+            let mut budget = FrameBudget::new(Duration::from_millis(33));
+            budget.set_idle(true);
             for _ in 0..100 {
                 let render = budget.render_budget();
                 budget.record(render + Duration::from_millis(ui_ms), render);
             }
-            budget.render_budget().as_secs_f64() * 1e3
+            (budget.render_budget().as_secs_f64() * 1e3, budget)
         };
-        let mut slow = FrameBudget::new(Duration::from_millis(33));
-        slow.set_idle(true);
-        let render = settle(&mut slow, 60);
-        assert!((render - 240.0).abs() < 0.5, "60 ms of UI, idle: 80% of a 300 ms frame renders, got {render:.2}");
+        let (render, _) = settle(50);
+        assert!((render - 450.0).abs() < 0.5, "50 ms of UI, idle: 90% of a 500 ms frame renders, got {render:.2}");
+        let (render, mut slow) = settle(150);
+        assert!((render - 600.0).abs() < 0.5, "150 ms of UI, idle: never less than 80% renders, got {render:.2}");
         slow.set_idle(false);
         let render = slow.render_budget().as_secs_f64() * 1e3;
-        assert!((render - 30.0).abs() < 0.5, "input brings the interactive share back at once, got {render:.2}");
-        let mut fast = FrameBudget::new(Duration::from_millis(33));
-        fast.set_idle(true);
-        let render = settle(&mut fast, 5);
-        assert!((render - 28.0).abs() < 0.5, "5 ms of UI, idle: the frame target still holds, got {render:.2}");
+        assert!((render - 75.0).abs() < 0.5, "input brings the interactive share back at once, got {render:.2}");
+        let (render, _) = settle(5);
+        assert!((render - 45.0).abs() < 0.5, "5 ms of UI, idle: 90% of a 50 ms frame renders, got {render:.2}");
+        let (render, _) = settle(1);
+        assert!((render - 32.0).abs() < 0.5, "1 ms of UI, idle: the frame target still holds, got {render:.2}");
     }
 }
