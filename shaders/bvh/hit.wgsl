@@ -29,6 +29,11 @@ var<private> hit_level: u32;
 // outside the hull (crates/caustic-gpu/src/shadow_hull.rs); other traversals ignore it.
 override SHADOW_HULL_CULL: bool = false;
 
+// The generated traversal clips shadow rays to the scene's convex occluders instead of testing
+// their triangles when this is on: set while no light lies inside one
+// (crates/caustic-gpu/src/convex_occluder.rs); other traversals ignore it.
+override SHADOW_CONVEX_OCCLUDERS: bool = false;
+
 // The planes, which the tree cannot bound, after the tree.
 fn intersect_planes(ray: Ray, closest: Hit, any_hit: bool) -> Hit {
     var hit = closest;

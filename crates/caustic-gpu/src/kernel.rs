@@ -46,6 +46,10 @@ pub struct Kernel {
     /// The `SHADOW_HULL_CULL` override (`bvh/hit.wgsl`): the generated traversal lets shadow
     /// rays skip the scene's hull faces ([`crate::shadow_hull`]).
     pub shadow_hull_cull: bool,
+    /// The `SHADOW_CONVEX_OCCLUDERS` override (`bvh/hit.wgsl`): the generated traversal lets
+    /// shadow rays clip themselves to the scene's convex occluders
+    /// ([`crate::convex_occluder`]).
+    pub shadow_convex_occluders: bool,
     /// The `PATHS_PER_INVOCATION` override (`integrator/path.wgsl`): how many of a tile's
     /// pixels one invocation of `render_sample` traces in turn ([`paths_per_invocation`]);
     /// 1 for the other entry points, which trace one pixel per invocation.
@@ -75,6 +79,7 @@ impl Kernel {
                 DataPath::Buffers => REQUIRES_ALL,
             },
             shadow_hull_cull: gpu.shadow_hull_cull && specialised_traversal(gpu, settings).is_some(),
+            shadow_convex_occluders: gpu.shadow_occluder_clip && specialised_traversal(gpu, settings).is_some(),
             paths_per_invocation,
         }
     }
@@ -125,6 +130,7 @@ impl Kernel {
         constants.push(("SCENE_REQUIRES", f64::from(self.requirements)));
         constants.push(("PATHS_PER_INVOCATION", f64::from(self.paths_per_invocation)));
         constants.push(("SHADOW_HULL_CULL", f64::from(u8::from(self.shadow_hull_cull))));
+        constants.push(("SHADOW_CONVEX_OCCLUDERS", f64::from(u8::from(self.shadow_convex_occluders))));
         device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some(entry_point),
             layout: Some(&pipeline_layout),

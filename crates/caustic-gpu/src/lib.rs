@@ -12,6 +12,7 @@ mod bench;
 pub mod bloom;
 pub mod classic;
 pub mod classic_reference;
+pub mod convex_occluder;
 mod context;
 pub mod debug_image;
 pub mod environment_sampling;

@@ -2,6 +2,7 @@
 
 use crate::requirements::{GEOMETRY_REQUIREMENTS, scene_requirements, shading_requirements};
 use crate::scene_data::{SceneData, device_lights, device_materials};
+use crate::convex_occluder::ConvexOccluders;
 use crate::shadow_hull::ShadowHull;
 use crate::specialize;
 use crate::{GpuContext, GpuError};
@@ -82,6 +83,13 @@ pub struct GpuScene {
     /// Whether no light lies outside [`GpuScene::shadow_hull`] (nor far away): the kernels'
     /// `SHADOW_HULL_CULL` override, updated with the lights.
     pub shadow_hull_cull: bool,
+    /// The convex occluders the generated traversal lets shadow rays clip themselves to while
+    /// [`GpuScene::shadow_occluder_clip`] holds.
+    pub shadow_occluders: ConvexOccluders,
+    /// Whether no light lies inside a [`GpuScene::shadow_occluders`] solid (and no infinite
+    /// plane could cut one): the kernels' `SHADOW_CONVEX_OCCLUDERS` override, updated with the
+    /// lights.
+    pub shadow_occluder_clip: bool,
     /// For the same small scenes: the shading entries, materials and lights as WGSL
     /// constants ([`crate::bake`]), which kernels with the generated traversal read instead of
     /// the buffers; dropped by [`GpuScene::update_materials`].
@@ -135,7 +143,7 @@ impl GpuScene {
         let gpu_bvh: GpuBvh = caustic_bvh::flatten_with_motion(&bvh, &data.triangles, &data.shapes, &moving);
         // The specialised traversal has no motion: moving scenes walk the BVH.
         let unrolled = if moving.any() { None } else { specialize::unrolled_traversal(&gpu_bvh) };
-        let (traversal, shadow_hull) = unrolled.map_or((None, ShadowHull::default()), |u| (Some(u.wgsl), u.hull));
+        let (traversal, shadow_hull, shadow_occluders) = unrolled.map_or((None, ShadowHull::default(), ConvexOccluders::default()), |u| (Some(u.wgsl), u.hull, u.occluders));
         let requirements = scene_requirements(&data, &scene.environment);
         let uploader = Uploader { ctx };
         let (environment_view, environment_color) = upload_environment(ctx, &scene.environment)?;
@@ -163,6 +171,8 @@ impl GpuScene {
             traversal,
             shadow_hull_cull: shadow_hull.culls_shadow_rays(&data.lights, requirements),
             shadow_hull,
+            shadow_occluder_clip: shadow_occluders.clip_shadow_rays(&data.lights, requirements),
+            shadow_occluders,
             lobe_mask: crate::scene_data::lobe_mask(scene),
             alpha_test: data.alpha_test,
             motion_blur: moving.any(),
@@ -186,6 +196,7 @@ impl GpuScene {
         self.classic_features = crate::classic::scene_features(scene);
         self.requirements = (self.requirements & GEOMETRY_REQUIREMENTS) | shading_requirements(&materials, &lights, &scene.environment);
         self.shadow_hull_cull = self.shadow_hull.culls_shadow_rays(&lights, self.requirements);
+        self.shadow_occluder_clip = self.shadow_occluders.clip_shadow_rays(&lights, self.requirements);
         // Edited scenes read their tables from the buffers: one recompile at the first edit,
         // none at later ones (a kernel with the tables baked in takes seconds to compile).
         self.tables = None;

@@ -9,6 +9,7 @@
 //! triangles, and every lane runs the same code. It pays while the primitives are few; the
 //! threshold, [`BAKE_MAX_PRIMITIVES`], is measured (docs/PERFORMANCE.md).
 
+use crate::convex_occluder::ConvexOccluders;
 use crate::shadow_hull::ShadowHull;
 use caustic_bvh::{GpuBvh, SHAPE_BIT};
 use glam::Vec3;
@@ -32,6 +33,9 @@ pub struct UnrolledTraversal {
     /// The scene's [`ShadowHull`], whose faces shadow rays skip when the kernel's
     /// `SHADOW_HULL_CULL` is on.
     pub hull: ShadowHull,
+    /// The scene's [`ConvexOccluders`], which shadow rays clip themselves to instead of
+    /// testing their triangles when the kernel's `SHADOW_CONVEX_OCCLUDERS` is on.
+    pub occluders: ConvexOccluders,
 }
 
 /// A replacement for `shaders/bvh/traverse.wgsl` testing `bvh`'s primitives in their gathered
@@ -50,13 +54,29 @@ pub fn unrolled_traversal(bvh: &GpuBvh) -> Option<UnrolledTraversal> {
     );
     let _ = writeln!(wgsl, "    (*cost).triangles += {}u;", bvh.triangles.len());
     let hull_slots: Vec<u32> = hull.slots().collect();
+    let occluders = ConvexOccluders::new(bvh);
+    let occluder_slots: Vec<u32> = occluders.occluders.iter().flat_map(|o| o.slots.iter().copied()).collect();
+    if !occluders.occluders.is_empty() {
+        wgsl.push_str("    if any_hit && SHADOW_CONVEX_OCCLUDERS {\n");
+        for occluder in &occluders.occluders {
+            wgsl.push_str("        {\n            var span = vec2<f32>(0.0, t_max);\n");
+            for &(normal, offset) in &occluder.planes {
+                let _ = writeln!(wgsl, "            span = clip_to_plane(ray, span, vec4<f32>({}, {offset:?}f));", vec3(normal));
+            }
+            let slot = occluder.slots[0];
+            let _ = writeln!(wgsl, "            hit = occluder_hit(hit, span, {}u, {slot}u);\n        }}", bvh.triangles[slot as usize].id);
+        }
+        wgsl.push_str("        if hit.triangle != NO_HIT {\n            return hit;\n        }\n    }\n");
+    }
     for (slot, tri) in bvh.triangles.iter().enumerate() {
         if tri.id & SHAPE_BIT != 0 {
             let _ = writeln!(wgsl, "    hit = test_shape(ray, hit, {}u);", tri.id & !SHAPE_BIT);
         } else {
             let [v0, v1, v2] = tri.vertices();
             let test = format!("hit = test_triangle(r, hit, {}, {}, {}, {}u, {slot}u);", vec3(v0), vec3(v1), vec3(v2), tri.id);
-            if hull_slots.contains(&(slot as u32)) {
+            if occluder_slots.contains(&(slot as u32)) {
+                let _ = writeln!(wgsl, "    if !(any_hit && SHADOW_CONVEX_OCCLUDERS) {{\n        {test}\n    }}");
+            } else if hull_slots.contains(&(slot as u32)) {
                 let _ = writeln!(wgsl, "    if !(any_hit && SHADOW_HULL_CULL) {{\n        {test}\n    }}");
             } else {
                 let _ = writeln!(wgsl, "    {test}");
@@ -66,7 +86,7 @@ pub fn unrolled_traversal(bvh: &GpuBvh) -> Option<UnrolledTraversal> {
     }
     wgsl.push_str("    return intersect_planes(ray, hit, any_hit);\n}\n\n");
     wgsl.push_str(UNROLLED_HELPERS);
-    Some(UnrolledTraversal { wgsl, hull })
+    Some(UnrolledTraversal { wgsl, hull, occluders })
 }
 
 /// The BSDF lobe slots (`shaders/bsdf/bsdf.wgsl`) any of `materials` uses, one bit per slot

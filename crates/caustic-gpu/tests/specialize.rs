@@ -1,6 +1,7 @@
 //! The scene-specialised kernel (primitives compiled in, no BVH walk) renders what the general
 //! kernel renders: the same random numbers give the same paths, so the images differ only
-//! where two primitives tie for the closest hit.
+//! where two primitives tie for the closest hit, or where a shadow ray grazes an edge of a box
+//! it clips itself to (`caustic_gpu::convex_occluder`) instead of testing its triangles.
 
 use caustic_gpu::{DataPath, GpuContext, GpuScene, PathTracer, RenderSettings};
 use caustic_image::metrics::{RELMSE_EPSILON, relative_mse};
@@ -13,6 +14,9 @@ fn specialised_and_general_kernels_render_the_same_image() {
     scene.resolution = (48, 48);
     let gpu = GpuScene::upload(&ctx, &scene).expect("upload");
     assert!(gpu.traversal.is_some(), "the Cornell box is small enough to specialise");
+    let boxes: Vec<usize> = gpu.shadow_occluders.occluders.iter().map(|o| o.slots.len()).collect();
+    assert_eq!(boxes, [10, 10], "the two blocks, five faces each standing on the floor, are the convex occluders");
+    assert!(gpu.shadow_occluder_clip, "the light is outside both blocks");
     let render = |data_path, seed| {
         let settings = RenderSettings { data_path, seed, ..RenderSettings::default() };
         let mut tracer = PathTracer::new(&ctx, &scene, &gpu, &settings).expect("tracer");

@@ -1,0 +1,357 @@
+//! Groups of triangles a shadow ray can test as one convex solid: the boxes of the Cornell box.
+//!
+//! A shadow ray only asks whether anything lies between two points. If a connected set of
+//! triangles bounds a convex solid (closed, or open only across a plane that has the whole
+//! scene on the solid's side, as a box standing on the floor), and both ends of the segment
+//! lie outside that solid, the segment meets the triangles exactly when it meets the solid.
+//! That is a clip of the segment against the solid's face planes: one pair of dot products per
+//! plane instead of a triangle test per triangle (a box of ten triangles has six planes). Both
+//! ends are outside when every other primitive and every point light lies beyond one of the
+//! solid's planes: shading points then lie on those primitives, and light points on them or on
+//! the lights. The generated traversal ([`crate::specialize`]) clips shadow rays so when the
+//! `SHADOW_CONVEX_OCCLUDERS` override (`shaders/bvh/hit.wgsl`) is on; closest-hit rays still
+//! test every triangle.
+
+use crate::gpu_types::GpuLight;
+use crate::requirements::REQUIRES_PLANES;
+use crate::scene_data::{LIGHT_POINT, LIGHT_SEGMENT, LIGHT_SPOT};
+use caustic_bvh::{GpuBvh, SHAPE_BIT};
+use glam::{DVec3, Vec3};
+use std::collections::HashMap;
+
+/// Distance, relative to the scene's size, within which a point counts as on a plane.
+const PLANE_TOLERANCE: f64 = 1e-6;
+
+/// A convex solid bounded by a connected group of the scene's triangles.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ConvexOccluder {
+    /// Gathered triangle slots of the group, ascending.
+    pub slots: Vec<u32>,
+    /// Outward planes `normal . x <= offset` whose intersection is the solid: one per distinct
+    /// face plane, and the closing plane of an open group.
+    pub planes: Vec<(Vec3, f32)>,
+}
+
+/// The convex occluders of a scene, found from the geometry alone.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ConvexOccluders {
+    /// The occluders, in the order of their first slot.
+    pub occluders: Vec<ConvexOccluder>,
+    tolerance: f64,
+}
+
+impl ConvexOccluders {
+    /// The groups of `bvh`'s triangles (connected through shared corners) that bound convex
+    /// solids apart from every other primitive.
+    pub fn new(bvh: &GpuBvh) -> ConvexOccluders {
+        let scene = scene_primitives(bvh);
+        let size = scene.iter().flatten().fold(0.0f64, |m, p| m.max(p.abs().max_element()));
+        let tolerance = PLANE_TOLERANCE * size.max(f64::MIN_POSITIVE);
+        let occluders = groups(bvh)
+            .into_iter()
+            .filter_map(|slots| {
+                let planes = solid_planes(bvh, &slots, &scene, tolerance)?;
+                let corners: Vec<DVec3> = slots.iter().flat_map(|&s| scene[s as usize].iter().copied()).collect();
+                let others = (0..scene.len()).filter(|slot| slots.binary_search(&(*slot as u32)).is_err());
+                let apart = others.into_iter().all(|slot| {
+                    beyond_a_plane(&planes, &scene[slot], tolerance) || beyond_own_plane(&bvh.triangles[slot], &corners, tolerance)
+                });
+                apart.then(|| ConvexOccluder { slots, planes: planes.iter().map(|&(n, c)| (n.as_vec3(), c as f32)).collect() })
+            })
+            .collect();
+        ConvexOccluders { occluders, tolerance }
+    }
+
+    /// Whether shadow rays may clip against the occluders with `lights` lighting the scene
+    /// and `requirements` naming its parts: no infinite plane (it could cut through a solid)
+    /// and every point, spot and segment light outside every solid. Area lights are triangles,
+    /// already kept apart; rays to directional lights and the environment leave the scene.
+    pub fn clip_shadow_rays(&self, lights: &[GpuLight], requirements: u32) -> bool {
+        if self.occluders.is_empty() || requirements & REQUIRES_PLANES != 0 {
+            return false;
+        }
+        let outside = |points: &[DVec3]| {
+            self.occluders.iter().all(|o| {
+                let planes: Vec<(DVec3, f64)> = o.planes.iter().map(|&(n, c)| (n.as_dvec3(), f64::from(c))).collect();
+                beyond_a_plane(&planes, points, self.tolerance)
+            })
+        };
+        lights.iter().all(|light| {
+            let v0 = Vec3::from(light.v0).as_dvec3();
+            match light.kind {
+                LIGHT_POINT => {
+                    let r = f64::from(light.area.max(0.0));
+                    outside(&(0..8).map(|i| v0 + DVec3::new(corner(i, 0), corner(i, 1), corner(i, 2)) * r).collect::<Vec<_>>())
+                }
+                LIGHT_SPOT => outside(&[v0]),
+                LIGHT_SEGMENT => outside(&[v0, v0 + Vec3::from(light.e1).as_dvec3()]),
+                _ => true,
+            }
+        })
+    }
+
+    /// Whether the segment `origin + t direction`, `0 < t < t_max`, meets `occluder`'s solid:
+    /// the CPU twin of the generated clip (`shaders/bvh/unrolled.wgsl`, `clip_to_plane`).
+    pub fn segment_meets(occluder: &ConvexOccluder, origin: Vec3, direction: Vec3, t_max: f32) -> bool {
+        let span = occluder.planes.iter().fold([0.0f32, t_max], |span, &(normal, offset)| clip_to_plane(span, origin, direction, normal, offset));
+        span[0] < span[1]
+    }
+}
+
+/// `span` (entry and exit distance) of a ray clipped to the half-space `normal . x <= offset`.
+/// A ray parallel to the plane keeps its span inside and loses it on or outside the plane.
+fn clip_to_plane(span: [f32; 2], origin: Vec3, direction: Vec3, normal: Vec3, offset: f32) -> [f32; 2] {
+    let inside = offset - normal.dot(origin);
+    let approach = normal.dot(direction);
+    let t = inside / approach;
+    if approach > 0.0 {
+        [span[0], span[1].min(t)]
+    } else if approach < 0.0 {
+        [span[0].max(t), span[1]]
+    } else if inside > 0.0 {
+        span
+    } else {
+        [f32::INFINITY, span[1]]
+    }
+}
+
+/// -1 or 1: corner `i`'s sign along `axis`.
+fn corner(i: u32, axis: u32) -> f64 {
+    if i >> axis & 1 == 1 { 1.0 } else { -1.0 }
+}
+
+/// Every primitive's points, by gathered slot: a triangle's corners, a bounded shape's box.
+fn scene_primitives(bvh: &GpuBvh) -> Vec<Vec<DVec3>> {
+    bvh.triangles
+        .iter()
+        .map(|record| {
+            let [v0, v1, v2] = record.vertices().map(|v| v.as_dvec3());
+            if record.id & SHAPE_BIT == 0 {
+                vec![v0, v1, v2]
+            } else {
+                (0..8).map(|i| DVec3::select(glam::BVec3::new(i & 1 != 0, i & 2 != 0, i & 4 != 0), v1, v0)).collect()
+            }
+        })
+        .collect()
+}
+
+/// The triangles' slots grouped by shared corners (bit-equal positions), each group ascending.
+fn groups(bvh: &GpuBvh) -> Vec<Vec<u32>> {
+    let mut parent: Vec<usize> = (0..bvh.triangles.len()).collect();
+    fn root(parent: &mut [usize], mut i: usize) -> usize {
+        while parent[i] != i {
+            parent[i] = parent[parent[i]];
+            i = parent[i];
+        }
+        i
+    }
+    let mut first_at: HashMap<[u32; 3], usize> = HashMap::new();
+    for (slot, record) in bvh.triangles.iter().enumerate().filter(|(_, t)| t.id & SHAPE_BIT == 0) {
+        for v in record.vertices() {
+            let other = *first_at.entry(v.to_array().map(f32::to_bits)).or_insert(slot);
+            let (a, b) = (root(&mut parent, slot), root(&mut parent, other));
+            parent[a] = b;
+        }
+    }
+    let mut by_root: HashMap<usize, Vec<u32>> = HashMap::new();
+    for slot in (0..bvh.triangles.len()).filter(|&s| bvh.triangles[s].id & SHAPE_BIT == 0) {
+        by_root.entry(root(&mut parent, slot)).or_default().push(slot as u32);
+    }
+    let mut groups: Vec<Vec<u32>> = by_root.into_values().collect();
+    groups.sort_by_key(|g| g[0]);
+    groups
+}
+
+/// The outward planes of the convex solid group `slots` bounds, or `None` if it bounds none:
+/// every corner of the group must lie inside every face's plane, every edge must belong to
+/// one or two of its triangles, and the edges of one triangle only (an open rim) must lie in
+/// one plane with every point of the scene on the solid's side.
+fn solid_planes(bvh: &GpuBvh, slots: &[u32], scene: &[Vec<DVec3>], tolerance: f64) -> Option<Vec<(DVec3, f64)>> {
+    let corners: Vec<DVec3> = slots.iter().flat_map(|&s| scene[s as usize].iter().copied()).collect();
+    let mut planes: Vec<(DVec3, f64)> = Vec::new();
+    let mut edges: HashMap<[[u32; 3]; 2], u32> = HashMap::new();
+    for &slot in slots {
+        let vertices = bvh.triangles[slot as usize].vertices();
+        let [a, b, c] = vertices.map(|v| v.as_dvec3());
+        let normal = (b - a).cross(c - a).try_normalize()?;
+        let plane = outward(normal, normal.dot(a), &corners, tolerance)?;
+        add_plane(&mut planes, plane, tolerance);
+        for i in 0..3 {
+            let mut edge = [vertices[i], vertices[(i + 1) % 3]].map(|v| v.to_array().map(f32::to_bits));
+            edge.sort();
+            *edges.entry(edge).or_default() += 1;
+        }
+    }
+    if edges.values().any(|&n| n > 2) {
+        return None;
+    }
+    let rim: Vec<DVec3> = edges.iter().filter(|(_, n)| **n == 1).flat_map(|(e, _)| e.map(|p| Vec3::from_array(p.map(f32::from_bits)).as_dvec3())).collect();
+    if !rim.is_empty() {
+        let closing = rim_plane(&rim, tolerance)?;
+        let (normal, offset) = outward(closing.0, closing.1, &corners, tolerance)?;
+        if corners.iter().all(|p| (normal.dot(*p) - offset).abs() <= tolerance) {
+            return None;
+        }
+        if scene.iter().flatten().any(|p| normal.dot(*p) - offset > tolerance) {
+            return None;
+        }
+        add_plane(&mut planes, (normal, offset), tolerance);
+    }
+    Some(planes)
+}
+
+/// The plane `normal . x = offset` oriented so every point of `points` is on its inner side,
+/// or `None` if points lie on both sides.
+fn outward(normal: DVec3, offset: f64, points: &[DVec3], tolerance: f64) -> Option<(DVec3, f64)> {
+    let (low, high) = points.iter().fold((0.0f64, 0.0f64), |(lo, hi), p| {
+        let s = normal.dot(*p) - offset;
+        (lo.min(s), hi.max(s))
+    });
+    if high <= tolerance {
+        Some((normal, offset))
+    } else if low >= -tolerance {
+        Some((-normal, -offset))
+    } else {
+        None
+    }
+}
+
+/// Adds `plane` unless an equal one is there (coplanar triangles share a face plane).
+fn add_plane(planes: &mut Vec<(DVec3, f64)>, plane: (DVec3, f64), tolerance: f64) {
+    let same = |p: &(DVec3, f64)| p.0.dot(plane.0) > 1.0 - 1e-9 && (p.1 - plane.1).abs() <= tolerance;
+    if !planes.iter().any(same) {
+        planes.push(plane);
+    }
+}
+
+/// The plane through the rim points, if they are coplanar and span one.
+fn rim_plane(rim: &[DVec3], tolerance: f64) -> Option<(DVec3, f64)> {
+    let a = rim[0];
+    let far = rim.iter().copied().max_by(|p, q| (*p - a).length_squared().total_cmp(&(*q - a).length_squared()))?;
+    let normal = rim.iter().map(|p| (far - a).cross(*p - a)).max_by(|m, n| m.length_squared().total_cmp(&n.length_squared()))?.try_normalize()?;
+    let offset = normal.dot(a);
+    rim.iter().all(|p| (normal.dot(*p) - offset).abs() <= tolerance).then_some((normal, offset))
+}
+
+/// Whether the solid with `corners` lies on one side of a plane of primitive `record`: a
+/// triangle's own plane, or a face of a shape's box (the separating planes the solid's own
+/// faces miss, e.g. a wall behind a turned block).
+fn beyond_own_plane(record: &caustic_bvh::GpuTriangle, corners: &[DVec3], tolerance: f64) -> bool {
+    let [v0, v1, v2] = record.vertices().map(|v| v.as_dvec3());
+    if record.id & SHAPE_BIT != 0 {
+        let (lo, hi) = (v0, v1);
+        return (0..3).any(|axis| corners.iter().all(|c| c[axis] >= hi[axis] - tolerance) || corners.iter().all(|c| c[axis] <= lo[axis] + tolerance));
+    }
+    let Some(normal) = (v1 - v0).cross(v2 - v0).try_normalize() else { return false };
+    outward(normal, normal.dot(v0), corners, tolerance).is_some()
+}
+
+/// Whether all of `points` lie on the outer side (or on) one of `planes`.
+fn beyond_a_plane(planes: &[(DVec3, f64)], points: &[DVec3], tolerance: f64) -> bool {
+    planes.iter().any(|(normal, offset)| points.iter().all(|p| normal.dot(*p) - offset >= -tolerance))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use caustic_bvh::{Ray, intersect_triangle, unit_cube_triangles};
+
+    fn bvh_of(triangles: &[[Vec3; 3]]) -> GpuBvh {
+        caustic_bvh::flatten(&caustic_bvh::build(triangles, &caustic_bvh::BuildOptions::default()), triangles)
+    }
+
+    fn moved(triangles: &[[Vec3; 3]], by: Vec3, scale: f32) -> Vec<[Vec3; 3]> {
+        triangles.iter().map(|t| t.map(|v| v * scale + by)).collect()
+    }
+
+    /// A room (floor, ceiling, four walls: the unit cube scaled by 10) with a unit cube inside
+    /// and an open box (no bottom) standing on the floor.
+    fn room() -> Vec<[Vec3; 3]> {
+        let cube = unit_cube_triangles();
+        let mut triangles = moved(&cube, Vec3::ZERO, 10.0);
+        triangles.extend(moved(&cube, Vec3::new(2.0, 3.0, 2.0), 1.0));
+        // The cube's bottom quad is its first two triangles (z = 0 face is [0, 2, 3, 1]):
+        // stand an open box on the room's z = 0 floor by dropping them.
+        triangles.extend(moved(&cube[2..], Vec3::new(6.0, 6.0, 0.0), 2.0));
+        triangles
+    }
+
+    #[test]
+    fn closed_and_floor_standing_boxes_are_occluders_and_the_room_is_not() {
+        let triangles = room();
+        let bvh = bvh_of(&triangles);
+        let found = ConvexOccluders::new(&bvh);
+        let ids: Vec<Vec<u32>> = found.occluders.iter().map(|o| { let mut ids: Vec<u32> = o.slots.iter().map(|&s| bvh.triangles[s as usize].id).collect(); ids.sort(); ids }).collect();
+        assert_eq!(ids.len(), 2, "the cube and the open box: {ids:?}");
+        assert!(ids.contains(&(12..24).collect()) && ids.contains(&(24..34).collect()), "{ids:?}");
+        assert!(found.occluders.iter().all(|o| o.planes.len() == 6), "six planes each, the floor closing the open box");
+    }
+
+    #[test]
+    fn a_concave_group_or_a_primitive_inside_is_no_occluder() {
+        let cube = unit_cube_triangles();
+        let mut inner = cube.clone();
+        inner.push([Vec3::splat(0.4), Vec3::new(0.6, 0.4, 0.5), Vec3::new(0.4, 0.6, 0.5)]);
+        assert!(ConvexOccluders::new(&bvh_of(&inner)).occluders.is_empty(), "a triangle inside the cube");
+        let mut dented = cube.clone();
+        // Push one corner of the top face in: the faces meeting there are no longer convex.
+        for t in &mut dented {
+            for v in t.iter_mut() {
+                if *v == Vec3::ONE {
+                    *v = Vec3::splat(0.6);
+                }
+            }
+        }
+        assert!(ConvexOccluders::new(&bvh_of(&dented)).occluders.is_empty(), "a dented cube");
+        let floating_open_box: Vec<[Vec3; 3]> = moved(&cube[2..], Vec3::new(0.0, 0.0, 5.0), 1.0).into_iter().chain([[Vec3::ZERO, Vec3::X, Vec3::Y]]).collect();
+        assert!(ConvexOccluders::new(&bvh_of(&floating_open_box)).occluders.is_empty(), "an open box whose rim the scene crosses");
+    }
+
+    #[test]
+    fn clipping_a_segment_agrees_with_the_triangle_tests() {
+        let triangles = room();
+        let bvh = bvh_of(&triangles);
+        let found = ConvexOccluders::new(&bvh);
+        let mut state = 0x9e37_79b9_u32;
+        let mut random = || {
+            state ^= state << 13;
+            state ^= state >> 17;
+            state ^= state << 5;
+            state as f32 / u32::MAX as f32
+        };
+        let (mut checked, mut differing, mut occluded) = (0, 0, 0);
+        while checked < 50_000 {
+            let a = Vec3::new(random(), random(), random()) * 10.0;
+            let b = Vec3::new(random(), random(), random()) * 10.0;
+            let inside = |p: Vec3| found.occluders.iter().any(|o| o.planes.iter().all(|&(n, c)| n.dot(p) - c < 1e-3));
+            if inside(a) || inside(b) {
+                continue;
+            }
+            checked += 1;
+            let (direction, length) = ((b - a).normalize(), (b - a).length());
+            for occluder in &found.occluders {
+                let ray = Ray { origin: a, direction, t_max: length };
+                let by_triangles = occluder.slots.iter().any(|&s| {
+                    let [v0, v1, v2] = bvh.triangles[s as usize].vertices();
+                    intersect_triangle(&ray, v0, v1, v2).is_some()
+                });
+                let by_planes = ConvexOccluders::segment_meets(occluder, a, direction, length);
+                differing += usize::from(by_triangles != by_planes);
+                occluded += usize::from(by_triangles);
+            }
+        }
+        println!("{checked} segments, {occluded} occluded by a box, {differing} answered differently by the clip");
+        assert!(occluded > 1000, "too few segments meet the boxes to tell");
+        assert_eq!(differing, 0);
+    }
+
+    #[test]
+    fn lights_inside_a_solid_or_infinite_planes_turn_the_clip_off() {
+        let found = ConvexOccluders::new(&bvh_of(&room()));
+        let point = |p: Vec3, area: f32| GpuLight { v0: p.into(), kind: LIGHT_POINT, area, ..bytemuck::Zeroable::zeroed() };
+        assert!(found.clip_shadow_rays(&[point(Vec3::splat(5.0), 0.0)], 0));
+        assert!(!found.clip_shadow_rays(&[point(Vec3::new(2.5, 3.5, 2.5), 0.0)], 0), "a point light inside the cube");
+        assert!(!found.clip_shadow_rays(&[point(Vec3::new(2.5, 3.5, 3.3), 0.5)], 0), "a spread light reaching into the cube");
+        assert!(!found.clip_shadow_rays(&[], REQUIRES_PLANES));
+    }
+}
