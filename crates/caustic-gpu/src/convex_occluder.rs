@@ -201,8 +201,8 @@ fn solid_planes(bvh: &GpuBvh, slots: &[u32], scene: &[Vec<DVec3>], tolerance: f6
 }
 
 /// The plane `normal . x = offset` oriented so every point of `points` is on its inner side,
-/// or `None` if points lie on both sides.
-fn outward(normal: DVec3, offset: f64, points: &[DVec3], tolerance: f64) -> Option<(DVec3, f64)> {
+/// or `None` if points lie on both sides (also the hull faces' test, [`crate::shadow_hull`]).
+pub(crate) fn outward(normal: DVec3, offset: f64, points: &[DVec3], tolerance: f64) -> Option<(DVec3, f64)> {
     let (low, high) = points.iter().fold((0.0f64, 0.0f64), |(lo, hi), p| {
         let s = normal.dot(*p) - offset;
         (lo.min(s), hi.max(s))

@@ -110,18 +110,7 @@ fn box_corners(lo: Vec3, hi: Vec3) -> impl Iterator<Item = Vec3> {
 fn supporting_plane(triangle: [Vec3; 3], points: &[DVec3], tolerance: f64) -> Option<(DVec3, f64)> {
     let [a, b, c] = triangle.map(|v| v.as_dvec3());
     let normal = (b - a).cross(c - a).try_normalize()?;
-    let offset = normal.dot(a);
-    let (low, high) = points.iter().fold((0.0f64, 0.0f64), |(lo, hi), p| {
-        let s = normal.dot(*p) - offset;
-        (lo.min(s), hi.max(s))
-    });
-    if high <= tolerance {
-        Some((normal, offset))
-    } else if low >= -tolerance {
-        Some((-normal, -offset))
-    } else {
-        None
-    }
+    crate::convex_occluder::outward(normal, normal.dot(a), points, tolerance)
 }
 
 #[cfg(test)]
