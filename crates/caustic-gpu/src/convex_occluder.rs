@@ -14,7 +14,7 @@
 
 use crate::gpu_types::GpuLight;
 use crate::requirements::REQUIRES_PLANES;
-use crate::scene_data::{LIGHT_POINT, LIGHT_SEGMENT, LIGHT_SPOT};
+use crate::scene_data::{LIGHT_DIRECTIONAL, LIGHT_ENVIRONMENT, LIGHT_POINT, LIGHT_QUAD, LIGHT_SEGMENT, LIGHT_SPOT, LIGHT_TRIANGLE};
 use caustic_bvh::{GpuBvh, SHAPE_BIT};
 use glam::{DVec3, Vec3};
 use std::collections::HashMap;
@@ -64,28 +64,32 @@ impl ConvexOccluders {
 
     /// Whether shadow rays may clip against the occluders with `lights` lighting the scene
     /// and `requirements` naming its parts: no infinite plane (it could cut through a solid)
-    /// and every point, spot and segment light outside every solid. Area lights are triangles,
-    /// already kept apart; rays to directional lights and the environment leave the scene.
+    /// and every light strictly outside every solid, not even touching one. A light point on a
+    /// solid would let a shadow ray run inside it between two points of its surface, which its
+    /// triangles do not stop (an emissive box lit from within). Rays to directional lights and
+    /// the environment leave the scene; sphere and disk lights turn the clip off.
     pub fn clip_shadow_rays(&self, lights: &[GpuLight], requirements: u32) -> bool {
         if self.occluders.is_empty() || requirements & REQUIRES_PLANES != 0 {
             return false;
         }
         let outside = |points: &[DVec3]| {
             self.occluders.iter().all(|o| {
-                let planes: Vec<(DVec3, f64)> = o.planes.iter().map(|&(n, c)| (n.as_dvec3(), f64::from(c))).collect();
-                beyond_a_plane(&planes, points, self.tolerance)
+                o.planes.iter().any(|&(n, c)| points.iter().all(|p| n.as_dvec3().dot(*p) - f64::from(c) > self.tolerance))
             })
         };
         lights.iter().all(|light| {
-            let v0 = Vec3::from(light.v0).as_dvec3();
+            let [v0, e1, e2] = [light.v0, light.e1, light.e2].map(|v| Vec3::from(v).as_dvec3());
             match light.kind {
+                LIGHT_TRIANGLE => outside(&[v0, v0 + e1, v0 + e2]),
+                LIGHT_QUAD => outside(&[v0, v0 + e1, v0 + e2, v0 + e1 + e2]),
                 LIGHT_POINT => {
                     let r = f64::from(light.area.max(0.0));
                     outside(&(0..8).map(|i| v0 + DVec3::new(corner(i, 0), corner(i, 1), corner(i, 2)) * r).collect::<Vec<_>>())
                 }
                 LIGHT_SPOT => outside(&[v0]),
-                LIGHT_SEGMENT => outside(&[v0, v0 + Vec3::from(light.e1).as_dvec3()]),
-                _ => true,
+                LIGHT_SEGMENT => outside(&[v0, v0 + e1]),
+                LIGHT_DIRECTIONAL | LIGHT_ENVIRONMENT => true,
+                _ => false,
             }
         })
     }
@@ -353,5 +357,7 @@ mod tests {
         assert!(!found.clip_shadow_rays(&[point(Vec3::new(2.5, 3.5, 2.5), 0.0)], 0), "a point light inside the cube");
         assert!(!found.clip_shadow_rays(&[point(Vec3::new(2.5, 3.5, 3.3), 0.5)], 0), "a spread light reaching into the cube");
         assert!(!found.clip_shadow_rays(&[], REQUIRES_PLANES));
+        let cube_face = GpuLight { v0: [2.0, 3.0, 3.0], e1: [1.0, 0.0, 0.0], e2: [0.0, 1.0, 0.0], kind: LIGHT_TRIANGLE, ..bytemuck::Zeroable::zeroed() };
+        assert!(!found.clip_shadow_rays(&[cube_face], 0), "an area light on the cube's top face: a shadow ray could run inside");
     }
 }
