@@ -281,10 +281,10 @@ fn the_window_stays_responsive_while_a_pass_takes_longer_than_a_frame() {
     let Some(xvfb) = Xvfb::start() else { return };
     // No --spp: the scripted run ends after its frames, long before the default target.
     let output = Command::new(env!("CARGO_BIN_EXE_caustic"))
-        // 1024x1024: a pass takes longer than a frame here even once the window is idle and
-        // rendering gets most of each frame, up to `IDLE_FRAME_LIMIT` (on lavapipe a 512x512
-        // pass is shorter, and a 768x768 one about as long on a fast day).
-        .args(["view", "cornell", "--size", "1024x1024", "--frames", "40"])
+        // 2048x2048: a pass takes longer than a frame here even once the window is idle and
+        // rendering gets most of each frame, up to `IDLE_FRAME_LIMIT` (on lavapipe a 1024x1024
+        // pass of the Cornell box, 0.4 s on a fast day, fits in one frame's budget).
+        .args(["view", "cornell", "--size", "2048x2048", "--frames", "40"])
         .env("DISPLAY", &xvfb.display)
         .env_remove("WAYLAND_DISPLAY")
         .output()
@@ -294,10 +294,10 @@ fn the_window_stays_responsive_while_a_pass_takes_longer_than_a_frame() {
     let stdout = String::from_utf8_lossy(&output.stdout);
     let report: serde_json::Value = serde_json::from_str(stdout.lines().last().expect("a JSON report")).expect("JSON report");
     let samples_per_second = report["samples_per_second"].as_f64().unwrap();
-    let pass_ms = 1024.0 * 1024.0 / samples_per_second.max(1.0) * 1e3;
+    let pass_ms = 2048.0 * 2048.0 / samples_per_second.max(1.0) * 1e3;
     let median = report["frame_ms_median"].as_f64().unwrap();
     println!(
-        "1024x1024: one sample pass renders in {pass_ms:.0} ms; frames: median {median:.1} ms, p95 {:.1} ms, max {:.1} ms (target {} ms, render budget {:.1} ms), {} complete passes in {} frames",
+        "2048x2048: one sample pass renders in {pass_ms:.0} ms; frames: median {median:.1} ms, p95 {:.1} ms, max {:.1} ms (target {} ms, render budget {:.1} ms), {} complete passes in {} frames",
         report["frame_ms_p95"].as_f64().unwrap(),
         report["frame_ms_max"].as_f64().unwrap(),
         report["frame_ms_target"],

@@ -92,10 +92,16 @@ struct TriangleHit {
     front: bool,
 }
 
-// Watertight ray-triangle test (Woop, Benthin & Wald, JCGT 2013), two-sided. Returns
-// t < 0 on a miss; (u, v) are the barycentric weights of v1 and v2.
-fn intersect_triangle(r: TraversalRay, v0: vec3<f32>, v1: vec3<f32>, v2: vec3<f32>, t_max: f32) -> TriangleHit {
-    let miss = TriangleHit(-1.0, 0.0, 0.0, false);
+// A triangle's corners relative to the ray origin in the ray's sheared frame (x, y, z hold
+// the three corners' coordinates) and the scaled barycentrics (edge functions) u, v, w.
+struct ShearedTriangle {
+    x: vec3<f32>,
+    y: vec3<f32>,
+    z: vec3<f32>,
+    edges: vec3<f32>,
+}
+
+fn shear_triangle(r: TraversalRay, v0: vec3<f32>, v1: vec3<f32>, v2: vec3<f32>) -> ShearedTriangle {
     let a = v0 - r.origin;
     let b = v1 - r.origin;
     let c = v2 - r.origin;
@@ -108,31 +114,43 @@ fn intersect_triangle(r: TraversalRay, v0: vec3<f32>, v1: vec3<f32>, v2: vec3<f3
     let u = cx * by - cy * bx;
     let v = ax * cy - ay * cx;
     let w = bx * ay - by * ax;
-    if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
-        return miss;
+    let z = vec3<f32>(dot(r.shear_z, a), dot(r.shear_z, b), dot(r.shear_z, c));
+    return ShearedTriangle(vec3<f32>(ax, bx, cx), vec3<f32>(ay, by, cy), z, vec3<f32>(u, v, w));
+}
+
+// Watertight ray-triangle test (Woop, Benthin & Wald, JCGT 2013), two-sided. Returns
+// t < 0 on a miss; (u, v) are the barycentric weights of v1 and v2.
+fn intersect_triangle(r: TraversalRay, v0: vec3<f32>, v1: vec3<f32>, v2: vec3<f32>, t_max: f32) -> TriangleHit {
+    let s = shear_triangle(r, v0, v1, v2);
+    let e = s.edges;
+    if (e.x < 0.0 || e.y < 0.0 || e.z < 0.0) && (e.x > 0.0 || e.y > 0.0 || e.z > 0.0) {
+        return TriangleHit(-1.0, 0.0, 0.0, false);
     }
-    if edge_on_at_vertex(u, v, w, ax, ay, bx, by, cx, cy) {
-        return miss;
+    if edge_on_at_vertex(e.x, e.y, e.z, s.x.x, s.y.x, s.x.y, s.y.y, s.x.z, s.y.z) {
+        return TriangleHit(-1.0, 0.0, 0.0, false);
     }
-    let det = u + v + w;
+    return plane_hit(s, t_max);
+}
+
+// Where the ray crosses the plane of the sheared triangle `s`, as the watertight test reports
+// a hit there (whether or not the crossing lies inside the triangle): the closest-hit clip of
+// convex solids (bvh/unrolled.wgsl `solid_hit`) reports its triangle's hit through it.
+fn plane_hit(s: ShearedTriangle, t_max: f32) -> TriangleHit {
+    let miss = TriangleHit(-1.0, 0.0, 0.0, false);
+    let e = s.edges;
+    let det = e.x + e.y + e.z;
     if det == 0.0 {
         return miss;
     }
-    let az = dot(r.shear_z, a);
-    let bz = dot(r.shear_z, b);
-    let cz = dot(r.shear_z, c);
     let inv_det = 1.0 / det;
-    let t = (u * az + v * bz + w * cz) * inv_det;
+    let t = (e.x * s.z.x + e.y * s.z.y + e.z * s.z.z) * inv_det;
     if !(t > 0.0 && t < t_max) {
         return miss;
     }
-    let sheared_x = abs(vec3<f32>(ax, bx, cx));
-    let sheared_y = abs(vec3<f32>(ay, by, cy));
-    let sheared_z = abs(vec3<f32>(az, bz, cz));
-    if t <= t_error_bound(sheared_x, sheared_y, sheared_z, vec3<f32>(u, v, w), inv_det) {
+    if t <= t_error_bound(abs(s.x), abs(s.y), abs(s.z), e, inv_det) {
         return miss;
     }
-    return TriangleHit(t, v * inv_det, w * inv_det, det > 0.0);
+    return TriangleHit(t, e.y * inv_det, e.z * inv_det, det > 0.0);
 }
 
 // gamma(n) = n eps / (1 - n eps), eps = 2^-24: relative error of n rounded operations.

@@ -2,7 +2,8 @@
 // place of bvh/traverse.wgsl: its `trace` calls test_triangle with each triangle's corners as
 // constants and test_shape for each bounded shape, in the BVH's gathered order; shadow rays
 // clip themselves to the scene's convex occluders with clip_to_plane instead of testing
-// their triangles (crates/caustic-gpu/src/convex_occluder.rs).
+// their triangles (crates/caustic-gpu/src/convex_occluder.rs), and closest-hit rays find the
+// first surface of convex solids with clip_chord (crates/caustic-gpu/src/closest_solid.rs).
 
 // `hit`, or the triangle v0 v1 v2 if the ray meets it closer, or at the same distance and wins
 // the tie (bvh/leaf.wgsl `wins_tie`).
@@ -50,6 +51,85 @@ fn clip_to_plane(ray: Ray, span: vec2<f32>, plane: vec4<f32>) -> vec2<f32> {
 fn occluder_hit(hit: Hit, span: vec2<f32>, id: u32, slot: u32) -> Hit {
     if span.x < span.y {
         return Hit(span.x, 0.0, 0.0, id, slot);
+    }
+    return hit;
+}
+
+// A ray's chord through a convex solid (crates/caustic-gpu/src/closest_solid.rs): where it
+// enters and leaves, and the gathered slot of the triangle there (NO_HIT on an open rim).
+struct Chord {
+    t_in: f32,
+    t_out: f32,
+    slot_in: u32,
+    slot_out: u32,
+}
+
+fn begin_chord() -> Chord {
+    return Chord(-3.4e38, 3.4e38, NO_HIT, NO_HIT);
+}
+
+// caustic_gpu::closest_solid::ON_PLANE_BOUND: the relative rounding of the plane distance
+// within which the origin counts as on the plane.
+const ON_PLANE_BOUND: f32 = 9.536743e-7;
+
+// `chord` clipped to the half-space dot(plane.xyz, x) <= plane.w of a face whose triangles are
+// `slots`, split by the plane `diagonal` (its positive side holds slots.x). An origin within
+// rounding of the plane counts as on it: then only the direction decides. Twin of
+// closest_solid::clip_chord.
+fn clip_chord(ray: Ray, chord: Chord, plane: vec4<f32>, diagonal: vec4<f32>, slots: vec2<u32>) -> Chord {
+    let raw = plane.w - dot(plane.xyz, ray.origin);
+    let bound = ON_PLANE_BOUND * (abs(plane.w) + dot(abs(plane.xyz), abs(ray.origin)));
+    let inside = select(raw, 0.0, abs(raw) <= bound);
+    let approach = dot(plane.xyz, ray.direction);
+    let t = inside / approach;
+    let side = dot(diagonal.xyz, ray.origin) - diagonal.w + t * dot(diagonal.xyz, ray.direction);
+    let slot = select(slots.y, slots.x, side >= 0.0);
+    var out = chord;
+    if approach < 0.0 && t > chord.t_in {
+        out.t_in = t;
+        out.slot_in = slot;
+    }
+    if approach > 0.0 && t < chord.t_out {
+        out.t_out = t;
+        out.slot_out = slot;
+    }
+    if approach == 0.0 && inside <= 0.0 {
+        out.t_in = 3.4e38;
+    }
+    return out;
+}
+
+// The nearest solid surface found so far: distance along the ray and gathered slot.
+struct SolidSurface {
+    t: f32,
+    slot: u32,
+}
+
+// `best`, or the solid's first surface point if nearer: its chord's entry when the ray enters
+// through a face, else its exit (the origin inside, or the entry an open rim).
+fn nearer_surface(best: SolidSurface, chord: Chord) -> SolidSurface {
+    let enters = chord.t_in > 0.0 && chord.slot_in != NO_HIT;
+    let t = select(chord.t_out, chord.t_in, enters);
+    let slot = select(chord.slot_out, chord.slot_in, enters);
+    if chord.t_in < chord.t_out && t > 0.0 && slot != NO_HIT && t < best.t {
+        return SolidSurface(t, slot);
+    }
+    return best;
+}
+
+// `hit`, or the triangle at the nearest solid surface, reported where the ray crosses its
+// plane as the triangle test reports it (the same distance, barycentrics and facing), if
+// that is closer or wins the tie.
+fn solid_hit(r: TraversalRay, hit: Hit, surface: SolidSurface) -> Hit {
+    let slot = select(0u, surface.slot, surface.slot != NO_HIT);
+    let tri = bvh_triangles[slot];
+    let th = plane_hit(shear_triangle(r, tri.v0, tri.v1, tri.v2), tie_inclusive(hit));
+    if surface.slot == NO_HIT || !(th.t > 0.0) {
+        return hit;
+    }
+    if th.t < hit.t || wins_tie(th.front, tri.id, hit) {
+        hit_front = th.front;
+        return Hit(th.t, th.u, th.v, tri.id, slot);
     }
     return hit;
 }

@@ -15,12 +15,9 @@
 use crate::gpu_types::GpuLight;
 use crate::requirements::REQUIRES_PLANES;
 use crate::scene_data::{LIGHT_DIRECTIONAL, LIGHT_ENVIRONMENT, LIGHT_POINT, LIGHT_QUAD, LIGHT_SEGMENT, LIGHT_SPOT, LIGHT_TRIANGLE};
+use crate::convex_solid::{SceneSolids, SolidPlane, corner, outward};
 use caustic_bvh::{GpuBvh, SHAPE_BIT};
 use glam::{DVec3, Vec3};
-use std::collections::HashMap;
-
-/// Distance, relative to the scene's size, within which a point counts as on a plane.
-const PLANE_TOLERANCE: f64 = 1e-6;
 
 /// A convex solid bounded by a connected group of the scene's triangles.
 #[derive(Clone, Debug, PartialEq)]
@@ -44,19 +41,24 @@ impl ConvexOccluders {
     /// The groups of `bvh`'s triangles (connected through shared corners) that bound convex
     /// solids apart from every other primitive.
     pub fn new(bvh: &GpuBvh) -> ConvexOccluders {
-        let scene = scene_primitives(bvh);
-        let size = scene.iter().flatten().fold(0.0f64, |m, p| m.max(p.abs().max_element()));
-        let tolerance = PLANE_TOLERANCE * size.max(f64::MIN_POSITIVE);
-        let occluders = groups(bvh)
-            .into_iter()
-            .filter_map(|slots| {
-                let planes = solid_planes(bvh, &slots, &scene, tolerance)?;
-                let corners: Vec<DVec3> = slots.iter().flat_map(|&s| scene[s as usize].iter().copied()).collect();
-                let others = (0..scene.len()).filter(|slot| slots.binary_search(&(*slot as u32)).is_err());
-                let apart = others.into_iter().all(|slot| {
-                    beyond_a_plane(&planes, &scene[slot], tolerance) || beyond_own_plane(&bvh.triangles[slot], &corners, tolerance)
-                });
-                apart.then(|| ConvexOccluder { slots, planes: planes.iter().map(|&(n, c)| (n.as_vec3(), c as f32)).collect() })
+        ConvexOccluders::of(bvh, &SceneSolids::new(bvh))
+    }
+
+    /// The solids of `found` (the convex solids of `bvh`) that every other primitive lies
+    /// apart from.
+    pub fn of(bvh: &GpuBvh, found: &SceneSolids) -> ConvexOccluders {
+        let (scene, tolerance) = (&found.primitives, found.tolerance);
+        let occluders = found
+            .solids
+            .iter()
+            .filter(|solid| {
+                let corners: Vec<DVec3> = solid.slots.iter().flat_map(|&s| scene[s as usize].iter().copied()).collect();
+                let mut others = (0..scene.len()).filter(|slot| solid.slots.binary_search(&(*slot as u32)).is_err());
+                others.all(|slot| beyond_a_plane(&solid.planes, &scene[slot], tolerance) || beyond_own_plane(&bvh.triangles[slot], &corners, tolerance))
+            })
+            .map(|solid| ConvexOccluder {
+                slots: solid.slots.clone(),
+                planes: solid.planes.iter().map(|p| (p.normal.as_vec3(), p.offset as f32)).collect(),
             })
             .collect();
         ConvexOccluders { occluders, tolerance }
@@ -119,124 +121,6 @@ fn clip_to_plane(span: [f32; 2], origin: Vec3, direction: Vec3, normal: Vec3, of
     }
 }
 
-/// -1 or 1: corner `i`'s sign along `axis`.
-fn corner(i: u32, axis: u32) -> f64 {
-    if i >> axis & 1 == 1 { 1.0 } else { -1.0 }
-}
-
-/// Every primitive's points, by gathered slot: a triangle's corners, a bounded shape's box.
-fn scene_primitives(bvh: &GpuBvh) -> Vec<Vec<DVec3>> {
-    bvh.triangles
-        .iter()
-        .map(|record| {
-            let [v0, v1, v2] = record.vertices().map(|v| v.as_dvec3());
-            if record.id & SHAPE_BIT == 0 {
-                vec![v0, v1, v2]
-            } else {
-                (0..8).map(|i| DVec3::select(glam::BVec3::new(i & 1 != 0, i & 2 != 0, i & 4 != 0), v1, v0)).collect()
-            }
-        })
-        .collect()
-}
-
-/// The triangles' slots grouped by shared corners (bit-equal positions), each group ascending.
-fn groups(bvh: &GpuBvh) -> Vec<Vec<u32>> {
-    let mut parent: Vec<usize> = (0..bvh.triangles.len()).collect();
-    fn root(parent: &mut [usize], mut i: usize) -> usize {
-        while parent[i] != i {
-            parent[i] = parent[parent[i]];
-            i = parent[i];
-        }
-        i
-    }
-    let mut first_at: HashMap<[u32; 3], usize> = HashMap::new();
-    for (slot, record) in bvh.triangles.iter().enumerate().filter(|(_, t)| t.id & SHAPE_BIT == 0) {
-        for v in record.vertices() {
-            let other = *first_at.entry(v.to_array().map(f32::to_bits)).or_insert(slot);
-            let (a, b) = (root(&mut parent, slot), root(&mut parent, other));
-            parent[a] = b;
-        }
-    }
-    let mut by_root: HashMap<usize, Vec<u32>> = HashMap::new();
-    for slot in (0..bvh.triangles.len()).filter(|&s| bvh.triangles[s].id & SHAPE_BIT == 0) {
-        by_root.entry(root(&mut parent, slot)).or_default().push(slot as u32);
-    }
-    let mut groups: Vec<Vec<u32>> = by_root.into_values().collect();
-    groups.sort_by_key(|g| g[0]);
-    groups
-}
-
-/// The outward planes of the convex solid group `slots` bounds, or `None` if it bounds none:
-/// every corner of the group must lie inside every face's plane, every edge must belong to
-/// one or two of its triangles, and the edges of one triangle only (an open rim) must lie in
-/// one plane with every point of the scene on the solid's side.
-fn solid_planes(bvh: &GpuBvh, slots: &[u32], scene: &[Vec<DVec3>], tolerance: f64) -> Option<Vec<(DVec3, f64)>> {
-    let corners: Vec<DVec3> = slots.iter().flat_map(|&s| scene[s as usize].iter().copied()).collect();
-    let mut planes: Vec<(DVec3, f64)> = Vec::new();
-    let mut edges: HashMap<[[u32; 3]; 2], u32> = HashMap::new();
-    for &slot in slots {
-        let vertices = bvh.triangles[slot as usize].vertices();
-        let [a, b, c] = vertices.map(|v| v.as_dvec3());
-        let normal = (b - a).cross(c - a).try_normalize()?;
-        let plane = outward(normal, normal.dot(a), &corners, tolerance)?;
-        add_plane(&mut planes, plane, tolerance);
-        for i in 0..3 {
-            let mut edge = [vertices[i], vertices[(i + 1) % 3]].map(|v| v.to_array().map(f32::to_bits));
-            edge.sort();
-            *edges.entry(edge).or_default() += 1;
-        }
-    }
-    if edges.values().any(|&n| n > 2) {
-        return None;
-    }
-    let rim: Vec<DVec3> = edges.iter().filter(|(_, n)| **n == 1).flat_map(|(e, _)| e.map(|p| Vec3::from_array(p.map(f32::from_bits)).as_dvec3())).collect();
-    if !rim.is_empty() {
-        let closing = rim_plane(&rim, tolerance)?;
-        let (normal, offset) = outward(closing.0, closing.1, &corners, tolerance)?;
-        if corners.iter().all(|p| (normal.dot(*p) - offset).abs() <= tolerance) {
-            return None;
-        }
-        if scene.iter().flatten().any(|p| normal.dot(*p) - offset > tolerance) {
-            return None;
-        }
-        add_plane(&mut planes, (normal, offset), tolerance);
-    }
-    Some(planes)
-}
-
-/// The plane `normal . x = offset` oriented so every point of `points` is on its inner side,
-/// or `None` if points lie on both sides (also the hull faces' test, [`crate::shadow_hull`]).
-pub(crate) fn outward(normal: DVec3, offset: f64, points: &[DVec3], tolerance: f64) -> Option<(DVec3, f64)> {
-    let (low, high) = points.iter().fold((0.0f64, 0.0f64), |(lo, hi), p| {
-        let s = normal.dot(*p) - offset;
-        (lo.min(s), hi.max(s))
-    });
-    if high <= tolerance {
-        Some((normal, offset))
-    } else if low >= -tolerance {
-        Some((-normal, -offset))
-    } else {
-        None
-    }
-}
-
-/// Adds `plane` unless an equal one is there (coplanar triangles share a face plane).
-fn add_plane(planes: &mut Vec<(DVec3, f64)>, plane: (DVec3, f64), tolerance: f64) {
-    let same = |p: &(DVec3, f64)| p.0.dot(plane.0) > 1.0 - 1e-9 && (p.1 - plane.1).abs() <= tolerance;
-    if !planes.iter().any(same) {
-        planes.push(plane);
-    }
-}
-
-/// The plane through the rim points, if they are coplanar and span one.
-fn rim_plane(rim: &[DVec3], tolerance: f64) -> Option<(DVec3, f64)> {
-    let a = rim[0];
-    let far = rim.iter().copied().max_by(|p, q| (*p - a).length_squared().total_cmp(&(*q - a).length_squared()))?;
-    let normal = rim.iter().map(|p| (far - a).cross(*p - a)).max_by(|m, n| m.length_squared().total_cmp(&n.length_squared()))?.try_normalize()?;
-    let offset = normal.dot(a);
-    rim.iter().all(|p| (normal.dot(*p) - offset).abs() <= tolerance).then_some((normal, offset))
-}
-
 /// Whether the solid with `corners` lies on one side of a plane of primitive `record`: a
 /// triangle's own plane, or a face of a shape's box (the separating planes the solid's own
 /// faces miss, e.g. a wall behind a turned block).
@@ -251,33 +135,18 @@ fn beyond_own_plane(record: &caustic_bvh::GpuTriangle, corners: &[DVec3], tolera
 }
 
 /// Whether all of `points` lie on the outer side (or on) one of `planes`.
-fn beyond_a_plane(planes: &[(DVec3, f64)], points: &[DVec3], tolerance: f64) -> bool {
-    planes.iter().any(|(normal, offset)| points.iter().all(|p| normal.dot(*p) - offset >= -tolerance))
+fn beyond_a_plane(planes: &[SolidPlane], points: &[DVec3], tolerance: f64) -> bool {
+    planes.iter().any(|plane| points.iter().all(|p| plane.normal.dot(*p) - plane.offset >= -tolerance))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::convex_solid::fixtures::{bvh_of, moved, random};
     use caustic_bvh::{Ray, intersect_triangle, unit_cube_triangles};
 
-    fn bvh_of(triangles: &[[Vec3; 3]]) -> GpuBvh {
-        caustic_bvh::flatten(&caustic_bvh::build(triangles, &caustic_bvh::BuildOptions::default()), triangles)
-    }
-
-    fn moved(triangles: &[[Vec3; 3]], by: Vec3, scale: f32) -> Vec<[Vec3; 3]> {
-        triangles.iter().map(|t| t.map(|v| v * scale + by)).collect()
-    }
-
-    /// A room (floor, ceiling, four walls: the unit cube scaled by 10) with a unit cube inside
-    /// and an open box (no bottom) standing on the floor.
     fn room() -> Vec<[Vec3; 3]> {
-        let cube = unit_cube_triangles();
-        let mut triangles = moved(&cube, Vec3::ZERO, 10.0);
-        triangles.extend(moved(&cube, Vec3::new(2.0, 3.0, 2.0), 1.0));
-        // The cube's bottom quad is its first two triangles (z = 0 face is [0, 2, 3, 1]):
-        // stand an open box on the room's z = 0 floor by dropping them.
-        triangles.extend(moved(&cube[2..], Vec3::new(6.0, 6.0, 0.0), 2.0));
-        triangles
+        crate::convex_solid::fixtures::room(false)
     }
 
     #[test]
@@ -316,13 +185,7 @@ mod tests {
         let triangles = room();
         let bvh = bvh_of(&triangles);
         let found = ConvexOccluders::new(&bvh);
-        let mut state = 0x9e37_79b9_u32;
-        let mut random = || {
-            state ^= state << 13;
-            state ^= state >> 17;
-            state ^= state << 5;
-            state as f32 / u32::MAX as f32
-        };
+        let mut random = random(0x9e37_79b9);
         let (mut checked, mut differing, mut occluded) = (0, 0, 0);
         while checked < 50_000 {
             let a = Vec3::new(random(), random(), random()) * 10.0;

@@ -110,7 +110,7 @@ fn box_corners(lo: Vec3, hi: Vec3) -> impl Iterator<Item = Vec3> {
 fn supporting_plane(triangle: [Vec3; 3], points: &[DVec3], tolerance: f64) -> Option<(DVec3, f64)> {
     let [a, b, c] = triangle.map(|v| v.as_dvec3());
     let normal = (b - a).cross(c - a).try_normalize()?;
-    crate::convex_occluder::outward(normal, normal.dot(a), points, tolerance)
+    crate::convex_solid::outward(normal, normal.dot(a), points, tolerance)
 }
 
 #[cfg(test)]

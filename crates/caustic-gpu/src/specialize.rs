@@ -9,7 +9,9 @@
 //! triangles, and every lane runs the same code. It pays while the primitives are few; the
 //! threshold, [`BAKE_MAX_PRIMITIVES`], is measured (docs/PERFORMANCE.md).
 
+use crate::closest_solid::ClosestSolids;
 use crate::convex_occluder::ConvexOccluders;
+use crate::convex_solid::SceneSolids;
 use crate::shadow_hull::ShadowHull;
 use caustic_bvh::{GpuBvh, SHAPE_BIT};
 use glam::Vec3;
@@ -36,6 +38,9 @@ pub struct UnrolledTraversal {
     /// The scene's [`ConvexOccluders`], which shadow rays clip themselves to instead of
     /// testing their triangles when the kernel's `SHADOW_CONVEX_OCCLUDERS` is on.
     pub occluders: ConvexOccluders,
+    /// The scene's [`ClosestSolids`], whose first surface closest-hit rays find by a clip
+    /// instead of testing their triangles.
+    pub closest_solids: ClosestSolids,
 }
 
 /// A replacement for `shaders/bvh/traverse.wgsl` testing `bvh`'s primitives in their gathered
@@ -54,7 +59,10 @@ pub fn unrolled_traversal(bvh: &GpuBvh) -> Option<UnrolledTraversal> {
     );
     let _ = writeln!(wgsl, "    (*cost).triangles += {}u;", bvh.triangles.len());
     let hull_slots: Vec<u32> = hull.slots().collect();
-    let occluders = ConvexOccluders::new(bvh);
+    let solids = SceneSolids::new(bvh);
+    let occluders = ConvexOccluders::of(bvh, &solids);
+    let closest_solids = ClosestSolids::new(bvh, &solids);
+    let solid_slots = closest_solids.slots();
     let occluder_slots: Vec<u32> = occluders.occluders.iter().flat_map(|o| o.slots.iter().copied()).collect();
     if !occluders.occluders.is_empty() {
         wgsl.push_str("    if any_hit && SHADOW_CONVEX_OCCLUDERS {\n");
@@ -74,19 +82,30 @@ pub fn unrolled_traversal(bvh: &GpuBvh) -> Option<UnrolledTraversal> {
         } else {
             let [v0, v1, v2] = tri.vertices();
             let test = format!("hit = test_triangle(r, hit, {}, {}, {}, {}u, {slot}u);", vec3(v0), vec3(v1), vec3(v2), tri.id);
-            if occluder_slots.contains(&(slot as u32)) {
-                let _ = writeln!(wgsl, "    if !(any_hit && SHADOW_CONVEX_OCCLUDERS) {{\n        {test}\n    }}");
-            } else if hull_slots.contains(&(slot as u32)) {
-                let _ = writeln!(wgsl, "    if !(any_hit && SHADOW_HULL_CULL) {{\n        {test}\n    }}");
-            } else {
+            let slot = slot as u32;
+            let mut runs_if = Vec::new();
+            if occluder_slots.contains(&slot) {
+                runs_if.push("!(any_hit && SHADOW_CONVEX_OCCLUDERS)");
+            } else if hull_slots.contains(&slot) {
+                runs_if.push("!(any_hit && SHADOW_HULL_CULL)");
+            }
+            if solid_slots.binary_search(&slot).is_ok() {
+                runs_if.push("any_hit");
+            }
+            if runs_if.is_empty() {
                 let _ = writeln!(wgsl, "    {test}");
+            } else {
+                let _ = writeln!(wgsl, "    if {} {{\n        {test}\n    }}", runs_if.join(" && "));
             }
         }
         wgsl.push_str("    if any_hit && hit.triangle != NO_HIT {\n        return hit;\n    }\n");
     }
+    if !closest_solids.solids.is_empty() {
+        wgsl.push_str(&closest_solids.wgsl());
+    }
     wgsl.push_str("    return intersect_planes(ray, hit, any_hit);\n}\n\n");
     wgsl.push_str(UNROLLED_HELPERS);
-    Some(UnrolledTraversal { wgsl, hull, occluders })
+    Some(UnrolledTraversal { wgsl, hull, occluders, closest_solids })
 }
 
 /// The BSDF lobe slots (`shaders/bsdf/bsdf.wgsl`) any of `materials` uses, one bit per slot

@@ -1,7 +1,9 @@
 //! The scene-specialised kernel (primitives compiled in, no BVH walk) renders what the general
 //! kernel renders: the same random numbers give the same paths, so the images differ only
 //! where two primitives tie for the closest hit, or where a shadow ray grazes an edge of a box
-//! it clips itself to (`caustic_gpu::convex_occluder`) instead of testing its triangles.
+//! it clips itself to (`caustic_gpu::convex_occluder`) instead of testing its triangles, or
+//! where a closest-hit ray meets an edge of a solid it clips itself to
+//! (`caustic_gpu::closest_solid`) and is given the neighbouring triangle.
 
 use caustic_gpu::{DataPath, GpuContext, GpuScene, PathTracer, RenderSettings};
 use caustic_image::metrics::{RELMSE_EPSILON, relative_mse};
@@ -17,6 +19,12 @@ fn specialised_and_general_kernels_render_the_same_image() {
     let boxes: Vec<usize> = gpu.shadow_occluders.occluders.iter().map(|o| o.slots.len()).collect();
     assert_eq!(boxes, [10, 10], "the two blocks, five faces each standing on the floor, are the convex occluders");
     assert!(gpu.shadow_occluder_clip, "the light is outside both blocks");
+    let traversal = gpu.traversal.as_deref().unwrap_or_default();
+    let solids = traversal.matches("surface = nearer_surface(surface, chord);").count();
+    let planes = traversal.matches("chord = clip_chord(").count();
+    // Six planes each, and one more: the measured box's right wall is folded (its two
+    // triangles lie in planes half a degree apart), each triangle a face of its own.
+    assert_eq!((solids, planes), (3, 19), "closest-hit rays clip themselves to the room and the two blocks");
     let render = |data_path, seed| {
         let settings = RenderSettings { data_path, seed, ..RenderSettings::default() };
         let mut tracer = PathTracer::new(&ctx, &scene, &gpu, &settings).expect("tracer");

@@ -1,0 +1,261 @@
+//! Closest-hit rays through convex solids: the Cornell box's room and blocks as planes.
+//!
+//! A ray meets a convex solid's surface where its chord through the solid begins (if it starts
+//! outside and enters through a face) or ends (if it starts inside, or enters through an open
+//! rim). The chord is a clip of the ray against the solid's planes; the face whose plane gives
+//! the chosen end holds the hit, and a side test against the face's diagonal names which of
+//! its two triangles. A box of ten triangles then costs six plane clips instead of ten
+//! triangle tests. Only the chosen triangle is tested exactly, where the ray crosses its plane,
+//! as the per-triangle traversal tests it (`plane_hit` in `shaders/bvh/intersect.wgsl`), so
+//! the hit's distance, barycentrics and facing are the ones that traversal reports; rays
+//! within rounding of an edge may be given the neighbouring triangle.
+//!
+//! A ray origin within rounding of a plane counts as on it, and its direction decides the
+//! side: a ray leaving a face does not meet that face again. The generated traversal
+//! ([`crate::specialize`]) clips every closest-hit ray so; it is never used for scenes with
+//! alpha-tested materials (a clip could not look through a cut-out) or motion.
+
+use crate::convex_solid::{ConvexSolid, SceneSolids};
+use caustic_bvh::GpuBvh;
+use glam::{DVec3, Vec3};
+use std::fmt::Write;
+
+/// No triangle: the chord end lies on an open rim, or no plane was crossed yet.
+pub const NO_SLOT: u32 = u32::MAX;
+
+/// Relative rounding of `offset - normal . origin` within which the origin counts as on the
+/// plane (16 units of f32's rounding, 2^-20).
+pub const ON_PLANE_BOUND: f32 = 9.536_743e-7;
+
+/// One plane of a solid as the clip uses it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ClipPlane {
+    /// Outward unit normal and offset: the solid lies in `normal . x <= offset`.
+    pub plane: (Vec3, f32),
+    /// The face's diagonal as a plane across the face: points with `normal . x >= offset`
+    /// lie on `slots[0]`, the others on `slots[1]` (zero for a face of one triangle).
+    pub diagonal: (Vec3, f32),
+    /// The face's triangles (one triangle twice), or [`NO_SLOT`] twice for an open rim.
+    pub slots: [u32; 2],
+}
+
+/// A convex solid whose faces are single triangles or pairs sharing an edge.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ClosestSolid {
+    /// Gathered triangle slots of the solid, ascending.
+    pub slots: Vec<u32>,
+    /// The solid's planes.
+    pub planes: Vec<ClipPlane>,
+}
+
+/// The scene's solids that closest-hit rays may clip themselves to.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ClosestSolids {
+    /// The solids, in the order of their first slot.
+    pub solids: Vec<ClosestSolid>,
+}
+
+/// Where a ray's chord through a solid begins and ends, and the triangles there.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Chord {
+    t_in: f32,
+    t_out: f32,
+    slot_in: u32,
+    slot_out: u32,
+}
+
+impl ClosestSolids {
+    /// The solids of `found` (the convex solids of `bvh`) each of whose faces has one
+    /// triangle or two sharing an edge.
+    pub fn new(bvh: &GpuBvh, found: &SceneSolids) -> ClosestSolids {
+        ClosestSolids { solids: found.solids.iter().filter_map(|solid| closest_solid(bvh, solid)).collect() }
+    }
+
+    /// Gathered slots of every solid's triangles, ascending.
+    pub fn slots(&self) -> Vec<u32> {
+        let mut slots: Vec<u32> = self.solids.iter().flat_map(|s| s.slots.iter().copied()).collect();
+        slots.sort_unstable();
+        slots
+    }
+
+    /// The WGSL block of the generated `trace` that finds the nearest solid surface and merges
+    /// it into `hit` (`shaders/bvh/unrolled.wgsl`: `clip_chord`, `nearer_surface`, `solid_hit`).
+    pub fn wgsl(&self) -> String {
+        let vec4 = |v: Vec3, w: f32| format!("vec4<f32>({:?}f, {:?}f, {:?}f, {w:?}f)", v.x, v.y, v.z);
+        let mut wgsl = String::from("    if !any_hit {\n        var surface = SolidSurface(3.4e38, NO_HIT);\n");
+        for solid in &self.solids {
+            wgsl.push_str("        {\n            var chord = begin_chord();\n");
+            for p in &solid.planes {
+                let _ = writeln!(
+                    wgsl,
+                    "            chord = clip_chord(ray, chord, {}, {}, vec2<u32>({}u, {}u));",
+                    vec4(p.plane.0, p.plane.1),
+                    vec4(p.diagonal.0, p.diagonal.1),
+                    p.slots[0],
+                    p.slots[1]
+                );
+            }
+            wgsl.push_str("            surface = nearer_surface(surface, chord);\n        }\n");
+        }
+        wgsl.push_str("        hit = solid_hit(r, hit, surface);\n    }\n");
+        wgsl
+    }
+}
+
+impl ClosestSolid {
+    /// The distance to the solid's first surface point along the ray (as its plane gives it)
+    /// and the triangle there, if it lies in `(0, t_max)`: the CPU twin of the generated clip.
+    pub fn surface(&self, origin: Vec3, direction: Vec3, t_max: f32) -> Option<(f32, u32)> {
+        let start = Chord { t_in: -3.4e38, t_out: 3.4e38, slot_in: NO_SLOT, slot_out: NO_SLOT };
+        let chord = self.planes.iter().fold(start, |chord, plane| clip_chord(chord, origin, direction, plane));
+        let enters = chord.t_in > 0.0 && chord.slot_in != NO_SLOT;
+        let (t, slot) = if enters { (chord.t_in, chord.slot_in) } else { (chord.t_out, chord.slot_out) };
+        (chord.t_in < chord.t_out && t > 0.0 && slot != NO_SLOT && t < t_max).then_some((t, slot))
+    }
+}
+
+/// `chord` clipped to `plane`'s half-space: twin of `clip_chord` in `shaders/bvh/unrolled.wgsl`.
+fn clip_chord(chord: Chord, origin: Vec3, direction: Vec3, plane: &ClipPlane) -> Chord {
+    let (normal, offset) = plane.plane;
+    let raw = offset - normal.dot(origin);
+    let bound = ON_PLANE_BOUND * (offset.abs() + normal.abs().dot(origin.abs()));
+    let inside = if raw.abs() <= bound { 0.0 } else { raw };
+    let approach = normal.dot(direction);
+    let t = inside / approach;
+    let (across, split) = plane.diagonal;
+    let side = across.dot(origin) - split + t * across.dot(direction);
+    let slot = if side >= 0.0 { plane.slots[0] } else { plane.slots[1] };
+    let mut out = chord;
+    if approach < 0.0 && t > chord.t_in {
+        out.t_in = t;
+        out.slot_in = slot;
+    }
+    if approach > 0.0 && t < chord.t_out {
+        out.t_out = t;
+        out.slot_out = slot;
+    }
+    if approach == 0.0 && inside <= 0.0 {
+        out.t_in = 3.4e38;
+    }
+    out
+}
+
+/// `solid` as the clip uses it, or `None` if a face has more than two triangles or two that
+/// share no edge.
+fn closest_solid(bvh: &GpuBvh, solid: &ConvexSolid) -> Option<ClosestSolid> {
+    let planes = solid
+        .planes
+        .iter()
+        .map(|p| {
+            let (diagonal, slots) = match p.slots[..] {
+                [] => ((DVec3::ZERO, 0.0), [NO_SLOT; 2]),
+                [only] => ((DVec3::ZERO, 0.0), [only; 2]),
+                [a, b] => (diagonal(bvh, p.normal, a, b)?, [a, b]),
+                _ => return None,
+            };
+            Some(ClipPlane { plane: (p.normal.as_vec3(), p.offset as f32), diagonal: (diagonal.0.as_vec3(), diagonal.1 as f32), slots })
+        })
+        .collect::<Option<Vec<_>>>()?;
+    Some(ClosestSolid { slots: solid.slots.clone(), planes })
+}
+
+/// The plane across a face (normal `face`) through the edge triangles `a` and `b` share, with
+/// `a`'s third corner on its positive side; `None` if they share no edge.
+fn diagonal(bvh: &GpuBvh, face: DVec3, a: u32, b: u32) -> Option<(DVec3, f64)> {
+    let corners = |slot: u32| bvh.triangles[slot as usize].vertices();
+    let (first, second) = (corners(a), corners(b));
+    let shared: Vec<Vec3> = first.iter().copied().filter(|v| second.iter().any(|w| w.to_array().map(f32::to_bits) == v.to_array().map(f32::to_bits))).collect();
+    let [p, q] = shared[..] else { return None };
+    let apex = first.iter().copied().find(|v| *v != p && *v != q)?.as_dvec3();
+    let (p, q) = (p.as_dvec3(), q.as_dvec3());
+    let across = face.cross(q - p).try_normalize()?;
+    let across = if across.dot(apex - p) >= 0.0 { across } else { -across };
+    Some((across, across.dot(p)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::convex_solid::fixtures::{bvh_of, random};
+    use caustic_bvh::{Ray, intersect_triangle, unit_cube_triangles};
+
+    fn room() -> Vec<[Vec3; 3]> {
+        crate::convex_solid::fixtures::room(true)
+    }
+
+    #[test]
+    fn the_room_and_both_boxes_are_solids_for_closest_hits() {
+        let bvh = bvh_of(&room());
+        let closest = ClosestSolids::new(&bvh, &SceneSolids::new(&bvh));
+        let shapes: Vec<(usize, usize)> = closest.solids.iter().map(|s| (s.slots.len(), s.planes.len())).collect();
+        assert_eq!(shapes, [(10, 6), (12, 6), (10, 6)], "room, cube, open box: triangles and planes");
+        let rims = closest.solids.iter().flat_map(|s| &s.planes).filter(|p| p.slots == [NO_SLOT; 2]).count();
+        assert_eq!(rims, 2, "the room's open top and the open box's floor");
+    }
+
+    #[test]
+    fn a_face_of_four_triangles_is_not_clipped() {
+        let cube = unit_cube_triangles();
+        let ([a, b, c], d) = (cube[0], cube[1][2]);
+        let centre = (a + c) * 0.5;
+        let mut fan = cube[2..].to_vec();
+        fan.extend([[a, b, centre], [b, c, centre], [c, d, centre], [d, a, centre]]);
+        let bvh = bvh_of(&fan);
+        let found = SceneSolids::new(&bvh);
+        assert_eq!(found.solids.len(), 1, "still a convex solid for shadow rays");
+        assert!(ClosestSolids::new(&bvh, &found).solids.is_empty());
+    }
+
+    /// Random rays from inside and outside the solids: the clip names the triangle the
+    /// triangle tests find first, at the distance they find.
+    #[test]
+    fn the_clip_finds_the_first_triangle_the_triangle_tests_find() {
+        let triangles = room();
+        let bvh = bvh_of(&triangles);
+        let closest = ClosestSolids::new(&bvh, &SceneSolids::new(&bvh));
+        let mut random = random(0x2545_f491);
+        let (mut rays, mut hits, mut differing, mut worst) = (0, 0, 0, 0.0f32);
+        while rays < 50_000 {
+            let origin = Vec3::new(random(), random(), random()) * 14.0 - 2.0;
+            let direction = (Vec3::new(random(), random(), random()) * 2.0 - 1.0).try_normalize().unwrap_or(Vec3::X);
+            rays += 1;
+            for solid in &closest.solids {
+                let ray = Ray { origin, direction, t_max: 3.0e38 };
+                let first = solid
+                    .slots
+                    .iter()
+                    .filter_map(|&s| {
+                        let [v0, v1, v2] = bvh.triangles[s as usize].vertices();
+                        intersect_triangle(&ray, v0, v1, v2).map(|(t, _, _)| (t, s))
+                    })
+                    .min_by(|a, b| a.0.total_cmp(&b.0));
+                let clipped = solid.surface(origin, direction, 3.0e38);
+                match (first, clipped) {
+                    (Some((t, slot)), Some((t_clip, slot_clip))) if slot == slot_clip => {
+                        hits += 1;
+                        worst = worst.max(((t - t_clip) * direction).length());
+                    }
+                    (None, None) => {}
+                    _ => differing += 1,
+                }
+            }
+        }
+        println!("{rays} rays, {hits} solid hits, {differing} answered differently, hit points at most {worst:e} apart");
+        assert!(hits > 20_000, "too few rays meet the solids to tell");
+        assert_eq!(differing, 0);
+        assert!(worst < 1e-4, "hit points {worst} apart in a room of size 10");
+    }
+
+    #[test]
+    fn a_ray_leaving_a_face_does_not_meet_it_again() {
+        let bvh = bvh_of(&unit_cube_triangles());
+        let closest = ClosestSolids::new(&bvh, &SceneSolids::new(&bvh));
+        let cube = &closest.solids[0];
+        let on_top = Vec3::new(0.3, 0.6, 1.0);
+        assert_eq!(cube.surface(on_top, Vec3::new(0.1, 0.2, 1.0).normalize(), 3.0e38), None, "leaving outward");
+        let (t, slot) = cube.surface(on_top, Vec3::new(0.1, 0.2, -1.0).normalize(), 3.0e38).expect("inward: the floor");
+        assert!((t * Vec3::new(0.1, 0.2, -1.0).normalize().z + 1.0).abs() < 1e-5, "{t}");
+        let [v0, v1, v2] = bvh.triangles[slot as usize].vertices();
+        assert!([v0, v1, v2].iter().all(|v| v.z == 0.0), "a triangle of the bottom face");
+    }
+}
