@@ -34,6 +34,11 @@ override SHADOW_HULL_CULL: bool = false;
 // (crates/caustic-gpu/src/convex_occluder.rs); other traversals ignore it.
 override SHADOW_CONVEX_OCCLUDERS: bool = false;
 
+// The generated traversal skips, in shadow rays, the triangles in whose plane every light lies
+// when this is on: set while the lights stay there (crates/caustic-gpu/src/light_plane.rs);
+// other traversals ignore it.
+override SHADOW_LIGHT_PLANES: bool = false;
+
 // The planes, which the tree cannot bound, after the tree.
 fn intersect_planes(ray: Ray, closest: Hit, any_hit: bool) -> Hit {
     var hit = closest;

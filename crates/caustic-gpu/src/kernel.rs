@@ -50,6 +50,9 @@ pub struct Kernel {
     /// shadow rays clip themselves to the scene's convex occluders
     /// ([`crate::convex_occluder`]).
     pub shadow_convex_occluders: bool,
+    /// The `SHADOW_LIGHT_PLANES` override (`bvh/hit.wgsl`): the generated traversal lets
+    /// shadow rays skip the triangles in whose plane every light lies ([`crate::light_plane`]).
+    pub shadow_light_planes: bool,
     /// The `PATHS_PER_INVOCATION` override (`integrator/path.wgsl`): how many of a tile's
     /// pixels one invocation of `render_sample` traces in turn ([`paths_per_invocation`]);
     /// 1 for the other entry points, which trace one pixel per invocation.
@@ -80,6 +83,7 @@ impl Kernel {
             },
             shadow_hull_cull: gpu.shadow_hull_cull && specialised_traversal(gpu, settings).is_some(),
             shadow_convex_occluders: gpu.shadow_occluder_clip && specialised_traversal(gpu, settings).is_some(),
+            shadow_light_planes: gpu.shadow_light_plane_skip && specialised_traversal(gpu, settings).is_some(),
             paths_per_invocation,
         }
     }
@@ -131,6 +135,7 @@ impl Kernel {
         constants.push(("PATHS_PER_INVOCATION", f64::from(self.paths_per_invocation)));
         constants.push(("SHADOW_HULL_CULL", f64::from(u8::from(self.shadow_hull_cull))));
         constants.push(("SHADOW_CONVEX_OCCLUDERS", f64::from(u8::from(self.shadow_convex_occluders))));
+        constants.push(("SHADOW_LIGHT_PLANES", f64::from(u8::from(self.shadow_light_planes))));
         device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some(entry_point),
             layout: Some(&pipeline_layout),
@@ -202,8 +207,9 @@ fn entry_point(settings: &RenderSettings) -> &'static str {
 
 /// Paths one invocation of the path tracer traces in turn on CPU devices (lavapipe) when
 /// paths may be long: a lane whose path ends takes the next pixel instead of idling until the
-/// longest path of its SIMD packet ends (docs/PERFORMANCE.md, "Path regeneration").
-pub const CPU_PATHS_PER_INVOCATION: u32 = 32;
+/// longest path of its SIMD packet ends (docs/PERFORMANCE.md, "Path regeneration"). 128
+/// measured 4-6% faster than 32 (Cornell box and dragon passes), 64 half of that.
+pub const CPU_PATHS_PER_INVOCATION: u32 = 128;
 
 /// Shallowest depth limit from which regeneration pays: starting and recording a sample run,
 /// masked, in every bounce of the loop, which costs more than very short paths leave idle

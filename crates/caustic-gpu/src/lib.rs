@@ -25,6 +25,7 @@ pub mod gpu_types;
 pub mod inspector;
 pub mod kernel;
 pub mod kernel_test;
+pub mod light_plane;
 pub mod motion;
 mod path_tracer;
 mod readback;

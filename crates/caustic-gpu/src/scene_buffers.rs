@@ -3,6 +3,7 @@
 use crate::requirements::{GEOMETRY_REQUIREMENTS, scene_requirements, shading_requirements};
 use crate::scene_data::{SceneData, device_lights, device_materials};
 use crate::convex_occluder::ConvexOccluders;
+use crate::light_plane::LightPlanes;
 use crate::shadow_hull::ShadowHull;
 use crate::specialize;
 use crate::{GpuContext, GpuError};
@@ -90,6 +91,13 @@ pub struct GpuScene {
     /// plane could cut one): the kernels' `SHADOW_CONVEX_OCCLUDERS` override, updated with the
     /// lights.
     pub shadow_occluder_clip: bool,
+    /// For the same small scenes: the triangles in whose plane every light lies
+    /// ([`crate::light_plane`]), which the generated traversal lets shadow rays skip while
+    /// [`GpuScene::shadow_light_plane_skip`] holds.
+    pub shadow_light_planes: LightPlanes,
+    /// Whether every light still lies in the planes of [`GpuScene::shadow_light_planes`]: the
+    /// kernels' `SHADOW_LIGHT_PLANES` override, updated with the lights.
+    pub shadow_light_plane_skip: bool,
     /// For the same small scenes: the shading entries, materials and lights as WGSL
     /// constants ([`crate::bake`]), which kernels with the generated traversal read instead of
     /// the buffers; dropped by [`GpuScene::update_materials`].
@@ -142,8 +150,9 @@ impl GpuScene {
         }
         let gpu_bvh: GpuBvh = caustic_bvh::flatten_with_motion(&bvh, &data.triangles, &data.shapes, &moving);
         // The specialised traversal has no motion: moving scenes walk the BVH.
-        let unrolled = if moving.any() { None } else { specialize::unrolled_traversal(&gpu_bvh) };
-        let (traversal, shadow_hull, shadow_occluders) = unrolled.map_or((None, ShadowHull::default(), ConvexOccluders::default()), |u| (Some(u.wgsl), u.hull, u.occluders));
+        let unrolled = if moving.any() { None } else { specialize::unrolled_traversal(&gpu_bvh, &data.lights) };
+        let (traversal, shadow_hull, shadow_occluders, shadow_light_planes) =
+            unrolled.map_or((None, ShadowHull::default(), ConvexOccluders::default(), LightPlanes::default()), |u| (Some(u.wgsl), u.hull, u.occluders, u.light_planes));
         let requirements = scene_requirements(&data, &scene.environment);
         let uploader = Uploader { ctx };
         let (environment_view, environment_color) = upload_environment(ctx, &scene.environment)?;
@@ -173,6 +182,8 @@ impl GpuScene {
             shadow_hull,
             shadow_occluder_clip: shadow_occluders.clip_shadow_rays(&data.lights, requirements),
             shadow_occluders,
+            shadow_light_plane_skip: shadow_light_planes.skip_in_shadow_rays(&data.lights),
+            shadow_light_planes,
             lobe_mask: crate::scene_data::lobe_mask(scene),
             alpha_test: data.alpha_test,
             motion_blur: moving.any(),
@@ -197,6 +208,7 @@ impl GpuScene {
         self.requirements = (self.requirements & GEOMETRY_REQUIREMENTS) | shading_requirements(&materials, &lights, &scene.environment);
         self.shadow_hull_cull = self.shadow_hull.culls_shadow_rays(&lights, self.requirements);
         self.shadow_occluder_clip = self.shadow_occluders.clip_shadow_rays(&lights, self.requirements);
+        self.shadow_light_plane_skip = self.shadow_light_planes.skip_in_shadow_rays(&lights);
         // Edited scenes read their tables from the buffers: one recompile at the first edit,
         // none at later ones (a kernel with the tables baked in takes seconds to compile).
         self.tables = None;

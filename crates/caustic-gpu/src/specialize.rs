@@ -12,6 +12,8 @@
 use crate::closest_solid::ClosestSolids;
 use crate::convex_occluder::ConvexOccluders;
 use crate::convex_solid::SceneSolids;
+use crate::gpu_types::GpuLight;
+use crate::light_plane::LightPlanes;
 use crate::shadow_hull::ShadowHull;
 use caustic_bvh::{GpuBvh, SHAPE_BIT};
 use glam::Vec3;
@@ -41,12 +43,16 @@ pub struct UnrolledTraversal {
     /// The scene's [`ClosestSolids`], whose first surface closest-hit rays find by a clip
     /// instead of testing their triangles.
     pub closest_solids: ClosestSolids,
+    /// The triangles in whose plane every light lies ([`LightPlanes`]), which shadow rays skip
+    /// when the kernel's `SHADOW_LIGHT_PLANES` is on.
+    pub light_planes: LightPlanes,
 }
 
 /// A replacement for `shaders/bvh/traverse.wgsl` testing `bvh`'s primitives in their gathered
 /// order (so hit slots index `bvh_triangles` as the general kernel's do), with the scene's
-/// hull; `None` when the scene has more than [`BAKE_MAX_PRIMITIVES`].
-pub fn unrolled_traversal(bvh: &GpuBvh) -> Option<UnrolledTraversal> {
+/// hull, solids and the planes of its `lights`; `None` when the scene has more than
+/// [`BAKE_MAX_PRIMITIVES`].
+pub fn unrolled_traversal(bvh: &GpuBvh, lights: &[GpuLight]) -> Option<UnrolledTraversal> {
     if bvh.triangles.len() > BAKE_MAX_PRIMITIVES {
         return None;
     }
@@ -63,6 +69,8 @@ pub fn unrolled_traversal(bvh: &GpuBvh) -> Option<UnrolledTraversal> {
     let occluders = ConvexOccluders::of(bvh, &solids);
     let closest_solids = ClosestSolids::new(bvh, &solids);
     let solid_slots = closest_solids.slots();
+    let light_planes = LightPlanes::new(bvh, lights);
+    let light_plane_slots: Vec<u32> = light_planes.slots().collect();
     let occluder_slots: Vec<u32> = occluders.occluders.iter().flat_map(|o| o.slots.iter().copied()).collect();
     if !occluders.occluders.is_empty() {
         wgsl.push_str("    if any_hit && SHADOW_CONVEX_OCCLUDERS {\n");
@@ -89,6 +97,9 @@ pub fn unrolled_traversal(bvh: &GpuBvh) -> Option<UnrolledTraversal> {
             } else if hull_slots.contains(&slot) {
                 runs_if.push("!(any_hit && SHADOW_HULL_CULL)");
             }
+            if light_plane_slots.contains(&slot) {
+                runs_if.push("!(any_hit && SHADOW_LIGHT_PLANES)");
+            }
             if solid_slots.binary_search(&slot).is_ok() {
                 runs_if.push("any_hit");
             }
@@ -105,7 +116,7 @@ pub fn unrolled_traversal(bvh: &GpuBvh) -> Option<UnrolledTraversal> {
     }
     wgsl.push_str("    return intersect_planes(ray, hit, any_hit);\n}\n\n");
     wgsl.push_str(UNROLLED_HELPERS);
-    Some(UnrolledTraversal { wgsl, hull, occluders, closest_solids })
+    Some(UnrolledTraversal { wgsl, hull, occluders, closest_solids, light_planes })
 }
 
 /// The BSDF lobe slots (`shaders/bsdf/bsdf.wgsl`) any of `materials` uses, one bit per slot
@@ -153,7 +164,7 @@ mod tests {
         let triangles: Vec<[Vec3; 3]> =
             (0..5).map(|i| [Vec3::new(i as f32, 0.0, 0.0), Vec3::new(i as f32 + 1.0, 0.0, 0.0), Vec3::new(i as f32, 1.0, 0.0)]).collect();
         let gpu = bvh_of(&triangles);
-        let wgsl = unrolled_traversal(&gpu).unwrap().wgsl;
+        let wgsl = unrolled_traversal(&gpu, &[]).unwrap().wgsl;
         let tests: Vec<&str> = wgsl.lines().filter(|l| l.contains("hit = test_triangle(")).collect();
         assert_eq!(tests.len(), 5);
         assert_eq!(wgsl.matches("SHADOW_HULL_CULL").count(), 5, "five coplanar triangles: each is a face of the hull");
@@ -178,6 +189,6 @@ mod tests {
     #[test]
     fn large_scenes_keep_the_bvh() {
         let triangles = vec![[Vec3::ZERO, Vec3::X, Vec3::Y]; BAKE_MAX_PRIMITIVES + 1];
-        assert!(unrolled_traversal(&bvh_of(&triangles)).is_none());
+        assert!(unrolled_traversal(&bvh_of(&triangles), &[]).is_none());
     }
 }

@@ -3,7 +3,8 @@
 //! where two primitives tie for the closest hit, or where a shadow ray grazes an edge of a box
 //! it clips itself to (`caustic_gpu::convex_occluder`) instead of testing its triangles, or
 //! where a closest-hit ray meets an edge of a solid it clips itself to
-//! (`caustic_gpu::closest_solid`) and is given the neighbouring triangle.
+//! (`caustic_gpu::closest_solid`) and is given the neighbouring triangle. Shadow rays skip
+//! the light's own triangles (`caustic_gpu::light_plane`), which cannot stop them.
 
 use caustic_gpu::{DataPath, GpuContext, GpuScene, PathTracer, RenderSettings};
 use caustic_image::metrics::{RELMSE_EPSILON, relative_mse};
@@ -19,6 +20,8 @@ fn specialised_and_general_kernels_render_the_same_image() {
     let boxes: Vec<usize> = gpu.shadow_occluders.occluders.iter().map(|o| o.slots.len()).collect();
     assert_eq!(boxes, [10, 10], "the two blocks, five faces each standing on the floor, are the convex occluders");
     assert!(gpu.shadow_occluder_clip, "the light is outside both blocks");
+    assert_eq!(gpu.shadow_light_planes.slots().count(), 2, "shadow rays skip the light's two triangles");
+    assert!(gpu.shadow_light_plane_skip, "the only light lies in their plane");
     let traversal = gpu.traversal.as_deref().unwrap_or_default();
     let solids = traversal.matches("surface = nearer_surface(surface, chord);").count();
     let planes = traversal.matches("chord = clip_chord(").count();
@@ -50,7 +53,7 @@ fn specialised_and_general_kernels_render_the_same_image() {
 fn the_specialised_program_validates() {
     let mut scene = caustic_scene::cornell_box();
     scene.resolution = (4, 4);
-    let data = caustic_gpu::specialize::unrolled_traversal(&cornell_bvh(&scene)).expect("small scene").wgsl;
+    let data = caustic_gpu::specialize::unrolled_traversal(&cornell_bvh(&scene), &[]).expect("small scene").wgsl;
     let source = caustic_gpu::shaders::Program::PathTracer.source_replacing(caustic_gpu::specialize::TRAVERSAL_FILE, &data);
     let module = naga::front::wgsl::parse_str(&source).unwrap_or_else(|e| panic!("{}", e.emit_to_string(&source)));
     let mut validator = naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::all());
