@@ -117,6 +117,30 @@ fn nearer_surface(best: SolidSurface, chord: Chord) -> SolidSurface {
     return best;
 }
 
+// Where the ray crosses a flat polygon's plane, or -1 if it runs parallel to the plane or
+// starts on it (within rounding). Twin of closest_solid::ClosestPolygon::surface.
+fn flat_crossing(ray: Ray, plane: vec4<f32>) -> f32 {
+    let raw = plane.w - dot(plane.xyz, ray.origin);
+    let bound = ON_PLANE_BOUND * (abs(plane.w) + dot(abs(plane.xyz), abs(ray.origin)));
+    let t = raw / dot(plane.xyz, ray.direction);
+    return select(-1.0, t, abs(raw) > bound && t > 0.0);
+}
+
+// Whether p lies inside the plane `edge` across a polygon's outline edge.
+fn inside_edge(p: vec3<f32>, edge: vec4<f32>) -> bool {
+    return dot(edge.xyz, p) <= edge.w;
+}
+
+// `best`, or the flat polygon's point p at distance t if the ray crosses it there (`inside`
+// its outline) nearer: the triangle of `slots` on p's side of `diagonal`.
+fn nearer_flat(best: SolidSurface, t: f32, inside: bool, p: vec3<f32>, diagonal: vec4<f32>, slots: vec2<u32>) -> SolidSurface {
+    let slot = select(slots.y, slots.x, dot(diagonal.xyz, p) >= diagonal.w);
+    if inside && t > 0.0 && t < best.t {
+        return SolidSurface(t, slot);
+    }
+    return best;
+}
+
 // `hit`, or the triangle at the nearest solid surface, reported where the ray crosses its
 // plane as the triangle test reports it (the same distance, barycentrics and facing), if
 // that is closer or wins the tie.

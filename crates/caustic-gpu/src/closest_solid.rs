@@ -10,12 +10,15 @@
 //! the hit's distance, barycentrics and facing are the ones that traversal reports; rays
 //! within rounding of an edge may be given the neighbouring triangle.
 //!
+//! Flat convex polygons (the Cornell box's light) are clipped the same way: the ray's crossing
+//! of the polygon's plane, kept if it lies inside every outline edge.
+//!
 //! A ray origin within rounding of a plane counts as on it, and its direction decides the
 //! side: a ray leaving a face does not meet that face again. The generated traversal
 //! ([`crate::specialize`]) clips every closest-hit ray so; it is never used for scenes with
 //! alpha-tested materials (a clip could not look through a cut-out) or motion.
 
-use crate::convex_solid::{ConvexSolid, SceneSolids};
+use crate::convex_solid::{ConvexSolid, FlatPolygon, SceneSolids};
 use caustic_bvh::GpuBvh;
 use glam::{DVec3, Vec3};
 use std::fmt::Write;
@@ -48,11 +51,22 @@ pub struct ClosestSolid {
     pub planes: Vec<ClipPlane>,
 }
 
-/// The scene's solids that closest-hit rays may clip themselves to.
+/// A flat convex polygon of one triangle or two sharing an edge.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ClosestPolygon {
+    /// The polygon's plane and triangles, as a solid's face.
+    pub face: ClipPlane,
+    /// The planes across its outline edges: the polygon lies in `normal . x <= offset`.
+    pub edges: Vec<(Vec3, f32)>,
+}
+
+/// The scene's solids and flat polygons that closest-hit rays may clip themselves to.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct ClosestSolids {
     /// The solids, in the order of their first slot.
     pub solids: Vec<ClosestSolid>,
+    /// The flat polygons, in the order of their first slot.
+    pub polygons: Vec<ClosestPolygon>,
 }
 
 /// Where a ray's chord through a solid begins and ends, and the triangles there.
@@ -68,13 +82,19 @@ impl ClosestSolids {
     /// The solids of `found` (the convex solids of `bvh`) each of whose faces has one
     /// triangle or two sharing an edge.
     pub fn new(bvh: &GpuBvh, found: &SceneSolids) -> ClosestSolids {
-        ClosestSolids { solids: found.solids.iter().filter_map(|solid| closest_solid(bvh, solid)).collect() }
+        ClosestSolids {
+            solids: found.solids.iter().filter_map(|solid| closest_solid(bvh, solid)).collect(),
+            polygons: found.polygons.iter().filter_map(|polygon| closest_polygon(bvh, polygon)).collect(),
+        }
     }
 
     /// Gathered slots of every solid's triangles, ascending.
     pub fn slots(&self) -> Vec<u32> {
-        let mut slots: Vec<u32> = self.solids.iter().flat_map(|s| s.slots.iter().copied()).collect();
+        let solid_slots = self.solids.iter().flat_map(|s| s.slots.iter().copied());
+        let polygon_slots = self.polygons.iter().flat_map(|p| p.face.slots);
+        let mut slots: Vec<u32> = solid_slots.chain(polygon_slots).collect();
         slots.sort_unstable();
+        slots.dedup();
         slots
     }
 
@@ -97,6 +117,20 @@ impl ClosestSolids {
             }
             wgsl.push_str("            surface = nearer_surface(surface, chord);\n        }\n");
         }
+        for polygon in &self.polygons {
+            let f = &polygon.face;
+            let _ = writeln!(wgsl, "        {{\n            let t = flat_crossing(ray, {});", vec4(f.plane.0, f.plane.1));
+            wgsl.push_str("            let p = ray.origin + t * ray.direction;\n");
+            let inside: Vec<String> = polygon.edges.iter().map(|&(n, c)| format!("inside_edge(p, {})", vec4(n, c))).collect();
+            let _ = writeln!(wgsl, "            let inside = {};", inside.join(" && "));
+            let _ = writeln!(
+                wgsl,
+                "            surface = nearer_flat(surface, t, inside, p, {}, vec2<u32>({}u, {}u));\n        }}",
+                vec4(f.diagonal.0, f.diagonal.1),
+                f.slots[0],
+                f.slots[1]
+            );
+        }
         wgsl.push_str("        hit = solid_hit(r, hit, surface);\n    }\n");
         wgsl
     }
@@ -114,12 +148,33 @@ impl ClosestSolid {
     }
 }
 
+impl ClosestPolygon {
+    /// Where the ray crosses the polygon in `(0, t_max)` and the triangle there: the CPU twin
+    /// of the generated test (`flat_crossing`, `inside_edge`, `nearer_flat`).
+    pub fn surface(&self, origin: Vec3, direction: Vec3, t_max: f32) -> Option<(f32, u32)> {
+        let (normal, offset) = self.face.plane;
+        let raw = offset - normal.dot(origin);
+        let t = raw / normal.dot(direction);
+        if raw.abs() <= on_plane_bound(normal, offset, origin) || !(t > 0.0) || t >= t_max {
+            return None;
+        }
+        let p = origin + t * direction;
+        let inside = self.edges.iter().all(|&(n, c)| n.dot(p) <= c);
+        let (across, split) = self.face.diagonal;
+        inside.then_some((t, if across.dot(p) >= split { self.face.slots[0] } else { self.face.slots[1] }))
+    }
+}
+
+/// The rounding of `offset - normal . origin` within which `origin` counts as on the plane.
+fn on_plane_bound(normal: Vec3, offset: f32, origin: Vec3) -> f32 {
+    ON_PLANE_BOUND * (offset.abs() + normal.abs().dot(origin.abs()))
+}
+
 /// `chord` clipped to `plane`'s half-space: twin of `clip_chord` in `shaders/bvh/unrolled.wgsl`.
 fn clip_chord(chord: Chord, origin: Vec3, direction: Vec3, plane: &ClipPlane) -> Chord {
     let (normal, offset) = plane.plane;
     let raw = offset - normal.dot(origin);
-    let bound = ON_PLANE_BOUND * (offset.abs() + normal.abs().dot(origin.abs()));
-    let inside = if raw.abs() <= bound { 0.0 } else { raw };
+    let inside = if raw.abs() <= on_plane_bound(normal, offset, origin) { 0.0 } else { raw };
     let approach = normal.dot(direction);
     let t = inside / approach;
     let (across, split) = plane.diagonal;
@@ -143,20 +198,27 @@ fn clip_chord(chord: Chord, origin: Vec3, direction: Vec3, plane: &ClipPlane) ->
 /// `solid` as the clip uses it, or `None` if a face has more than two triangles or two that
 /// share no edge.
 fn closest_solid(bvh: &GpuBvh, solid: &ConvexSolid) -> Option<ClosestSolid> {
-    let planes = solid
-        .planes
-        .iter()
-        .map(|p| {
-            let (diagonal, slots) = match p.slots[..] {
-                [] => ((DVec3::ZERO, 0.0), [NO_SLOT; 2]),
-                [only] => ((DVec3::ZERO, 0.0), [only; 2]),
-                [a, b] => (diagonal(bvh, p.normal, a, b)?, [a, b]),
-                _ => return None,
-            };
-            Some(ClipPlane { plane: (p.normal.as_vec3(), p.offset as f32), diagonal: (diagonal.0.as_vec3(), diagonal.1 as f32), slots })
-        })
-        .collect::<Option<Vec<_>>>()?;
+    let planes = solid.planes.iter().map(|p| clip_plane(bvh, p.normal, p.offset, &p.slots)).collect::<Option<Vec<_>>>()?;
     Some(ClosestSolid { slots: solid.slots.clone(), planes })
+}
+
+/// `polygon` as the clip uses it, or `None` if it has more than two triangles or two that
+/// share no edge.
+fn closest_polygon(bvh: &GpuBvh, polygon: &FlatPolygon) -> Option<ClosestPolygon> {
+    let face = clip_plane(bvh, polygon.normal, polygon.offset, &polygon.slots)?;
+    Some(ClosestPolygon { face, edges: polygon.edges.iter().map(|&(n, c)| (n.as_vec3(), c as f32)).collect() })
+}
+
+/// The plane `normal . x = offset` holding the triangles `slots` (none: an open rim), with the
+/// diagonal between two of them; `None` for more than two, or two that share no edge.
+fn clip_plane(bvh: &GpuBvh, normal: DVec3, offset: f64, slots: &[u32]) -> Option<ClipPlane> {
+    let (diagonal, slots) = match slots[..] {
+        [] => ((DVec3::ZERO, 0.0), [NO_SLOT; 2]),
+        [only] => ((DVec3::ZERO, 0.0), [only; 2]),
+        [a, b] => (diagonal(bvh, normal, a, b)?, [a, b]),
+        _ => return None,
+    };
+    Some(ClipPlane { plane: (normal.as_vec3(), offset as f32), diagonal: (diagonal.0.as_vec3(), diagonal.1 as f32), slots })
 }
 
 /// The plane across a face (normal `face`) through the edge triangles `a` and `b` share, with
@@ -244,6 +306,57 @@ mod tests {
         assert!(hits > 20_000, "too few rays meet the solids to tell");
         assert_eq!(differing, 0);
         assert!(worst < 1e-4, "hit points {worst} apart in a room of size 10");
+    }
+
+    /// The room with a light-like quad under its ceiling, a lone triangle and a concave
+    /// L of three triangles (no polygon) in it.
+    fn room_with_polygons() -> Vec<[Vec3; 3]> {
+        let mut triangles = room();
+        let (a, b, c, d) = (Vec3::new(4.0, 4.0, 9.5), Vec3::new(6.0, 4.0, 9.5), Vec3::new(6.0, 7.0, 9.5), Vec3::new(4.0, 7.0, 9.5));
+        triangles.extend([[a, b, c], [a, c, d]]);
+        triangles.push([Vec3::new(1.0, 8.0, 1.0), Vec3::new(3.0, 8.5, 2.0), Vec3::new(1.5, 8.2, 4.0)]);
+        let l = |x: f32, y: f32| Vec3::new(x, y, 6.0);
+        triangles.extend([[l(7.0, 1.0), l(9.0, 1.0), l(9.0, 2.0)], [l(7.0, 1.0), l(9.0, 2.0), l(7.0, 2.0)], [l(7.0, 2.0), l(8.0, 2.0), l(7.0, 4.0)]]);
+        triangles
+    }
+
+    #[test]
+    fn flat_convex_quads_and_triangles_are_polygons_and_concave_groups_are_not() {
+        let bvh = bvh_of(&room_with_polygons());
+        let closest = ClosestSolids::new(&bvh, &SceneSolids::new(&bvh));
+        let edges: Vec<usize> = closest.polygons.iter().map(|p| p.edges.len()).collect();
+        assert_eq!(edges.len(), 2, "the quad and the lone triangle: {edges:?}");
+        assert!(edges.contains(&4) && edges.contains(&3), "{edges:?}");
+        assert_eq!(closest.solids.len(), 3);
+    }
+
+    /// Random rays: a polygon's clip names the triangle the triangle tests find, and the
+    /// closest surface over solids and polygons is the closest triangle.
+    #[test]
+    fn the_polygon_clip_finds_the_triangle_the_triangle_tests_find() {
+        let triangles = room_with_polygons();
+        let bvh = bvh_of(&triangles);
+        let closest = ClosestSolids::new(&bvh, &SceneSolids::new(&bvh));
+        let mut random = random(0x51ed_270b);
+        let (mut hits, mut differing) = (0, 0);
+        for _ in 0..200_000 {
+            let origin = Vec3::new(random(), random(), random()) * 10.0;
+            let direction = (Vec3::new(random(), random(), random()) * 2.0 - 1.0).try_normalize().unwrap_or(Vec3::Z);
+            let ray = Ray { origin, direction, t_max: 3.0e38 };
+            for polygon in &closest.polygons {
+                let first = polygon.face.slots.iter().filter_map(|&s| {
+                    let [v0, v1, v2] = bvh.triangles[s as usize].vertices();
+                    intersect_triangle(&ray, v0, v1, v2).map(|(t, _, _)| (t, s))
+                });
+                let first = first.min_by(|a, b| a.0.total_cmp(&b.0)).map(|(_, s)| s);
+                let clipped = polygon.surface(origin, direction, 3.0e38).map(|(_, s)| s);
+                hits += usize::from(first.is_some());
+                differing += usize::from(first != clipped);
+            }
+        }
+        println!("{hits} polygon hits, {differing} answered differently");
+        assert!(hits > 2_000, "too few rays meet the polygons to tell");
+        assert_eq!(differing, 0);
     }
 
     #[test]

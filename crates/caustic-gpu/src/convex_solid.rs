@@ -37,11 +37,28 @@ pub struct ConvexSolid {
     pub planes: Vec<SolidPlane>,
 }
 
+/// A connected group of the scene's triangles in one plane whose outline is convex: a flat
+/// convex polygon, such as the Cornell box's light.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FlatPolygon {
+    /// Gathered triangle slots of the group, ascending.
+    pub slots: Vec<u32>,
+    /// The polygon's unit normal (the first triangle's winding) and plane offset.
+    pub normal: DVec3,
+    /// The plane's offset along `normal`.
+    pub offset: f64,
+    /// One plane across each outline edge, perpendicular to the polygon: the polygon lies in
+    /// `normal . x <= offset` of every one.
+    pub edges: Vec<(DVec3, f64)>,
+}
+
 /// The convex solids of a scene, with what deciding their use needs.
 #[derive(Clone, Debug, Default)]
 pub struct SceneSolids {
     /// The solids, in the order of their first slot.
     pub solids: Vec<ConvexSolid>,
+    /// The groups that bound no solid but lie flat in one plane with a convex outline.
+    pub polygons: Vec<FlatPolygon>,
     /// Every primitive's points, by gathered slot: a triangle's corners, a bounded shape's box.
     pub primitives: Vec<Vec<DVec3>>,
     /// Distance within which a point counts as on a plane (relative to the scene's size).
@@ -54,14 +71,15 @@ impl SceneSolids {
         let primitives = scene_primitives(bvh);
         let size = primitives.iter().flatten().fold(0.0f64, |m, p| m.max(p.abs().max_element()));
         let tolerance = PLANE_TOLERANCE * size.max(f64::MIN_POSITIVE);
-        let solids = groups(bvh)
-            .into_iter()
-            .filter_map(|slots| {
-                let planes = solid_planes(bvh, &slots, &primitives, tolerance)?;
-                Some(ConvexSolid { slots, planes })
-            })
-            .collect();
-        SceneSolids { solids, primitives, tolerance }
+        let (mut solids, mut polygons) = (Vec::new(), Vec::new());
+        for slots in groups(bvh) {
+            if let Some(planes) = solid_planes(bvh, &slots, &primitives, tolerance) {
+                solids.push(ConvexSolid { slots, planes });
+            } else if let Some(polygon) = flat_polygon(bvh, slots, tolerance) {
+                polygons.push(polygon);
+            }
+        }
+        SceneSolids { solids, polygons, primitives, tolerance }
     }
 }
 
@@ -150,6 +168,38 @@ fn solid_planes(bvh: &GpuBvh, slots: &[u32], scene: &[Vec<DVec3>], tolerance: f6
         }
     }
     Some(planes)
+}
+
+/// The group `slots` as a flat convex polygon, or `None` if its triangles do not share one
+/// plane, an edge belongs to more than two of them, or its outline is not convex.
+fn flat_polygon(bvh: &GpuBvh, slots: Vec<u32>, tolerance: f64) -> Option<FlatPolygon> {
+    let corners: Vec<DVec3> = slots.iter().flat_map(|&s| bvh.triangles[s as usize].vertices().map(|v| v.as_dvec3())).collect();
+    let [a, b, c] = bvh.triangles[slots[0] as usize].vertices().map(|v| v.as_dvec3());
+    let normal = (b - a).cross(c - a).try_normalize()?;
+    let offset = normal.dot(a);
+    if corners.iter().any(|p| (normal.dot(*p) - offset).abs() > tolerance) {
+        return None;
+    }
+    let mut edges: HashMap<[[u32; 3]; 2], u32> = HashMap::new();
+    for &slot in &slots {
+        let vertices = bvh.triangles[slot as usize].vertices();
+        for i in 0..3 {
+            let mut edge = [vertices[i], vertices[(i + 1) % 3]].map(|v| v.to_array().map(f32::to_bits));
+            edge.sort();
+            *edges.entry(edge).or_default() += 1;
+        }
+    }
+    if edges.values().any(|&n| n > 2) {
+        return None;
+    }
+    let outline = edges.iter().filter(|(_, n)| **n == 1).map(|(e, _)| e.map(|p| glam::Vec3::from_array(p.map(f32::from_bits)).as_dvec3()));
+    let edges = outline
+        .map(|[p, q]| {
+            let across = (q - p).cross(normal).try_normalize()?;
+            outward(across, across.dot(p), &corners, tolerance)
+        })
+        .collect::<Option<Vec<_>>>()?;
+    Some(FlatPolygon { slots, normal, offset, edges })
 }
 
 /// The plane `normal . x = offset` oriented so every point of `points` is on its inner side,

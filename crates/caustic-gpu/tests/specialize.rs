@@ -28,6 +28,7 @@ fn specialised_and_general_kernels_render_the_same_image() {
     // Six planes each, and one more: the measured box's right wall is folded (its two
     // triangles lie in planes half a degree apart), each triangle a face of its own.
     assert_eq!((solids, planes), (3, 19), "closest-hit rays clip themselves to the room and the two blocks");
+    assert_eq!(traversal.matches("surface = nearer_flat(surface").count(), 1, "and to the light quad, a flat polygon");
     let render = |data_path, seed| {
         let settings = RenderSettings { data_path, seed, ..RenderSettings::default() };
         let mut tracer = PathTracer::new(&ctx, &scene, &gpu, &settings).expect("tracer");
