@@ -88,7 +88,12 @@ impl ClosestSolids {
         }
     }
 
-    /// Gathered slots of every solid's triangles, ascending.
+    /// Whether there is neither a solid nor a polygon.
+    pub fn is_empty(&self) -> bool {
+        self.solids.is_empty() && self.polygons.is_empty()
+    }
+
+    /// Gathered slots of every solid's and polygon's triangles, ascending.
     pub fn slots(&self) -> Vec<u32> {
         let solid_slots = self.solids.iter().flat_map(|s| s.slots.iter().copied());
         let polygon_slots = self.polygons.iter().flat_map(|p| p.face.slots);

@@ -88,9 +88,12 @@ impl Kernel {
         }
     }
 
-    /// Invocations of the kernel's entry point that cover `pixels` pixels of a tile.
+    /// Invocations of the kernel's entry point that cover `pixels` pixels of a tile: one per
+    /// [`Kernel::paths_per_invocation`] pixels, but never fewer than
+    /// [`MIN_REGENERATING_INVOCATIONS`] (or one per pixel), so that a small tile still gives
+    /// every thread of a CPU device work; its invocations then trace fewer paths each.
     pub fn invocations(&self, pixels: u32) -> u32 {
-        pixels.div_ceil(self.paths_per_invocation)
+        pixels.div_ceil(self.paths_per_invocation).max(pixels.min(MIN_REGENERATING_INVOCATIONS))
     }
 
     /// This kernel with the pixel inspector's hooks compiled in ([`crate::PathTracer::inspect`]).
@@ -210,6 +213,11 @@ fn entry_point(settings: &RenderSettings) -> &'static str {
 /// longest path of its SIMD packet ends (docs/PERFORMANCE.md, "Path regeneration"). 128
 /// measured 4-6% faster than 32 (Cornell box and dragon passes), 64 half of that.
 pub const CPU_PATHS_PER_INVOCATION: u32 = 128;
+
+/// Fewest invocations a dispatch of a regenerating kernel runs (32 workgroups): at 128 paths
+/// per invocation the smallest tiles (4,096 pixels) would otherwise be one workgroup, which
+/// one of lavapipe's threads runs alone.
+pub const MIN_REGENERATING_INVOCATIONS: u32 = 2048;
 
 /// Shallowest depth limit from which regeneration pays: starting and recording a sample run,
 /// masked, in every bounce of the loop, which costs more than very short paths leave idle

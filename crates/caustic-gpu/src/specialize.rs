@@ -111,7 +111,7 @@ pub fn unrolled_traversal(bvh: &GpuBvh, lights: &[GpuLight]) -> Option<UnrolledT
         }
         wgsl.push_str("    if any_hit && hit.triangle != NO_HIT {\n        return hit;\n    }\n");
     }
-    if !closest_solids.solids.is_empty() {
+    if !closest_solids.is_empty() {
         wgsl.push_str(&closest_solids.wgsl());
     }
     wgsl.push_str("    return intersect_planes(ray, hit, any_hit);\n}\n\n");
@@ -172,6 +172,14 @@ mod tests {
             assert!(line.ends_with(&format!("{}u, {slot}u);", tri.id)), "{line}");
         }
         assert!(wgsl.contains("(*cost).triangles += 5u;"));
+    }
+
+    #[test]
+    fn a_lone_triangle_is_found_by_the_polygon_clip() {
+        let gpu = bvh_of(&[[Vec3::ZERO, Vec3::X, Vec3::Y]]);
+        let wgsl = unrolled_traversal(&gpu, &[]).unwrap().wgsl;
+        assert!(wgsl.contains("surface = nearer_flat(surface") && wgsl.contains("hit = solid_hit(r, hit, surface);"), "{wgsl}");
+        assert!(wgsl.contains("any_hit {\n        hit = test_triangle("), "its triangle test is left to shadow rays: {wgsl}");
     }
 
     #[test]
