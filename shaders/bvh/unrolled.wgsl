@@ -72,14 +72,21 @@ fn begin_chord() -> Chord {
 // within which the origin counts as on the plane.
 const ON_PLANE_BOUND: f32 = 9.536743e-7;
 
+// plane.w - dot(plane.xyz, origin): how far inside the plane the ray starts (times the
+// normal's length), 0 within the rounding of that difference. Twin of
+// closest_solid::inside_distance.
+fn inside_distance(ray: Ray, plane: vec4<f32>) -> f32 {
+    let raw = plane.w - dot(plane.xyz, ray.origin);
+    let bound = ON_PLANE_BOUND * (abs(plane.w) + dot(abs(plane.xyz), abs(ray.origin)));
+    return select(raw, 0.0, abs(raw) <= bound);
+}
+
 // `chord` clipped to the half-space dot(plane.xyz, x) <= plane.w of a face whose triangles are
 // `slots`, split by the plane `diagonal` (its positive side holds slots.x). An origin within
 // rounding of the plane counts as on it: then only the direction decides. Twin of
 // closest_solid::clip_chord.
 fn clip_chord(ray: Ray, chord: Chord, plane: vec4<f32>, diagonal: vec4<f32>, slots: vec2<u32>) -> Chord {
-    let raw = plane.w - dot(plane.xyz, ray.origin);
-    let bound = ON_PLANE_BOUND * (abs(plane.w) + dot(abs(plane.xyz), abs(ray.origin)));
-    let inside = select(raw, 0.0, abs(raw) <= bound);
+    let inside = inside_distance(ray, plane);
     let approach = dot(plane.xyz, ray.direction);
     let t = inside / approach;
     let side = dot(diagonal.xyz, ray.origin) - diagonal.w + t * dot(diagonal.xyz, ray.direction);
@@ -120,10 +127,8 @@ fn nearer_surface(best: SolidSurface, chord: Chord) -> SolidSurface {
 // Where the ray crosses a flat polygon's plane, or -1 if it runs parallel to the plane or
 // starts on it (within rounding). Twin of closest_solid::ClosestPolygon::surface.
 fn flat_crossing(ray: Ray, plane: vec4<f32>) -> f32 {
-    let raw = plane.w - dot(plane.xyz, ray.origin);
-    let bound = ON_PLANE_BOUND * (abs(plane.w) + dot(abs(plane.xyz), abs(ray.origin)));
-    let t = raw / dot(plane.xyz, ray.direction);
-    return select(-1.0, t, abs(raw) > bound && t > 0.0);
+    let t = inside_distance(ray, plane) / dot(plane.xyz, ray.direction);
+    return select(-1.0, t, t > 0.0);
 }
 
 // Whether p lies inside the plane `edge` across a polygon's outline edge.

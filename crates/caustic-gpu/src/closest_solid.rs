@@ -158,9 +158,8 @@ impl ClosestPolygon {
     /// of the generated test (`flat_crossing`, `inside_edge`, `nearer_flat`).
     pub fn surface(&self, origin: Vec3, direction: Vec3, t_max: f32) -> Option<(f32, u32)> {
         let (normal, offset) = self.face.plane;
-        let raw = offset - normal.dot(origin);
-        let t = raw / normal.dot(direction);
-        if raw.abs() <= on_plane_bound(normal, offset, origin) || !(t > 0.0) || t >= t_max {
+        let t = inside_distance(normal, offset, origin) / normal.dot(direction);
+        if !(t > 0.0) || t >= t_max {
             return None;
         }
         let p = origin + t * direction;
@@ -170,16 +169,19 @@ impl ClosestPolygon {
     }
 }
 
-/// The rounding of `offset - normal . origin` within which `origin` counts as on the plane.
-fn on_plane_bound(normal: Vec3, offset: f32, origin: Vec3) -> f32 {
-    ON_PLANE_BOUND * (offset.abs() + normal.abs().dot(origin.abs()))
+/// `offset - normal . origin`, how far inside the plane `origin` lies (times the normal's
+/// length), or 0 within the rounding of that difference ([`ON_PLANE_BOUND`]): twin of
+/// `inside_distance` in `shaders/bvh/unrolled.wgsl`.
+fn inside_distance(normal: Vec3, offset: f32, origin: Vec3) -> f32 {
+    let raw = offset - normal.dot(origin);
+    let bound = ON_PLANE_BOUND * (offset.abs() + normal.abs().dot(origin.abs()));
+    if raw.abs() <= bound { 0.0 } else { raw }
 }
 
 /// `chord` clipped to `plane`'s half-space: twin of `clip_chord` in `shaders/bvh/unrolled.wgsl`.
 fn clip_chord(chord: Chord, origin: Vec3, direction: Vec3, plane: &ClipPlane) -> Chord {
     let (normal, offset) = plane.plane;
-    let raw = offset - normal.dot(origin);
-    let inside = if raw.abs() <= on_plane_bound(normal, offset, origin) { 0.0 } else { raw };
+    let inside = inside_distance(normal, offset, origin);
     let approach = normal.dot(direction);
     let t = inside / approach;
     let (across, split) = plane.diagonal;
@@ -250,6 +252,15 @@ mod tests {
         crate::convex_solid::fixtures::room(true)
     }
 
+    /// The nearest of `slots`' triangles along `ray` by the triangle test: distance and slot.
+    fn first_triangle(bvh: &GpuBvh, slots: &[u32], ray: &Ray) -> Option<(f32, u32)> {
+        let hits = slots.iter().filter_map(|&s| {
+            let [v0, v1, v2] = bvh.triangles[s as usize].vertices();
+            intersect_triangle(ray, v0, v1, v2).map(|(t, _, _)| (t, s))
+        });
+        hits.min_by(|a, b| a.0.total_cmp(&b.0))
+    }
+
     #[test]
     fn the_room_and_both_boxes_are_solids_for_closest_hits() {
         let bvh = bvh_of(&room());
@@ -288,14 +299,7 @@ mod tests {
             rays += 1;
             for solid in &closest.solids {
                 let ray = Ray { origin, direction, t_max: 3.0e38 };
-                let first = solid
-                    .slots
-                    .iter()
-                    .filter_map(|&s| {
-                        let [v0, v1, v2] = bvh.triangles[s as usize].vertices();
-                        intersect_triangle(&ray, v0, v1, v2).map(|(t, _, _)| (t, s))
-                    })
-                    .min_by(|a, b| a.0.total_cmp(&b.0));
+                let first = first_triangle(&bvh, &solid.slots, &ray);
                 let clipped = solid.surface(origin, direction, 3.0e38);
                 match (first, clipped) {
                     (Some((t, slot)), Some((t_clip, slot_clip))) if slot == slot_clip => {
@@ -349,11 +353,7 @@ mod tests {
             let direction = (Vec3::new(random(), random(), random()) * 2.0 - 1.0).try_normalize().unwrap_or(Vec3::Z);
             let ray = Ray { origin, direction, t_max: 3.0e38 };
             for polygon in &closest.polygons {
-                let first = polygon.face.slots.iter().filter_map(|&s| {
-                    let [v0, v1, v2] = bvh.triangles[s as usize].vertices();
-                    intersect_triangle(&ray, v0, v1, v2).map(|(t, _, _)| (t, s))
-                });
-                let first = first.min_by(|a, b| a.0.total_cmp(&b.0)).map(|(_, s)| s);
+                let first = first_triangle(&bvh, &polygon.face.slots, &ray).map(|(_, s)| s);
                 let clipped = polygon.surface(origin, direction, 3.0e38).map(|(_, s)| s);
                 hits += usize::from(first.is_some());
                 differing += usize::from(first != clipped);

@@ -14,8 +14,8 @@
 
 use crate::gpu_types::GpuLight;
 use crate::requirements::REQUIRES_PLANES;
-use crate::scene_data::{LIGHT_DIRECTIONAL, LIGHT_ENVIRONMENT, LIGHT_POINT, LIGHT_QUAD, LIGHT_SEGMENT, LIGHT_SPOT, LIGHT_TRIANGLE};
-use crate::convex_solid::{SceneSolids, SolidPlane, corner, outward};
+use crate::scene_data::{LIGHT_DIRECTIONAL, LIGHT_ENVIRONMENT};
+use crate::convex_solid::{SceneSolids, SolidPlane, light_corners, outward};
 use caustic_bvh::{GpuBvh, SHAPE_BIT};
 use glam::{DVec3, Vec3};
 
@@ -79,20 +79,9 @@ impl ConvexOccluders {
                 o.planes.iter().any(|&(n, c)| points.iter().all(|p| n.as_dvec3().dot(*p) - f64::from(c) > self.tolerance))
             })
         };
-        lights.iter().all(|light| {
-            let [v0, e1, e2] = [light.v0, light.e1, light.e2].map(|v| Vec3::from(v).as_dvec3());
-            match light.kind {
-                LIGHT_TRIANGLE => outside(&[v0, v0 + e1, v0 + e2]),
-                LIGHT_QUAD => outside(&[v0, v0 + e1, v0 + e2, v0 + e1 + e2]),
-                LIGHT_POINT => {
-                    let r = f64::from(light.area.max(0.0));
-                    outside(&(0..8).map(|i| v0 + DVec3::new(corner(i, 0), corner(i, 1), corner(i, 2)) * r).collect::<Vec<_>>())
-                }
-                LIGHT_SPOT => outside(&[v0]),
-                LIGHT_SEGMENT => outside(&[v0, v0 + e1]),
-                LIGHT_DIRECTIONAL | LIGHT_ENVIRONMENT => true,
-                _ => false,
-            }
+        lights.iter().all(|light| match light.kind {
+            LIGHT_DIRECTIONAL | LIGHT_ENVIRONMENT => true,
+            _ => light_corners(light).is_some_and(|corners| outside(&corners)),
         })
     }
 
@@ -143,6 +132,7 @@ fn beyond_a_plane(planes: &[SolidPlane], points: &[DVec3], tolerance: f64) -> bo
 mod tests {
     use super::*;
     use crate::convex_solid::fixtures::{bvh_of, moved, random};
+    use crate::scene_data::{LIGHT_POINT, LIGHT_TRIANGLE};
     use caustic_bvh::{Ray, intersect_triangle, unit_cube_triangles};
 
     fn room() -> Vec<[Vec3; 3]> {

@@ -9,6 +9,8 @@
 //! triangle test: shadow rays use it through [`crate::convex_occluder`], closest-hit rays
 //! through [`crate::closest_solid`].
 
+use crate::gpu_types::GpuLight;
+use crate::scene_data::{LIGHT_POINT, LIGHT_QUAD, LIGHT_SEGMENT, LIGHT_SPOT, LIGHT_TRIANGLE};
 use caustic_bvh::{GpuBvh, SHAPE_BIT};
 use glam::DVec3;
 use std::collections::HashMap;
@@ -83,8 +85,26 @@ impl SceneSolids {
     }
 }
 
+/// The corners of what a light samples: a triangle's or quad's corners, a spread point
+/// light's box (radius `area`), a spot light's point, a segment's ends; `None` for lights
+/// without a finite set of corners (directional, environment, sphere and disk lights).
+pub(crate) fn light_corners(light: &GpuLight) -> Option<Vec<DVec3>> {
+    let [v0, e1, e2] = [light.v0, light.e1, light.e2].map(|v| glam::Vec3::from(v).as_dvec3());
+    match light.kind {
+        LIGHT_TRIANGLE => Some(vec![v0, v0 + e1, v0 + e2]),
+        LIGHT_QUAD => Some(vec![v0, v0 + e1, v0 + e2, v0 + e1 + e2]),
+        LIGHT_POINT => {
+            let r = f64::from(light.area.max(0.0));
+            Some((0..8).map(|i| v0 + DVec3::new(corner(i, 0), corner(i, 1), corner(i, 2)) * r).collect())
+        }
+        LIGHT_SPOT => Some(vec![v0]),
+        LIGHT_SEGMENT => Some(vec![v0, v0 + e1]),
+        _ => None,
+    }
+}
+
 /// -1 or 1: corner `i`'s sign along `axis`.
-pub(crate) fn corner(i: u32, axis: u32) -> f64 {
+fn corner(i: u32, axis: u32) -> f64 {
     if i >> axis & 1 == 1 { 1.0 } else { -1.0 }
 }
 

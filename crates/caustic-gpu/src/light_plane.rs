@@ -9,29 +9,26 @@
 //! planes after the lights are edited; directional lights and the environment, whose rays
 //! leave the scene, and sphere and disk lights turn it off.
 
+use crate::convex_solid::light_corners;
 use crate::gpu_types::GpuLight;
-use crate::scene_data::{LIGHT_POINT, LIGHT_QUAD, LIGHT_SEGMENT, LIGHT_SPOT, LIGHT_TRIANGLE};
 use caustic_bvh::{GpuBvh, SHAPE_BIT};
-use glam::{DVec3, Vec3};
-
-/// Distance, relative to the scene's size, within which a point counts as on a plane.
-const PLANE_TOLERANCE: f64 = 1e-6;
+use glam::DVec3;
 
 /// The triangles whose planes hold every light of the scene as uploaded.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct LightPlanes {
     /// Gathered slots and planes `normal . x = offset` of those triangles.
     faces: Vec<(u32, DVec3, f64)>,
+    /// Distance within which a point counts as on a plane.
     tolerance: f64,
 }
 
 impl LightPlanes {
-    /// The triangles of `bvh` in whose planes every one of `lights` lies (none if a light has
-    /// no finite extent in a plane, or there are no lights).
-    pub fn new(bvh: &GpuBvh, lights: &[GpuLight]) -> LightPlanes {
-        let size = bvh.triangles.iter().flat_map(|t| t.vertices()).fold(0.0f64, |m, v| m.max(f64::from(v.abs().max_element())));
-        let tolerance = PLANE_TOLERANCE * size.max(f64::MIN_POSITIVE);
-        let Some(points) = all_light_points(lights) else { return LightPlanes { faces: Vec::new(), tolerance } };
+    /// The triangles of `bvh` in whose planes every one of `lights` lies, within `tolerance`
+    /// (the scene's, [`crate::convex_solid::SceneSolids::tolerance`]); none if a light has no
+    /// finite set of corners, or there are no lights.
+    pub fn new(bvh: &GpuBvh, lights: &[GpuLight], tolerance: f64) -> LightPlanes {
+        let Some(points) = all_light_corners(lights) else { return LightPlanes { faces: Vec::new(), tolerance } };
         let faces = bvh
             .triangles
             .iter()
@@ -40,8 +37,8 @@ impl LightPlanes {
             .filter_map(|(slot, t)| {
                 let [a, b, c] = t.vertices().map(|v| v.as_dvec3());
                 let normal = (b - a).cross(c - a).try_normalize()?;
-                let offset = normal.dot(a);
-                points.iter().all(|p| (normal.dot(*p) - offset).abs() <= tolerance).then_some((slot as u32, normal, offset))
+                let plane = (slot as u32, normal, normal.dot(a));
+                holds_all(plane, &points, tolerance).then_some(plane)
             })
             .collect();
         LightPlanes { faces, tolerance }
@@ -53,41 +50,34 @@ impl LightPlanes {
     }
 
     /// Whether shadow rays may skip the triangles with `lights` lighting the scene: every light
-    /// point in every one of their planes.
+    /// corner in every one of their planes.
     pub fn skip_in_shadow_rays(&self, lights: &[GpuLight]) -> bool {
-        let Some(points) = all_light_points(lights) else { return false };
-        !self.faces.is_empty() && self.faces.iter().all(|(_, normal, offset)| points.iter().all(|p| (normal.dot(*p) - offset).abs() <= self.tolerance))
+        let Some(points) = all_light_corners(lights) else { return false };
+        !self.faces.is_empty() && self.faces.iter().all(|&face| holds_all(face, &points, self.tolerance))
     }
 }
 
-/// Every point that bounds the lights' sampled extents, or `None` if there is no light or one
-/// reaches beyond a finite set of points (directional, environment, sphere and disk lights).
-fn all_light_points(lights: &[GpuLight]) -> Option<Vec<DVec3>> {
+/// Whether the plane of `face` holds every one of `points` (within `tolerance`).
+fn holds_all((_, normal, offset): (u32, DVec3, f64), points: &[DVec3], tolerance: f64) -> bool {
+    points.iter().all(|p| (normal.dot(*p) - offset).abs() <= tolerance)
+}
+
+/// Every light's corners ([`light_corners`]), or `None` if there is no light or one has none.
+fn all_light_corners(lights: &[GpuLight]) -> Option<Vec<DVec3>> {
     if lights.is_empty() {
         return None;
     }
-    let points: Option<Vec<Vec<DVec3>>> = lights.iter().map(light_points).collect();
-    Some(points?.concat())
-}
-
-/// The corners of a light's sampled extent, or `None` for a light without a finite polygon.
-fn light_points(light: &GpuLight) -> Option<Vec<DVec3>> {
-    let [v0, e1, e2] = [light.v0, light.e1, light.e2].map(|v| Vec3::from(v).as_dvec3());
-    match light.kind {
-        LIGHT_TRIANGLE => Some(vec![v0, v0 + e1, v0 + e2]),
-        LIGHT_QUAD => Some(vec![v0, v0 + e1, v0 + e2, v0 + e1 + e2]),
-        LIGHT_POINT if light.area <= 0.0 => Some(vec![v0]),
-        LIGHT_SPOT => Some(vec![v0]),
-        LIGHT_SEGMENT => Some(vec![v0, v0 + e1]),
-        _ => None,
-    }
+    let corners: Option<Vec<Vec<DVec3>>> = lights.iter().map(light_corners).collect();
+    Some(corners?.concat())
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::convex_solid::SceneSolids;
     use crate::convex_solid::fixtures::bvh_of;
-    use crate::scene_data::LIGHT_DIRECTIONAL;
+    use crate::scene_data::{LIGHT_DIRECTIONAL, LIGHT_QUAD};
+    use glam::Vec3;
 
     fn quad(y: f32) -> GpuLight {
         GpuLight { v0: [1.0, y, 1.0], e1: [1.0, 0.0, 0.0], e2: [0.0, 0.0, 1.0], kind: LIGHT_QUAD, ..bytemuck::Zeroable::zeroed() }
@@ -102,7 +92,8 @@ mod tests {
     #[test]
     fn the_lights_own_triangles_are_skipped_while_every_light_stays_in_their_plane() {
         let bvh = scene();
-        let planes = LightPlanes::new(&bvh, &[quad(9.0)]);
+        let tolerance = SceneSolids::new(&bvh).tolerance;
+        let planes = LightPlanes::new(&bvh, &[quad(9.0)], tolerance);
         let ids: Vec<u32> = planes.slots().map(|s| bvh.triangles[s as usize].id).collect();
         assert_eq!(ids.len(), 2, "{ids:?}");
         assert!(ids.iter().all(|&id| id != 0), "the floor holds no light");
@@ -110,7 +101,7 @@ mod tests {
         assert!(!planes.skip_in_shadow_rays(&[quad(9.0), quad(5.0)]), "a second light below");
         let sun = GpuLight { kind: LIGHT_DIRECTIONAL, ..bytemuck::Zeroable::zeroed() };
         assert!(!planes.skip_in_shadow_rays(&[quad(9.0), sun]), "a directional light");
-        assert!(LightPlanes::new(&bvh, &[quad(9.0), quad(5.0)]).slots().next().is_none());
-        assert!(!LightPlanes::new(&bvh, &[]).skip_in_shadow_rays(&[]));
+        assert!(LightPlanes::new(&bvh, &[quad(9.0), quad(5.0)], tolerance).slots().next().is_none());
+        assert!(!LightPlanes::new(&bvh, &[], tolerance).skip_in_shadow_rays(&[]));
     }
 }

@@ -69,7 +69,7 @@ pub fn unrolled_traversal(bvh: &GpuBvh, lights: &[GpuLight]) -> Option<UnrolledT
     let occluders = ConvexOccluders::of(bvh, &solids);
     let closest_solids = ClosestSolids::new(bvh, &solids);
     let solid_slots = closest_solids.slots();
-    let light_planes = LightPlanes::new(bvh, lights);
+    let light_planes = LightPlanes::new(bvh, lights, solids.tolerance);
     let light_plane_slots: Vec<u32> = light_planes.slots().collect();
     let occluder_slots: Vec<u32> = occluders.occluders.iter().flat_map(|o| o.slots.iter().copied()).collect();
     if !occluders.occluders.is_empty() {
