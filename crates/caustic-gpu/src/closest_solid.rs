@@ -19,6 +19,7 @@
 //! alpha-tested materials (a clip could not look through a cut-out) or motion.
 
 use crate::convex_solid::{ConvexSolid, FlatPolygon, SceneSolids};
+use crate::specialize::vec4;
 use caustic_bvh::GpuBvh;
 use glam::{DVec3, Vec3};
 use std::fmt::Write;
@@ -106,7 +107,6 @@ impl ClosestSolids {
     /// The WGSL block of the generated `trace` that finds the nearest solid surface and merges
     /// it into `hit` (`shaders/bvh/unrolled.wgsl`: `clip_chord`, `nearer_surface`, `solid_hit`).
     pub fn wgsl(&self) -> String {
-        let vec4 = |v: Vec3, w: f32| format!("vec4<f32>({:?}f, {:?}f, {:?}f, {w:?}f)", v.x, v.y, v.z);
         let mut wgsl = String::from("    if !any_hit {\n        var surface = SolidSurface(3.4e38, NO_HIT);\n");
         for solid in &self.solids {
             wgsl.push_str("        {\n            var chord = begin_chord();\n");

@@ -77,7 +77,7 @@ pub fn unrolled_traversal(bvh: &GpuBvh, lights: &[GpuLight]) -> Option<UnrolledT
         for occluder in &occluders.occluders {
             wgsl.push_str("        {\n            var span = vec2<f32>(0.0, t_max);\n");
             for &(normal, offset) in &occluder.planes {
-                let _ = writeln!(wgsl, "            span = clip_to_plane(ray, span, vec4<f32>({}, {offset:?}f));", vec3(normal));
+                let _ = writeln!(wgsl, "            span = clip_to_plane(ray, span, {});", vec4(normal, offset));
             }
             let slot = occluder.slots[0];
             let _ = writeln!(wgsl, "            hit = occluder_hit(hit, span, {}u, {slot}u);\n        }}", bvh.triangles[slot as usize].id);
@@ -135,6 +135,12 @@ pub fn lobe_mask(materials: &[crate::gpu_types::GpuMaterial]) -> u32 {
 /// float formatting, as WGSL literals with the `f` suffix).
 fn vec3(v: Vec3) -> String {
     format!("vec3<f32>({:?}f, {:?}f, {:?}f)", v.x, v.y, v.z)
+}
+
+/// A WGSL `vec4<f32>` of `v` and `w` reproducing them exactly, as [`vec3`]: the planes of the
+/// generated clips.
+pub(crate) fn vec4(v: Vec3, w: f32) -> String {
+    format!("vec4<f32>({}, {w:?}f)", vec3(v))
 }
 
 #[cfg(test)]
