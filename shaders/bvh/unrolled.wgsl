@@ -8,11 +8,13 @@
 // `hit`, or the triangle v0 v1 v2 if the ray meets it closer, or at the same distance and wins
 // the tie (bvh/leaf.wgsl `wins_tie`).
 fn test_triangle(r: TraversalRay, hit: Hit, v0: vec3<f32>, v1: vec3<f32>, v2: vec3<f32>, id: u32, slot: u32) -> Hit {
-    let th = intersect_triangle(r, v0, v1, v2, tie_inclusive(hit));
-    if !(th.t > 0.0) {
-        return hit;
-    }
-    if th.t < hit.t || wins_tie(th.front, id, hit) {
+    return nearer_triangle(hit, intersect_triangle(r, v0, v1, v2, tie_inclusive(hit)), id, slot);
+}
+
+// `hit`, or triangle `id` (gathered `slot`) met at `th` if it is a hit closer than `hit`, or
+// at the same distance and wins the tie (th was tested against tie_inclusive(hit)).
+fn nearer_triangle(hit: Hit, th: TriangleHit, id: u32, slot: u32) -> Hit {
+    if th.t > 0.0 && (th.t < hit.t || wins_tie(th.front, id, hit)) {
         hit_front = th.front;
         return Hit(th.t, th.u, th.v, id, slot);
     }
@@ -153,12 +155,8 @@ fn solid_hit(r: TraversalRay, hit: Hit, surface: SolidSurface) -> Hit {
     let slot = select(0u, surface.slot, surface.slot != NO_HIT);
     let tri = bvh_triangles[slot];
     let th = plane_hit(shear_triangle(r, tri.v0, tri.v1, tri.v2), tie_inclusive(hit));
-    if surface.slot == NO_HIT || !(th.t > 0.0) {
+    if surface.slot == NO_HIT {
         return hit;
     }
-    if th.t < hit.t || wins_tie(th.front, tri.id, hit) {
-        hit_front = th.front;
-        return Hit(th.t, th.u, th.v, tri.id, slot);
-    }
-    return hit;
+    return nearer_triangle(hit, th, tri.id, slot);
 }
