@@ -70,7 +70,7 @@ impl<'a> PathTracer<'a> {
         let film = Film { accumulation: &accumulation, nonfinite_counts: &nonfinite_counts, inspection: &inspection };
         let bind_group = bind_group(device, &layout, &frame_buffer, gpu, &film);
         ctx.check()?;
-        Ok(PathTracer {
+        let mut tracer = PathTracer {
             ctx,
             stages,
             layout,
@@ -87,7 +87,20 @@ impl<'a> PathTracer<'a> {
             first_sample: settings.first_sample,
             complete_passes: 0,
             next_pixel: 0,
-        })
+        };
+        tracer.warm_up()?;
+        Ok(tracer)
+    }
+
+    /// Runs the megakernel once over an empty tile and waits: lavapipe compiles a pipeline at
+    /// its first dispatch (0.1-1 s, more on a loaded machine), which belongs to set-up, not to
+    /// the first tile of a render with a time budget.
+    fn warm_up(&mut self) -> Result<(), GpuError> {
+        self.write_tile(0, 0);
+        match &self.stages {
+            Stages::Megakernel(pipeline) => self.run_megakernel(pipeline, 1),
+            Stages::Wavefront(_) => Ok(()),
+        }
     }
 
     /// Starts the accumulation over, for an interactive view: takes `scene`'s camera,
@@ -100,7 +113,8 @@ impl<'a> PathTracer<'a> {
     pub fn restart(&mut self, scene: &Scene, gpu: &GpuScene, settings: &RenderSettings) -> Result<(), GpuError> {
         let wanted = Kernel::for_render(self.ctx, gpu, settings);
         let frame = frame_constants(scene, gpu, settings);
-        if wanted != self.kernel || !self.stages.fit(settings.shape, &frame) {
+        let recompile = wanted != self.kernel || !self.stages.fit(settings.shape, &frame);
+        if recompile {
             self.stages = Stages::new(self.ctx, &wanted, &self.layout, settings.shape, &frame)?;
             self.kernel = wanted;
         }
@@ -119,6 +133,9 @@ impl<'a> PathTracer<'a> {
         self.first_sample = settings.first_sample;
         self.complete_passes = 0;
         self.next_pixel = 0;
+        if recompile {
+            self.warm_up()?;
+        }
         self.ctx.check()
     }
 
@@ -158,7 +175,7 @@ impl<'a> PathTracer<'a> {
     fn dispatch_tile(&mut self, start: u32, pixels: u32) -> Result<(), GpuError> {
         self.write_tile(start, pixels);
         match &self.stages {
-            Stages::Megakernel(pipeline) => self.run_megakernel(pipeline, pixels),
+            Stages::Megakernel(pipeline) => self.run_megakernel(pipeline, self.kernel.invocations(pixels).div_ceil(WORKGROUP_SIZE)),
             Stages::Wavefront(wavefront) => wavefront.trace_tile(self.ctx, &self.bind_group, pixels, self.frame.max_depth.min(SAFETY_MAX_BOUNCES)),
         }
     }
@@ -170,15 +187,15 @@ impl<'a> PathTracer<'a> {
         self.ctx.queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&self.frame));
     }
 
-    /// One dispatch of `pipeline` (a build of [`PathTracer::kernel`]) over the tile of
-    /// `pixels` pixels [`PathTracer::write_tile`] set.
-    fn run_megakernel(&self, pipeline: &wgpu::ComputePipeline, pixels: u32) -> Result<(), GpuError> {
+    /// One dispatch of `workgroups` workgroups of `pipeline` (a build of [`PathTracer::kernel`])
+    /// over the tile [`PathTracer::write_tile`] set, waited for.
+    fn run_megakernel(&self, pipeline: &wgpu::ComputePipeline, workgroups: u32) -> Result<(), GpuError> {
         let mut encoder = self.ctx.device.create_command_encoder(&Default::default());
         {
             let mut pass = encoder.begin_compute_pass(&Default::default());
             pass.set_pipeline(pipeline);
             pass.set_bind_group(0, &self.bind_group, &[]);
-            pass.dispatch_workgroups(self.kernel.invocations(pixels).div_ceil(WORKGROUP_SIZE), 1, 1);
+            pass.dispatch_workgroups(workgroups, 1, 1);
         }
         self.ctx.queue.submit([encoder.finish()]);
         self.ctx.wait()
