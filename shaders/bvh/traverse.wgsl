@@ -7,6 +7,14 @@
 
 const STACK_SIZE: u32 = 64u;
 
+// The walk's stack of subtrees still to visit, and their tree levels (for BVH_LEVELS,
+// bvh/hit.wgsl). Private rather than local to `trace`: lavapipe (Mesa 22.3) ran the walk
+// 15-20% slower with the arrays declared inside the function (docs/PERFORMANCE.md, "The
+// traversal stack in private memory"). `trace` never nests, so one stack per invocation serves
+// every call.
+var<private> stack_child: array<u32, STACK_SIZE>;
+var<private> stack_level: array<u32, STACK_SIZE>;
+
 // Closest hit along the ray in (0, t_max); with `any_hit` it returns at the first hit found.
 // Two inner loops ("while-while", Aila & Laine 2009): descend through interior nodes until
 // the lane stands at a leaf, then test the leaf's primitives. Lavapipe runs both halves of an
@@ -15,12 +23,10 @@ const STACK_SIZE: u32 = 64u;
 fn trace(ray: Ray, t_max: f32, any_hit: bool, cost: ptr<function, TraversalCost>) -> Hit {
     let r = prepare_ray(ray);
     var hit = begin_trace(t_max);
-    var stack_child: array<u32, STACK_SIZE>;
     var sp = 0u;
     var current = 0u;
-    // Tree levels of `current` and of the stacked subtrees, for BVH_LEVELS (bvh/hit.wgsl).
+    // Tree level of `current`, for BVH_LEVELS (bvh/hit.wgsl).
     var level = 0u;
-    var stack_level: array<u32, STACK_SIZE>;
     loop {
         // Descend to a leaf; `current` becomes EMPTY_CHILD when the tree is exhausted.
         while current != EMPTY_CHILD && !is_leaf(current) {

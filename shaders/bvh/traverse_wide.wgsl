@@ -38,6 +38,14 @@ fn order_wide_children(r: TraversalRay, index: u32, t_max: f32) -> WideOrder {
     return order;
 }
 
+// The walk's stack of subtrees still to visit, and their tree levels (for BVH_LEVELS,
+// bvh/hit.wgsl). Private rather than local to `trace`: lavapipe (Mesa 22.3) ran the walk
+// 15-20% slower with the arrays declared inside the function (docs/PERFORMANCE.md, "The
+// traversal stack in private memory"). `trace` never nests, so one stack per invocation serves
+// every call.
+var<private> stack_child: array<u32, WIDE_STACK_ROOM>;
+var<private> stack_level: array<u32, WIDE_STACK_ROOM>;
+
 // Closest hit along the ray in (0, t_max); with `any_hit` it returns at the first hit found.
 // While-while like the binary walk. A node pushes its hit children but the nearest without
 // branching: each of children 3, 2, 1 is written to the stack top, which moves up only if
@@ -45,12 +53,10 @@ fn order_wide_children(r: TraversalRay, index: u32, t_max: f32) -> WideOrder {
 fn trace(ray: Ray, t_max: f32, any_hit: bool, cost: ptr<function, TraversalCost>) -> Hit {
     let r = prepare_ray(ray);
     var hit = begin_trace(t_max);
-    var stack_child: array<u32, WIDE_STACK_ROOM>;
     var sp = 0u;
     var current = 0u;
-    // Tree levels of `current` and of the stacked subtrees, for BVH_LEVELS (bvh/hit.wgsl).
+    // Tree level of `current`, for BVH_LEVELS (bvh/hit.wgsl).
     var level = 0u;
-    var stack_level: array<u32, WIDE_STACK_ROOM>;
     loop {
         while current != EMPTY_CHILD && !is_leaf(current) {
             let order = order_wide_children(r, current, hit.t);

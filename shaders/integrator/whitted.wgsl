@@ -41,8 +41,12 @@ fn glossy_direction(r: vec3<f32>, gloss: f32, ng: vec3<f32>, u: vec2<f32>) -> ve
     return d;
 }
 
+// Rays still to trace, with their weights. Private rather than local to `trace_classic`, as
+// the BVH walk's stack (bvh/traverse.wgsl): lavapipe runs dynamically indexed arrays local to
+// a function slower.
+var<private> stack: array<ClassicRay, CLASSIC_STACK>;
+
 fn trace_classic(primary: Ray, rng: ptr<function, Rng>) -> vec3<f32> {
-    var stack: array<ClassicRay, CLASSIC_STACK>;
     stack[0] = ClassicRay(primary, vec3<f32>(1.0), 0u);
     var size = 1u;
     var color = vec3<f32>(0.0);
