@@ -92,14 +92,14 @@ impl<'a> PathTracer<'a> {
         Ok(tracer)
     }
 
-    /// Runs the megakernel once over an empty tile and waits: lavapipe compiles a pipeline at
-    /// its first dispatch (0.1-1 s, more on a loaded machine), which belongs to set-up, not to
-    /// the first tile of a render with a time budget.
+    /// Runs the kernel (the megakernel, or each wavefront stage) once over an empty tile and
+    /// waits: lavapipe compiles a pipeline at its first dispatch (0.1-1 s, more on a loaded
+    /// machine), which belongs to set-up, not to the first tile of a render with a time budget.
     fn warm_up(&mut self) -> Result<(), GpuError> {
         self.write_tile(0, 0);
         match &self.stages {
             Stages::Megakernel(pipeline) => self.run_megakernel(pipeline, 1),
-            Stages::Wavefront(_) => Ok(()),
+            Stages::Wavefront(wavefront) => wavefront.warm_up(self.ctx, &self.bind_group),
         }
     }
 

@@ -235,6 +235,23 @@ impl Wavefront {
         ctx.wait()
     }
 
+    /// Dispatches every stage once over empty queues (the frame buffer must hold an empty
+    /// tile) and waits: lavapipe compiles each pipeline at its first dispatch, which belongs
+    /// to set-up, as [`crate::PathTracer`]'s megakernel warm-up. Records nothing: every stage
+    /// returns at its queue's count or the tile's size.
+    pub fn warm_up(&self, ctx: &GpuContext, integrators: &wgpu::BindGroup) -> Result<(), GpuError> {
+        ctx.queue.write_buffer(&self.control, 0, bytemuck::bytes_of(&WavefrontControl::default()));
+        let mut encoder = ctx.device.create_command_encoder(&Default::default());
+        self.encode_pass(&mut encoder, integrators, |pass| {
+            for stage in [&self.generate, &self.extend, &self.shade, &self.connect, &self.film, &self.advance] {
+                pass.set_pipeline(stage);
+                pass.dispatch_workgroups(1, 1, 1);
+            }
+        });
+        ctx.queue.submit([encoder.finish()]);
+        ctx.wait()
+    }
+
     /// Queues all `pixels` paths of a tile for bounce 0, no shadow rays; returns the
     /// workgroups that cover the tile.
     fn start_tile(&self, ctx: &GpuContext, pixels: u32) -> u32 {
