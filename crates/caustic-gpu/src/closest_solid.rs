@@ -252,6 +252,14 @@ mod tests {
         crate::convex_solid::fixtures::room(true)
     }
 
+    /// A ray from a uniformly random point of the cube `[corner, corner + size]^3` in a random
+    /// direction (+x in the all but impossible case of a zero draw).
+    fn random_ray(random: &mut impl FnMut() -> f32, size: f32, corner: f32) -> (Vec3, Vec3) {
+        let origin = Vec3::new(random(), random(), random()) * size + corner;
+        let direction = (Vec3::new(random(), random(), random()) * 2.0 - 1.0).try_normalize().unwrap_or(Vec3::X);
+        (origin, direction)
+    }
+
     /// The nearest of `slots`' triangles along `ray` by the triangle test: distance and slot.
     fn first_triangle(bvh: &GpuBvh, slots: &[u32], ray: &Ray) -> Option<(f32, u32)> {
         let hits = slots.iter().filter_map(|&s| {
@@ -294,8 +302,7 @@ mod tests {
         let mut random = random(0x2545_f491);
         let (mut rays, mut hits, mut differing, mut worst) = (0, 0, 0, 0.0f32);
         while rays < 50_000 {
-            let origin = Vec3::new(random(), random(), random()) * 14.0 - 2.0;
-            let direction = (Vec3::new(random(), random(), random()) * 2.0 - 1.0).try_normalize().unwrap_or(Vec3::X);
+            let (origin, direction) = random_ray(&mut random, 14.0, -2.0);
             rays += 1;
             for solid in &closest.solids {
                 let ray = Ray { origin, direction, t_max: 3.0e38 };
@@ -349,8 +356,7 @@ mod tests {
         let mut random = random(0x51ed_270b);
         let (mut hits, mut differing) = (0, 0);
         for _ in 0..200_000 {
-            let origin = Vec3::new(random(), random(), random()) * 10.0;
-            let direction = (Vec3::new(random(), random(), random()) * 2.0 - 1.0).try_normalize().unwrap_or(Vec3::Z);
+            let (origin, direction) = random_ray(&mut random, 10.0, 0.0);
             let ray = Ray { origin, direction, t_max: 3.0e38 };
             for polygon in &closest.polygons {
                 let first = first_triangle(&bvh, &polygon.face.slots, &ray).map(|(_, s)| s);

@@ -157,23 +157,13 @@ fn groups(bvh: &GpuBvh) -> Vec<Vec<u32>> {
 fn solid_planes(bvh: &GpuBvh, slots: &[u32], scene: &[Vec<DVec3>], tolerance: f64) -> Option<Vec<SolidPlane>> {
     let corners: Vec<DVec3> = slots.iter().flat_map(|&s| scene[s as usize].iter().copied()).collect();
     let mut planes: Vec<SolidPlane> = Vec::new();
-    let mut edges: HashMap<[[u32; 3]; 2], u32> = HashMap::new();
     for &slot in slots {
-        let vertices = bvh.triangles[slot as usize].vertices();
-        let [a, b, c] = vertices.map(|v| v.as_dvec3());
+        let [a, b, c] = bvh.triangles[slot as usize].vertices().map(|v| v.as_dvec3());
         let normal = (b - a).cross(c - a).try_normalize()?;
         let plane = outward(normal, normal.dot(a), &corners, tolerance)?;
         add_plane(&mut planes, plane, tolerance).slots.push(slot);
-        for i in 0..3 {
-            let mut edge = [vertices[i], vertices[(i + 1) % 3]].map(|v| v.to_array().map(f32::to_bits));
-            edge.sort();
-            *edges.entry(edge).or_default() += 1;
-        }
     }
-    if edges.values().any(|&n| n > 2) {
-        return None;
-    }
-    let rim: Vec<DVec3> = edges.iter().filter(|(_, n)| **n == 1).flat_map(|(e, _)| e.map(|p| glam::Vec3::from_array(p.map(f32::from_bits)).as_dvec3())).collect();
+    let rim: Vec<DVec3> = open_edges(bvh, slots)?.concat();
     if !rim.is_empty() {
         let closing = rim_plane(&rim, tolerance)?;
         let (normal, offset) = outward(closing.0, closing.1, &corners, tolerance)?;
@@ -190,18 +180,12 @@ fn solid_planes(bvh: &GpuBvh, slots: &[u32], scene: &[Vec<DVec3>], tolerance: f6
     Some(planes)
 }
 
-/// The group `slots` as a flat convex polygon, or `None` if its triangles do not share one
-/// plane, an edge belongs to more than two of them, or its outline is not convex.
-fn flat_polygon(bvh: &GpuBvh, slots: Vec<u32>, tolerance: f64) -> Option<FlatPolygon> {
-    let corners: Vec<DVec3> = slots.iter().flat_map(|&s| bvh.triangles[s as usize].vertices().map(|v| v.as_dvec3())).collect();
-    let [a, b, c] = bvh.triangles[slots[0] as usize].vertices().map(|v| v.as_dvec3());
-    let normal = (b - a).cross(c - a).try_normalize()?;
-    let offset = normal.dot(a);
-    if corners.iter().any(|p| (normal.dot(*p) - offset).abs() > tolerance) {
-        return None;
-    }
+/// The edges of the group `slots` that belong to one of its triangles only (a solid's open
+/// rim, a polygon's outline), or `None` if an edge belongs to more than two. Edges match by
+/// their corners' bits.
+fn open_edges(bvh: &GpuBvh, slots: &[u32]) -> Option<Vec<[DVec3; 2]>> {
     let mut edges: HashMap<[[u32; 3]; 2], u32> = HashMap::new();
-    for &slot in &slots {
+    for &slot in slots {
         let vertices = bvh.triangles[slot as usize].vertices();
         for i in 0..3 {
             let mut edge = [vertices[i], vertices[(i + 1) % 3]].map(|v| v.to_array().map(f32::to_bits));
@@ -212,8 +196,22 @@ fn flat_polygon(bvh: &GpuBvh, slots: Vec<u32>, tolerance: f64) -> Option<FlatPol
     if edges.values().any(|&n| n > 2) {
         return None;
     }
-    let outline = edges.iter().filter(|(_, n)| **n == 1).map(|(e, _)| e.map(|p| glam::Vec3::from_array(p.map(f32::from_bits)).as_dvec3()));
-    let edges = outline
+    let point = |bits: [u32; 3]| glam::Vec3::from_array(bits.map(f32::from_bits)).as_dvec3();
+    Some(edges.into_iter().filter(|&(_, n)| n == 1).map(|(edge, _)| edge.map(point)).collect())
+}
+
+/// The group `slots` as a flat convex polygon, or `None` if its triangles do not share one
+/// plane, an edge belongs to more than two of them, or its outline is not convex.
+fn flat_polygon(bvh: &GpuBvh, slots: Vec<u32>, tolerance: f64) -> Option<FlatPolygon> {
+    let corners: Vec<DVec3> = slots.iter().flat_map(|&s| bvh.triangles[s as usize].vertices().map(|v| v.as_dvec3())).collect();
+    let [a, b, c] = bvh.triangles[slots[0] as usize].vertices().map(|v| v.as_dvec3());
+    let normal = (b - a).cross(c - a).try_normalize()?;
+    let offset = normal.dot(a);
+    if corners.iter().any(|p| (normal.dot(*p) - offset).abs() > tolerance) {
+        return None;
+    }
+    let edges = open_edges(bvh, &slots)?
+        .into_iter()
         .map(|[p, q]| {
             let across = (q - p).cross(normal).try_normalize()?;
             outward(across, across.dot(p), &corners, tolerance)

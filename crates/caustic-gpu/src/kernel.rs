@@ -67,6 +67,7 @@ impl Kernel {
             "render_sample" => settings.paths_per_invocation.unwrap_or_else(|| paths_per_invocation(ctx, depth_limit(settings))).max(1),
             _ => 1,
         };
+        let specialised = specialised_traversal(gpu, settings).is_some();
         Kernel {
             entry_point,
             traversal: traversal(gpu, settings),
@@ -81,9 +82,9 @@ impl Kernel {
                 DataPath::Auto | DataPath::Traversal => gpu.requirements,
                 DataPath::Buffers => REQUIRES_ALL,
             },
-            shadow_hull_cull: gpu.shadow_hull_cull && specialised_traversal(gpu, settings).is_some(),
-            shadow_convex_occluders: gpu.shadow_occluder_clip && specialised_traversal(gpu, settings).is_some(),
-            shadow_light_planes: gpu.shadow_light_plane_skip && specialised_traversal(gpu, settings).is_some(),
+            shadow_hull_cull: gpu.shadow_hull_cull && specialised,
+            shadow_convex_occluders: gpu.shadow_occluder_clip && specialised,
+            shadow_light_planes: gpu.shadow_light_plane_skip && specialised,
             paths_per_invocation,
         }
     }
