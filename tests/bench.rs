@@ -45,6 +45,9 @@ fn external_rays_hit_what_brute_force_finds() {
         "1",
         "--json",
     ]);
+    let driver = report["driver"].as_str().expect("the report names the driver");
+    println!("driver: {driver}");
+    assert!(!driver.is_empty(), "empty driver name");
     let mesh = &report["meshes"][0];
     println!("{} rays, {:.2} Mrays/s, hit fraction {:.3}", mesh["rays"], mesh["mrays_per_second"], mesh["hit_fraction"]);
     assert_eq!(mesh["rays"].as_u64(), Some(rays.len() as u64));

@@ -124,7 +124,8 @@ def caustic_trace(caustic, path, rays_file, hits_file, repeats, layout):
          "--bvh-layout", layout, "--json"],
         check=True, capture_output=True, text=True,
     )
-    report = json.loads(out.stdout)["meshes"][0]
+    whole = json.loads(out.stdout)
+    report = dict(whole["meshes"][0], adapter=f"{whole['adapter']}, {whole['driver']}")
     raw = np.fromfile(hits_file, dtype="<u4")
     n = len(raw) // 2
     return report, raw[:n].view("<f4"), raw[n:].view("<i4")
@@ -151,6 +152,7 @@ def main():
     args = parser.parse_args()
     rng = np.random.default_rng(7)
     rows = []
+    adapter = None
     with tempfile.TemporaryDirectory() as tmp:
         for path in args.meshes:
             triangles = load_triangles(path)
@@ -161,12 +163,13 @@ def main():
                 rays_file, hits_file = os.path.join(tmp, kind + ".rays"), os.path.join(tmp, kind + ".hits")
                 np.concatenate([origins, directions], axis=1).astype("<f4").tofile(rays_file)
                 report, t, tri = caustic_trace(args.caustic, path, rays_file, hits_file, args.repeats, args.bvh_layout)
+                adapter = report["adapter"]
                 single, threaded = embree_throughput(path, scene, origins, directions, args.repeats, args.embree_threads)
                 same, rel = agreement(scene, origins, directions, t, tri)
                 rows.append((os.path.basename(path), len(triangles), kind, build_s * 1e3, report["bvh_build_ms"],
                              single, threaded, report["mrays_per_second"], same, rel))
     print(f"threads for Embree's throughput: 1 and {args.embree_threads}; rays: {args.grid}x{args.grid}; "
-          f"Caustic's BVH layout: {args.bvh_layout}")
+          f"Caustic's BVH layout: {args.bvh_layout}; Caustic's adapter: {adapter}")
     print("| mesh | triangles | rays | build ms Embree | build ms Caustic | ratio | Mrays/s Embree 1T | "
           f"Embree {args.embree_threads}T | Caustic | Caustic / Embree {args.embree_threads}T | same triangle | max rel t diff |")
     print("|---|---|---|---|---|---|---|---|---|---|---|---|")

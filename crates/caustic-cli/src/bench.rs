@@ -100,6 +100,8 @@ struct RaySetReport {
 struct BenchReport<T> {
     adapter: String,
     adapter_type: String,
+    /// The driver and its version (e.g. `llvmpipe Mesa 25.0.7`): lavapipe's speed depends on it.
+    driver: String,
     meshes: Vec<T>,
 }
 
@@ -138,7 +140,12 @@ fn report<T: Serialize>(
         meshes.push(report);
     }
     if args.device.json {
-        let report = BenchReport { adapter: ctx.adapter.name.clone(), adapter_type: ctx.adapter.device_type.clone(), meshes };
+        let report = BenchReport {
+            adapter: ctx.adapter.name.clone(),
+            adapter_type: ctx.adapter.device_type.clone(),
+            driver: ctx.adapter.driver.clone(),
+            meshes,
+        };
         println!("{}", serde_json::to_string(&report)?);
     }
     Ok(())

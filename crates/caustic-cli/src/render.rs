@@ -26,6 +26,8 @@ const DEFAULT_SPP: u32 = 64;
 pub struct RenderReport {
     adapter: String,
     adapter_type: String,
+    /// The driver and its version (e.g. `llvmpipe Mesa 25.0.7`).
+    driver: String,
     scene: String,
     width: u32,
     height: u32,
@@ -66,6 +68,7 @@ impl RenderReport {
         RenderReport {
             adapter: ctx.adapter.name.clone(),
             adapter_type: ctx.adapter.device_type.clone(),
+            driver: ctx.adapter.driver.clone(),
             scene: scene.name.clone(),
             width,
             height,
