@@ -4,7 +4,7 @@
 #
 # On Debian 12 (bookworm) lavapipe comes from bookworm-backports (Mesa 25): the release's
 # own Mesa 22.3 ran Caustic's BVH walk at less than half the speed (docs/PERFORMANCE.md,
-# "Lavapipe from Mesa 25"), so an older mesa-vulkan-drivers there is upgraded too.
+# "Lavapipe from Mesa 25"), so an installed older mesa-vulkan-drivers there is upgraded too.
 set -euo pipefail
 source "$(dirname "$0")/apt-install.sh"
 
@@ -23,11 +23,11 @@ is_bookworm() {
     [ -r /etc/os-release ] && [ "$(. /etc/os-release && echo "${VERSION_CODENAME:-}")" = bookworm ]
 }
 
-# True if mesa-vulkan-drivers is missing or older than LAVAPIPE_MESA_MAJOR.
+# True if mesa-vulkan-drivers is installed and older than LAVAPIPE_MESA_MAJOR.
 mesa_is_old() {
     local version
     version=$(dpkg-query -W -f='${Version}' mesa-vulkan-drivers 2>/dev/null || true)
-    [ -z "$version" ] || dpkg --compare-versions "$version" lt "$LAVAPIPE_MESA_MAJOR"
+    [ -n "$version" ] && dpkg --compare-versions "$version" lt "$LAVAPIPE_MESA_MAJOR"
 }
 
 # Adds Debian's bookworm-backports suite unless some apt source already names it.
@@ -45,7 +45,8 @@ Signed-By: /usr/share/keyrings/debian-archive-keyring.gpg
 EOF
 }
 
-if is_bookworm && mesa_is_old; then
+# A machine whose only Vulkan driver is another vendor's (no mesa-vulkan-drivers) is left alone.
+if is_bookworm && { ! have_vulkan || mesa_is_old; }; then
     add_backports
     apt_install "lavapipe of Mesa $LAVAPIPE_MESA_MAJOR or newer" -t bookworm-backports mesa-vulkan-drivers libvulkan1
     mesa_is_old && { echo "error: mesa-vulkan-drivers is still older than $LAVAPIPE_MESA_MAJOR after installing it from bookworm-backports" >&2; exit 1; }
