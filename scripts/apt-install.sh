@@ -9,22 +9,28 @@ have_library() {
     [[ "$cache" == *"$1"* ]]
 }
 
-# Runs its arguments as root: directly, with sudo, or not at all (explaining what to run).
+# True if this script can act as root (it is root, or sudo exists).
+can_be_root() {
+    [ "$(id -u)" -eq 0 ] || command -v sudo >/dev/null 2>&1
+}
+
+# Stops with `$1` (what to do as root) unless this script can act as root.
+require_root() {
+    can_be_root && return
+    echo "error: this step needs root or sudo; run as root:" >&2
+    echo "  $1" >&2
+    exit 1
+}
+
+# Runs its arguments as root (directly, or with sudo); call require_root first.
 as_root() {
-    if [ "$(id -u)" -eq 0 ]; then
-        "$@"
-    elif command -v sudo >/dev/null 2>&1; then
-        sudo "$@"
-    else
-        echo "error: this step needs root or sudo; run as root:" >&2
-        echo "  $*" >&2
-        exit 1
-    fi
+    if [ "$(id -u)" -eq 0 ]; then "$@"; else sudo "$@"; fi
 }
 
 apt_install() {
     local what=$1
     shift
+    require_root "apt-get update && apt-get install -y $*"
     echo "$what is missing: installing $*." >&2
     export DEBIAN_FRONTEND=noninteractive
     as_root apt-get update -qq

@@ -35,6 +35,7 @@ add_backports() {
     if grep -rqs 'bookworm-backports' /etc/apt/sources.list /etc/apt/sources.list.d/; then
         return
     fi
+    require_root "echo 'deb http://deb.debian.org/debian bookworm-backports main' >/etc/apt/sources.list.d/backports.list && apt-get update && apt-get install -y -t bookworm-backports mesa-vulkan-drivers libvulkan1"
     echo "adding Debian's bookworm-backports suite ($BACKPORTS_LIST) for Mesa $LAVAPIPE_MESA_MAJOR." >&2
     as_root tee "$BACKPORTS_LIST" >/dev/null <<'EOF'
 Types: deb
@@ -49,7 +50,10 @@ EOF
 if is_bookworm && { ! have_vulkan || mesa_is_old; }; then
     add_backports
     apt_install "lavapipe of Mesa $LAVAPIPE_MESA_MAJOR or newer" -t bookworm-backports mesa-vulkan-drivers libvulkan1
-    mesa_is_old && { echo "error: mesa-vulkan-drivers is still older than $LAVAPIPE_MESA_MAJOR after installing it from bookworm-backports" >&2; exit 1; }
+    if mesa_is_old; then
+        echo "error: mesa-vulkan-drivers is still older than $LAVAPIPE_MESA_MAJOR after installing it from bookworm-backports" >&2
+        exit 1
+    fi
 elif ! have_vulkan; then
     apt_install "a Vulkan driver" mesa-vulkan-drivers libvulkan1
 fi
