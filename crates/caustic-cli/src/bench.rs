@@ -2,6 +2,7 @@
 
 use crate::args::BenchArgs;
 use crate::ray_file::{read_rays, write_hits};
+use crate::render::AdapterReport;
 use caustic_bvh::{BuildOptions, SplitMethod};
 use caustic_gpu::{BenchResult, ExternalRay, GpuContext, GpuScene, KernelShape, PathTracer, RayBench, RayKind, RenderSettings};
 use caustic_scene::{SceneSource, load_scene};
@@ -98,10 +99,8 @@ struct RaySetReport {
 
 #[derive(Debug, Serialize)]
 struct BenchReport<T> {
-    adapter: String,
-    adapter_type: String,
-    /// The driver and its version (e.g. `llvmpipe Mesa 25.0.7`): lavapipe's speed depends on it.
-    driver: String,
+    #[serde(flatten)]
+    device: AdapterReport,
     meshes: Vec<T>,
 }
 
@@ -140,12 +139,7 @@ fn report<T: Serialize>(
         meshes.push(report);
     }
     if args.device.json {
-        let report = BenchReport {
-            adapter: ctx.adapter.name.clone(),
-            adapter_type: ctx.adapter.device_type.clone(),
-            driver: ctx.adapter.driver.clone(),
-            meshes,
-        };
+        let report = BenchReport { device: AdapterReport::of(ctx), meshes };
         println!("{}", serde_json::to_string(&report)?);
     }
     Ok(())

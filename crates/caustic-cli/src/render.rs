@@ -21,13 +21,28 @@ use std::time::Instant;
 
 const DEFAULT_SPP: u32 = 64;
 
-/// What a render reports with `--json` (one object on stdout).
+/// The device a `--json` report ran on, flattened into it: lavapipe's speed depends on the
+/// driver's version as much as on the adapter.
 #[derive(Debug, Serialize)]
-pub struct RenderReport {
+pub struct AdapterReport {
     adapter: String,
     adapter_type: String,
     /// The driver and its version (e.g. `llvmpipe Mesa 25.0.7`).
     driver: String,
+}
+
+impl AdapterReport {
+    /// The adapter and driver of `ctx`.
+    pub fn of(ctx: &GpuContext) -> AdapterReport {
+        AdapterReport { adapter: ctx.adapter.name.clone(), adapter_type: ctx.adapter.device_type.clone(), driver: ctx.adapter.driver.clone() }
+    }
+}
+
+/// What a render reports with `--json` (one object on stdout).
+#[derive(Debug, Serialize)]
+pub struct RenderReport {
+    #[serde(flatten)]
+    device: AdapterReport,
     scene: String,
     width: u32,
     height: u32,
@@ -66,9 +81,7 @@ impl RenderReport {
     ) -> RenderReport {
         let (width, height) = scene.resolution;
         RenderReport {
-            adapter: ctx.adapter.name.clone(),
-            adapter_type: ctx.adapter.device_type.clone(),
-            driver: ctx.adapter.driver.clone(),
+            device: AdapterReport::of(ctx),
             scene: scene.name.clone(),
             width,
             height,
