@@ -29,7 +29,15 @@ fn cornell_rays() -> Vec<(Vec3, Vec3)> {
 
 #[test]
 fn external_rays_hit_what_brute_force_finds() {
-    let dir = support::scratch("bench-rays");
+    for walk in ["lane", "packet", "auto"] {
+        external_rays_hit_what_brute_force_finds_with(walk);
+    }
+}
+
+/// The Cornell rays traced with `--walk walk`: the same hits as brute force whichever walk
+/// traced them. Lavapipe has the subgroups the packet walk needs, so there it must be taken.
+fn external_rays_hit_what_brute_force_finds_with(walk: &str) {
+    let dir = support::scratch(&format!("bench-rays-{walk}"));
     let rays = cornell_rays();
     let bytes: Vec<u8> = rays.iter().flat_map(|(o, d)| [o.x, o.y, o.z, d.x, d.y, d.z]).flat_map(f32::to_le_bytes).collect();
     let (rays_file, hits_file) = (dir.join("cornell.rays"), dir.join("cornell.hits"));
@@ -43,14 +51,23 @@ fn external_rays_hit_what_brute_force_finds() {
         hits_file.to_str().unwrap(),
         "--repeats",
         "1",
+        "--walk",
+        walk,
         "--json",
     ]);
     let driver = report["driver"].as_str().expect("the report names the driver");
     println!("driver: {driver}");
     assert!(!driver.is_empty(), "empty driver name");
     let mesh = &report["meshes"][0];
-    println!("{} rays, {:.2} Mrays/s, hit fraction {:.3}", mesh["rays"], mesh["mrays_per_second"], mesh["hit_fraction"]);
+    let traced_with = mesh["walk"].as_str().expect("the report names the walk");
+    println!("--walk {walk}: {} rays, {:.2} Mrays/s, hit fraction {:.3}, {traced_with} walk", mesh["rays"], mesh["mrays_per_second"], mesh["hit_fraction"]);
     assert_eq!(mesh["rays"].as_u64(), Some(rays.len() as u64));
+    let lavapipe = report["adapter"].as_str().is_some_and(|a| a.contains("llvmpipe"));
+    match walk {
+        // Half the set starts inside the box in random directions: not coherent.
+        "lane" | "auto" => assert_eq!(traced_with, "lane"),
+        _ => assert!(traced_with == "packet" || !lavapipe, "lavapipe has subgroups: the packet walk should trace"),
+    }
 
     let hits = std::fs::read(&hits_file).expect("hits file");
     assert_eq!(hits.len(), rays.len() * 8, "n f32 distances then n i32 indices");
@@ -63,10 +80,10 @@ fn external_rays_hit_what_brute_force_finds() {
         match expected {
             None => {
                 misses += 1;
-                assert_eq!((triangle, t), (-1, f32::INFINITY), "ray {i} should miss");
+                assert_eq!((triangle, t), (-1, f32::INFINITY), "ray {i} should miss ({walk} walk)");
             }
             Some(hit) => {
-                assert_eq!(triangle, hit.triangle as i32, "ray {i}: triangle");
+                assert_eq!(triangle, hit.triangle as i32, "ray {i}: triangle ({walk} walk)");
                 worst_t = worst_t.max((t - hit.t).abs() / hit.t);
             }
         }

@@ -27,10 +27,14 @@ fn compare_exchange(order: WideOrder, a: u32, b: u32) -> WideOrder {
     return out;
 }
 
-// The children of node `index` nearest first, as the CPU twin's five-exchange sorting network.
+// The children of node `index` nearest first.
 fn order_wide_children(r: TraversalRay, index: u32, t_max: f32) -> WideOrder {
-    var order = wide_node_entries(r, index, t_max);
-    order = compare_exchange(order, 0u, 1u);
+    return sort_wide_order(wide_node_entries(r, index, t_max));
+}
+
+// `unsorted` nearest first, as the CPU twin's five-exchange sorting network.
+fn sort_wide_order(unsorted: WideOrder) -> WideOrder {
+    var order = compare_exchange(unsorted, 0u, 1u);
     order = compare_exchange(order, 2u, 3u);
     order = compare_exchange(order, 0u, 2u);
     order = compare_exchange(order, 1u, 3u);
@@ -46,10 +50,21 @@ fn order_wide_children(r: TraversalRay, index: u32, t_max: f32) -> WideOrder {
 var<private> stack_child: array<u32, WIDE_STACK_ROOM>;
 var<private> stack_level: array<u32, WIDE_STACK_ROOM>;
 
+// Pushes the entered children of `order` but the nearest, farthest first, onto the stack
+// whose top is `sp`, and returns the new top: each of children 3, 2, 1 is written to the top,
+// which moves up only if that child was entered (misses sort last), so no push branches.
+fn push_farther_children(order: WideOrder, sp: u32) -> u32 {
+    let base = min(sp, WIDE_STACK_SIZE);
+    let entered = vec4<u32>(order.t < vec4<f32>(CHILD_MISSED));
+    stack_child[base] = order.child.w;
+    stack_child[base + entered.w] = order.child.z;
+    stack_child[base + entered.w + entered.z] = order.child.y;
+    return base + entered.w + entered.z + entered.y;
+}
+
 // Closest hit along the ray in (0, t_max); with `any_hit` it returns at the first hit found.
-// While-while like the binary walk. A node pushes its hit children but the nearest without
-// branching: each of children 3, 2, 1 is written to the stack top, which moves up only if
-// that child was hit (misses sort last).
+// While-while like the binary walk; a node pushes its entered children but the nearest
+// without branching (push_farther_children).
 fn trace(ray: Ray, t_max: f32, any_hit: bool, cost: ptr<function, TraversalCost>) -> Hit {
     let r = prepare_ray(ray);
     var hit = begin_trace(t_max);
@@ -61,18 +76,14 @@ fn trace(ray: Ray, t_max: f32, any_hit: bool, cost: ptr<function, TraversalCost>
         while current != EMPTY_CHILD && !is_leaf(current) {
             let order = order_wide_children(r, current, hit.t);
             (*cost).nodes += 1u;
-            let base = min(sp, WIDE_STACK_SIZE);
-            let hits = vec4<u32>(order.t < vec4<f32>(CHILD_MISSED));
-            stack_child[base] = order.child.w;
-            stack_child[base + hits.w] = order.child.z;
-            stack_child[base + hits.w + hits.z] = order.child.y;
             if BVH_LEVELS {
+                let base = min(sp, WIDE_STACK_SIZE);
                 stack_level[base] = level + 1u;
                 stack_level[base + 1u] = level + 1u;
                 stack_level[base + 2u] = level + 1u;
             }
-            sp = base + hits.w + hits.z + hits.y;
-            if hits.x != 0u {
+            sp = push_farther_children(order, sp);
+            if order.t.x < CHILD_MISSED {
                 current = order.child.x;
                 level++;
             } else if sp == 0u {

@@ -22,7 +22,11 @@ fn wide_child_entry(r: TraversalRay, node: BvhWideNode, steps: vec3<f32>, shift:
 
 // The children of node `index`: entry distances (CHILD_MISSED for misses and empty slots) and words.
 fn wide_node_entries(r: TraversalRay, index: u32, t_max: f32) -> WideOrder {
-    let node = bvh_nodes[index];
+    return wide_child_entries(r, bvh_nodes[index], t_max);
+}
+
+// The children of `node`, as wide_node_entries.
+fn wide_child_entries(r: TraversalRay, node: BvhWideNode, t_max: f32) -> WideOrder {
     let steps = wide_steps(node.exponents);
     let c = node.children;
     let t = vec4<f32>(

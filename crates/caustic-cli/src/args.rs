@@ -426,9 +426,29 @@ pub struct BenchArgs {
     /// Timed repeats per ray set; the best is reported.
     #[arg(long, default_value_t = 5)]
     pub repeats: u32,
+    /// With --rays: how each ray walks the BVH: auto (packet for a coherent set, as camera
+    /// rays are, lane otherwise), lane (each ray alone) or packet (each subgroup's rays
+    /// together; needs subgroups, the wide layout and a mesh; lane where not). The generated
+    /// sets use packet for primary rays and lane for incoherent ones.
+    #[arg(long, default_value = "auto", value_parser = parse_walk)]
+    pub walk: WalkChoice,
     /// Device selection and output format.
     #[command(flatten)]
     pub device: DeviceArgs,
+}
+
+/// `--walk`: a [`caustic_gpu::Walk`], or `None` for auto (the ray set's coherence decides).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct WalkChoice(pub Option<caustic_gpu::Walk>);
+
+/// Parses `auto`, `lane` or `packet` (see [`caustic_gpu::Walk`]).
+pub fn parse_walk(text: &str) -> Result<WalkChoice, String> {
+    match text {
+        "auto" => Ok(WalkChoice(None)),
+        "lane" => Ok(WalkChoice(Some(caustic_gpu::Walk::Lane))),
+        "packet" => Ok(WalkChoice(Some(caustic_gpu::Walk::Packet))),
+        _ => Err(format!("unknown walk {text:?}: expected auto, lane or packet")),
+    }
 }
 
 /// Parses `binary`, `wide` or `wide-exact` (see [`caustic_gpu::NodeLayout`]).

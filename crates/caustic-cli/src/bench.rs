@@ -37,9 +37,13 @@ struct MeshReport {
     primary_mrays_per_second: f64,
     primary_nodes_per_ray: f64,
     primary_hit_fraction: f64,
+    /// The walk that traced the primary set (`packet` where the device has subgroups).
+    primary_walk: &'static str,
     incoherent_mrays_per_second: f64,
     incoherent_nodes_per_ray: f64,
     incoherent_hit_fraction: f64,
+    /// The walk that traced the incoherent set (`lane`).
+    incoherent_walk: &'static str,
 }
 
 /// Where a wavefront pass's time went ([`caustic_gpu::wavefront::WavefrontProfile`]).
@@ -94,6 +98,8 @@ struct RaySetReport {
     mrays_per_second: f64,
     nodes_per_ray: f64,
     hit_fraction: f64,
+    /// The walk that traced the set (`--walk`; `packet` or `lane`).
+    walk: &'static str,
     hits: Option<String>,
 }
 
@@ -154,7 +160,10 @@ fn bench_ray_set(ctx: &GpuContext, name: &str, rays: &[ExternalRay], args: &Benc
     if let Some(note) = gpu_scene.layout_note() {
         eprintln!("{note}");
     }
-    let bench = RayBench::with_rays(ctx, &gpu_scene, rays)?;
+    let mut bench = RayBench::with_rays(ctx, &gpu_scene, rays)?;
+    if let Some(walk) = args.walk.0 {
+        bench.set_external_walk(walk);
+    }
     let result = bench.run(RayKind::External, args.repeats)?;
     if let Some(path) = &args.hits {
         write_hits(path, &bench.traced_rays()?)?;
@@ -170,6 +179,7 @@ fn bench_ray_set(ctx: &GpuContext, name: &str, rays: &[ExternalRay], args: &Benc
         mrays_per_second: result.mrays_per_second,
         nodes_per_ray: result.mean_nodes_visited,
         hit_fraction: result.hit_fraction,
+        walk: result.walk.label(),
         hits: args.hits.as_deref().map(|p| p.display().to_string()),
     })
 }
@@ -236,9 +246,11 @@ fn bench_mesh(ctx: &GpuContext, name: &str, args: &BenchArgs) -> anyhow::Result<
         primary_mrays_per_second: primary.mrays_per_second,
         primary_nodes_per_ray: primary.mean_nodes_visited,
         primary_hit_fraction: primary.hit_fraction,
+        primary_walk: primary.walk.label(),
         incoherent_mrays_per_second: incoherent.mrays_per_second,
         incoherent_nodes_per_ray: incoherent.mean_nodes_visited,
         incoherent_hit_fraction: incoherent.hit_fraction,
+        incoherent_walk: incoherent.walk.label(),
     })
 }
 

@@ -20,6 +20,55 @@ pub enum RayKind {
     External,
 }
 
+/// How `trace_rays` walks the BVH.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Walk {
+    /// Each invocation walks alone (`bvh/traverse_wide.wgsl` or `bvh/traverse.wgsl`): the
+    /// walk for incoherent rays, and the one every device and layout has.
+    Lane,
+    /// Each subgroup walks as one packet, loading every node and triangle once between its
+    /// lanes (`bench/packet.wgsl`): faster for coherent rays, slower for incoherent ones.
+    /// Needs subgroups ([`GpuContext::packet_walk_supported`]), the quantised wide layout
+    /// and a scene of triangles only.
+    Packet,
+}
+
+impl Walk {
+    /// Lower-case name, as the CLI and the JSON report write it.
+    pub fn label(self) -> &'static str {
+        match self {
+            Walk::Lane => "lane",
+            Walk::Packet => "packet",
+        }
+    }
+}
+
+/// Rays per group in [`is_coherent`]: a packet of lavapipe's 256-bit vectors.
+const COHERENCE_GROUP: usize = 8;
+
+/// Smallest cosine between a group's directions for it to count as coherent (about 8 degrees).
+const COHERENT_COSINE: f32 = 0.99;
+
+/// Whether `rays` come in coherent groups, as camera rays do: in at least half of the
+/// consecutive groups of 8, the rays share an origin (within 1e-4 of `scene_extent`) and
+/// point within about 8 degrees of the group's first. Such sets are traced with
+/// [`Walk::Packet`] by default; a heuristic, measured in docs/PERFORMANCE.md ("Packet walk").
+pub fn is_coherent(rays: &[ExternalRay], scene_extent: f32) -> bool {
+    let groups = rays.chunks_exact(COHERENCE_GROUP);
+    let total = groups.len();
+    let tolerance = 1e-4 * scene_extent.max(f32::MIN_POSITIVE);
+    let coherent = groups
+        .filter(|group| {
+            let lead = group[0];
+            let axis = lead.direction.normalize_or_zero();
+            group.iter().all(|ray| {
+                ray.origin.distance(lead.origin) <= tolerance && ray.direction.normalize_or_zero().dot(axis) >= COHERENT_COSINE
+            })
+        })
+        .count();
+    total > 0 && 2 * coherent >= total
+}
+
 /// A ray given from outside, e.g. read from a ray file shared with another tracer.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ExternalRay {
@@ -42,8 +91,10 @@ pub struct BenchResult {
     pub mrays_per_second: f64,
     /// Fraction of rays that hit a triangle.
     pub hit_fraction: f64,
-    /// Mean BVH nodes visited per ray.
+    /// Mean BVH nodes visited per ray (with [`Walk::Packet`], the nodes its packet visited).
     pub mean_nodes_visited: f64,
+    /// The walk that traced them.
+    pub walk: Walk,
 }
 
 /// Mirrors `BenchParams` in `shaders/bench/rays.wgsl`.
@@ -77,6 +128,11 @@ pub struct RayBench<'a> {
     generate_primary: wgpu::ComputePipeline,
     generate_incoherent: wgpu::ComputePipeline,
     trace_rays: wgpu::ComputePipeline,
+    /// `trace_rays_packet`, where the device, layout and scene allow [`Walk::Packet`].
+    trace_rays_packet: Option<wgpu::ComputePipeline>,
+    /// The walk for [`RayKind::External`] sets: [`Walk::Packet`] for coherent ones where
+    /// possible, unless [`RayBench::set_external_walk`] chose.
+    external_walk: Walk,
     bind_group: wgpu::BindGroup,
     rays: wgpu::Buffer,
     results: wgpu::Buffer,
@@ -124,7 +180,35 @@ impl<'a> RayBench<'a> {
             .map(|r| [r.origin.x, r.origin.y, r.origin.z, f32::INFINITY, r.direction.x, r.direction.y, r.direction.z, 0.0])
             .collect();
         let params = BenchParams { width: count, height: 1, ..scene_params(gpu) };
-        Self::with_params(ctx, gpu, params, Some(bytemuck::cast_slice(&packed)))
+        let mut bench = Self::with_params(ctx, gpu, params, Some(bytemuck::cast_slice(&packed)))?;
+        let extent = (gpu.bounds.1 - gpu.bounds.0).max_element();
+        bench.external_walk = if is_coherent(rays, extent) { bench.best_walk(Walk::Packet) } else { Walk::Lane };
+        Ok(bench)
+    }
+
+    /// Traces [`RayKind::External`] sets with `walk` instead of the one their coherence chose;
+    /// [`Walk::Packet`] falls back to [`Walk::Lane`] where the packet walk is not available.
+    pub fn set_external_walk(&mut self, walk: Walk) {
+        self.external_walk = self.best_walk(walk);
+    }
+
+    /// Whether this device, node layout and scene can trace with [`Walk::Packet`].
+    pub fn has_packet_walk(&self) -> bool {
+        self.trace_rays_packet.is_some()
+    }
+
+    /// `wanted`, or [`Walk::Lane`] where the packet walk is not available.
+    fn best_walk(&self, wanted: Walk) -> Walk {
+        if self.has_packet_walk() { wanted } else { Walk::Lane }
+    }
+
+    /// The walk a set of `kind` is traced with: packets for camera rays, lanes for bounces.
+    fn walk_for(&self, kind: RayKind) -> Walk {
+        match kind {
+            RayKind::Primary => self.best_walk(Walk::Packet),
+            RayKind::Incoherent => Walk::Lane,
+            RayKind::External => self.external_walk,
+        }
     }
 
     fn with_params(ctx: &'a GpuContext, gpu: &GpuScene, params: BenchParams, rays: Option<&[u8]>) -> Result<Self, GpuError> {
@@ -154,11 +238,19 @@ impl<'a> RayBench<'a> {
             ctx.queue.write_buffer(&rays_buffer, 0, bytes);
         }
         let results = storage("bench results", (u64::from(ray_count) * RESULT_BYTES).max(RESULT_BYTES));
+        let geometry = gpu.requirements & (crate::requirements::REQUIRES_SHAPES | crate::requirements::REQUIRES_PLANES);
+        let packet = ctx.packet_walk_supported() && gpu.node_layout == crate::NodeLayout::Wide && geometry == 0;
         let module = match crate::kernel::walk_replacement(gpu) {
-            Some(walk) => device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                label: Some(Program::RayBench.label()),
-                source: wgpu::ShaderSource::Wgsl(Program::RayBench.source_replacing(crate::specialize::TRAVERSAL_FILE, &walk).into()),
-            }),
+            Some(walk) => {
+                let mut source = Program::RayBench.source_replacing(crate::specialize::TRAVERSAL_FILE, &walk);
+                if packet {
+                    source.push_str(&format!("// ---- shaders/{} ----\n{}\n", crate::shaders::PACKET_WALK.name, crate::shaders::PACKET_WALK.source));
+                }
+                device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                    label: Some(Program::RayBench.label()),
+                    source: wgpu::ShaderSource::Wgsl(source.into()),
+                })
+            }
             None => Program::RayBench.module(device),
         };
         let layout = bind_group_layout(device);
@@ -168,7 +260,6 @@ impl<'a> RayBench<'a> {
             immediate_size: 0,
         });
         // Only the geometry's parts of the traversal: a mesh compiles no shape or plane tests.
-        let geometry = gpu.requirements & (crate::requirements::REQUIRES_SHAPES | crate::requirements::REQUIRES_PLANES);
         let constants = [("SCENE_REQUIRES", f64::from(geometry))];
         let pipeline = |entry: &str| ctx.compute_pipeline_with(&pipeline_layout, &module, entry, &constants);
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -181,6 +272,8 @@ impl<'a> RayBench<'a> {
                 wgpu::BindGroupEntry { binding: 3, resource: rays_buffer.as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 4, resource: results.as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 9, resource: gpu.shapes.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 10, resource: gpu.nodes.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 11, resource: gpu.triangles.as_entire_binding() },
             ],
         });
         let bench = RayBench {
@@ -188,6 +281,8 @@ impl<'a> RayBench<'a> {
             generate_primary: pipeline("generate_primary"),
             generate_incoherent: pipeline("generate_incoherent"),
             trace_rays: pipeline("trace_rays"),
+            trace_rays_packet: packet.then(|| pipeline("trace_rays_packet")),
+            external_walk: Walk::Lane,
             bind_group,
             rays: rays_buffer,
             results,
@@ -206,10 +301,15 @@ impl<'a> RayBench<'a> {
             self.dispatch(&self.trace_rays)?;
             self.dispatch(&self.generate_incoherent)?;
         }
+        let walk = self.walk_for(kind);
+        let trace = match (walk, &self.trace_rays_packet) {
+            (Walk::Packet, Some(packet)) => packet,
+            _ => &self.trace_rays,
+        };
         let mut best = f64::INFINITY;
         for _ in 0..repeats.max(1) {
             let start = Instant::now();
-            self.dispatch(&self.trace_rays)?;
+            self.dispatch(trace)?;
             best = best.min(start.elapsed().as_secs_f64());
         }
         let results: Vec<[u32; 4]> = read_buffer(self.ctx, &self.results)?;
@@ -223,6 +323,7 @@ impl<'a> RayBench<'a> {
             mrays_per_second: rays as f64 / best / 1e6,
             hit_fraction: hits as f64 / rays as f64,
             mean_nodes_visited: nodes as f64 / rays as f64,
+            walk,
         })
     }
 
@@ -284,6 +385,34 @@ fn bind_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
     let uniform = wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Uniform, has_dynamic_offset: false, min_binding_size: None };
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some("ray bench"),
-        entries: &[entry(0, uniform), entry(1, storage(true)), entry(2, storage(true)), entry(3, storage(false)), entry(4, storage(false)), entry(9, storage(true))],
+        entries: &[entry(0, uniform), entry(1, storage(true)), entry(2, storage(true)), entry(3, storage(false)), entry(4, storage(false)), entry(9, storage(true)), entry(10, storage(true)), entry(11, storage(true))],
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{ExternalRay, is_coherent};
+    use glam::Vec3;
+
+    fn ray(origin: Vec3, direction: Vec3) -> ExternalRay {
+        ExternalRay { origin, direction }
+    }
+
+    #[test]
+    fn camera_rays_are_coherent_and_scattered_rays_are_not() {
+        let eye = Vec3::new(0.0, 1.0, 5.0);
+        let camera: Vec<_> = (0..64).map(|i| ray(eye, Vec3::new(0.001 * i as f32, 0.0, -1.0))).collect();
+        assert!(is_coherent(&camera, 10.0));
+        let scattered: Vec<_> = (0..64)
+            .map(|i| {
+                let a = i as f32 * 2.4;
+                ray(Vec3::new(a.sin(), a.cos(), 0.1 * i as f32), Vec3::new(a.cos(), a.sin(), (3.0 * a).sin()))
+            })
+            .collect();
+        assert!(!is_coherent(&scattered, 10.0));
+        // Same directions from spread origins (bounces off a surface) are not one packet.
+        let spread: Vec<_> = (0..64).map(|i| ray(Vec3::new(0.01 * i as f32, 0.0, 0.0), Vec3::Z)).collect();
+        assert!(!is_coherent(&spread, 10.0));
+        assert!(!is_coherent(&camera[..7], 10.0), "fewer rays than a group");
+    }
 }

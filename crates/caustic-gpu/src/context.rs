@@ -33,6 +33,9 @@ pub struct GpuContext {
     pub adapter: AdapterSummary,
     /// The limits the device was opened with (the adapter's own).
     pub limits: wgpu::Limits,
+    /// Fewest invocations a subgroup of the device may have (8 on lavapipe with 256-bit
+    /// vectors, 32 or 64 on most GPUs).
+    pub subgroup_min_size: u32,
     first_error: Arc<Mutex<Option<String>>>,
 }
 
@@ -66,15 +69,16 @@ impl GpuContext {
         let limits = device.limits();
         let first_error = Arc::new(Mutex::new(None));
         install_error_handlers(&device, &first_error);
-        GpuContext { device, queue, adapter, limits, first_error }
+        GpuContext { device, queue, adapter, limits, subgroup_min_size: info.subgroup_min_size, first_error }
     }
 
-    /// The device Caustic asks an adapter for: no optional features, and the adapter's own
+    /// The device Caustic asks an adapter for: subgroup operations where the adapter has them
+    /// (the ray bench's packet walk, `shaders/bench/packet.wgsl`), and the adapter's own
     /// limits (not wgpu's conservative defaults), so large scenes fit in storage bindings.
     pub fn device_descriptor(adapter: &wgpu::Adapter) -> wgpu::DeviceDescriptor<'static> {
         wgpu::DeviceDescriptor {
             label: Some("caustic"),
-            required_features: wgpu::Features::empty(),
+            required_features: adapter.features() & wgpu::Features::SUBGROUP,
             required_limits: adapter.limits(),
             ..Default::default()
         }
@@ -147,11 +151,21 @@ impl GpuContext {
         })
     }
 
+    /// Whether subgroups can trace packets of rays together: the device has subgroup
+    /// operations and every subgroup has at least the 8 lanes that load a node's or a
+    /// triangle's words between them (`shaders/bench/packet.wgsl`).
+    pub fn packet_walk_supported(&self) -> bool {
+        self.device.features().contains(wgpu::Features::SUBGROUP) && self.subgroup_min_size >= PACKET_MIN_LANES
+    }
+
     /// Largest storage buffer binding the device allows, in bytes.
     pub fn max_storage_binding(&self) -> u64 {
         u64::from(self.limits.max_storage_buffer_binding_size).min(self.limits.max_buffer_size)
     }
 }
+
+/// Fewest subgroup lanes the packet walk needs: its loads spread a record's 16 words over 8 lanes.
+const PACKET_MIN_LANES: u32 = 8;
 
 fn rank(device_type: wgpu::DeviceType) -> u32 {
     match device_type {

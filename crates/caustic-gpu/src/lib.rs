@@ -38,7 +38,7 @@ pub mod shadow_hull;
 pub mod specialize;
 pub mod wavefront;
 
-pub use bench::{BenchResult, ExternalRay, RayBench, RayKind, TracedRay};
+pub use bench::{is_coherent, BenchResult, ExternalRay, RayBench, RayKind, TracedRay, Walk};
 pub use context::{AdapterSummary, GpuContext};
 pub use error::GpuError;
 pub use path_tracer::{PassOutcome, PathTracer};

@@ -86,6 +86,10 @@ const PATH_TRACER: [ShaderFile; 27] = [
 
 const RAY_BENCH: [ShaderFile; 2] = [shader_file!("bench/rays.wgsl"), shader_file!("bench/opaque.wgsl")];
 
+/// `bench/packet.wgsl`: the ray bench's packet walk for coherent rays, appended to
+/// [`Program::RayBench`] (with the quantised wide walk) where the device has subgroups.
+pub const PACKET_WALK: ShaderFile = shader_file!("bench/packet.wgsl");
+
 /// `post/bloom.wgsl`: the bloom post-process ([`crate::bloom`]), a program on its own.
 pub const BLOOM: ShaderFile = shader_file!("post/bloom.wgsl");
 

@@ -3,7 +3,7 @@
 //! layouts.
 
 use caustic_bvh::{BuildOptions, Ray};
-use caustic_gpu::{GpuContext, GpuScene, NodeLayout, RayBench, RayKind};
+use caustic_gpu::{ExternalRay, GpuContext, GpuScene, NodeLayout, RayBench, RayKind, TracedRay, Walk};
 use caustic_scene::{SceneSource, load_scene};
 use std::path::Path;
 
@@ -24,28 +24,48 @@ fn compare_in(scene_name: &str, layout: NodeLayout) {
     let wide = cpu.to_wide().expect("wide form");
     let exact = cpu.to_wide_exact().expect("wide form");
     let bench = RayBench::new(&ctx, &gpu, &scene.camera, 192).expect("bench kernels");
+    let twin = |ray: &Ray| match layout {
+        NodeLayout::Binary => cpu.closest_hit(ray),
+        NodeLayout::Wide => cpu.closest_hit_wide(&wide, ray),
+        NodeLayout::WideExact => cpu.closest_hit_wide(&exact, ray),
+    };
+    // Where the device has subgroups, the wide layout's camera rays take the packet walk.
+    let packets = layout == NodeLayout::Wide && ctx.packet_walk_supported();
+    assert_eq!(bench.has_packet_walk(), packets, "the packet walk is there exactly where it can be");
     for kind in [RayKind::Primary, RayKind::Incoherent] {
-        bench.run(kind, 1).expect("trace");
+        let result = bench.run(kind, 1).expect("trace");
+        let expected_walk = if packets && kind == RayKind::Primary { Walk::Packet } else { Walk::Lane };
+        assert_eq!(result.walk, expected_walk, "{kind:?} rays' walk");
         let rays = bench.traced_rays().expect("read back");
-        let (mut hits, mut different, mut worst_t) = (0usize, 0usize, 0f32);
-        for traced in &rays {
-            let ray = Ray { origin: traced.origin, direction: traced.direction, t_max: 3.0e38 };
-            let expected = match layout {
-                NodeLayout::Binary => cpu.closest_hit(&ray),
-                NodeLayout::Wide => cpu.closest_hit_wide(&wide, &ray),
-                NodeLayout::WideExact => cpu.closest_hit_wide(&exact, &ray),
-            };
-            hits += usize::from(expected.is_some());
-            match (expected, traced.triangle) {
-                (Some(e), Some(t)) if e.triangle == t => worst_t = worst_t.max((e.t - traced.t).abs() / e.t),
-                (None, None) => {}
-                _ => different += 1,
-            }
+        check(&format!("{scene_name} {layout:?} {kind:?} ({:?} walk)", result.walk), &rays, twin);
+        if packets && kind == RayKind::Incoherent {
+            // The packet walk on incoherent rays too: slower there, but the same answers.
+            let external: Vec<ExternalRay> = rays.iter().map(|r| ExternalRay { origin: r.origin, direction: r.direction }).collect();
+            let mut forced = RayBench::with_rays(&ctx, &gpu, &external).expect("bench kernels");
+            forced.set_external_walk(Walk::Packet);
+            assert_eq!(forced.run(RayKind::External, 1).expect("trace").walk, Walk::Packet);
+            check(&format!("{scene_name} {layout:?} {kind:?} (Packet walk)"), &forced.traced_rays().expect("read back"), twin);
         }
-        println!("{scene_name} {layout:?} {kind:?}: {} rays, {hits} hits, {different} differ from the CPU twin, worst relative t error {worst_t:.2e}", rays.len());
-        assert!(different * 10_000 <= rays.len(), "{different} of {} rays found another triangle than the CPU twin", rays.len());
-        assert!(worst_t < 1e-5, "t differs by {worst_t:.2e} relative");
     }
+}
+
+/// Asserts that the device found the CPU twin's triangle (at the same distance) for all but
+/// one in 10,000 of `rays`.
+fn check(label: &str, rays: &[TracedRay], twin: impl Fn(&Ray) -> Option<caustic_bvh::Hit>) {
+    let (mut hits, mut different, mut worst_t) = (0usize, 0usize, 0f32);
+    for traced in rays {
+        let ray = Ray { origin: traced.origin, direction: traced.direction, t_max: 3.0e38 };
+        let expected = twin(&ray);
+        hits += usize::from(expected.is_some());
+        match (expected, traced.triangle) {
+            (Some(e), Some(t)) if e.triangle == t => worst_t = worst_t.max((e.t - traced.t).abs() / e.t),
+            (None, None) => {}
+            _ => different += 1,
+        }
+    }
+    println!("{label}: {} rays, {hits} hits, {different} differ from the CPU twin, worst relative t error {worst_t:.2e}", rays.len());
+    assert!(different * 10_000 <= rays.len(), "{label}: {different} of {} rays found another triangle than the CPU twin", rays.len());
+    assert!(worst_t < 1e-5, "{label}: t differs by {worst_t:.2e} relative");
 }
 
 #[test]

@@ -40,6 +40,17 @@ fn every_program_validates_with_the_wide_walk() {
     }
 }
 
+/// The ray bench with the quantised wide walk and the packet walk appended, as
+/// caustic_gpu::RayBench compiles it for devices with subgroups.
+#[test]
+fn the_ray_bench_validates_with_the_packet_walk() {
+    let walk = caustic_gpu::shaders::wide_walk(caustic_gpu::NodeLayout::Wide).expect("a wide walk");
+    let packet = &caustic_gpu::shaders::PACKET_WALK;
+    let source = format!("{}\n{}", Program::RayBench.source_replacing(caustic_gpu::specialize::TRAVERSAL_FILE, &walk), packet.source);
+    let module = validate("ray bench with the packet walk", &source);
+    assert!(module.entry_points.iter().any(|e| e.name == "trace_rays_packet"), "the packet entry point is there");
+}
+
 fn wgsl_struct_size(module: &naga::Module, name: &str) -> u32 {
     let (_, ty) = module.types.iter().find(|(_, t)| t.name.as_deref() == Some(name)).unwrap_or_else(|| panic!("no WGSL struct {name}"));
     match ty.inner {
