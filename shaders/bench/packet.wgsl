@@ -6,9 +6,10 @@
 // 32-bit component, and the walk spent most of its time there (docs/PERFORMANCE.md, "Packet
 // walk"). A child is visited when any lane's ray enters it; children are taken in the order of
 // the first lane's entry distances. Closest hit only, triangles only; the answers are the
-// lane walk's (bvh/traverse_wide.wgsl), tie rules included (tests/bench.rs compares them).
-// Needs the device's subgroup operations and at least 8 lanes per subgroup
-// (GpuContext::packet_walk_supported); appended to the ray bench by crates/caustic-gpu/src/bench.rs.
+// lane walk's (bvh/traverse_wide.wgsl), tie rules included (tests/traversal_twin.rs and
+// tests/bench.rs compare them with the CPU twin and brute force). Needs the device's subgroup
+// operations and at least 8 lanes per subgroup (GpuContext::packet_walk_supported); appended
+// to the ray bench by caustic_gpu::shaders::ray_bench_source.
 
 // The node and triangle buffers again (the same buffers as bindings 1 and 2), as words.
 @group(0) @binding(10) var<storage, read> packet_node_words: array<u32>;

@@ -240,19 +240,10 @@ impl<'a> RayBench<'a> {
         let results = storage("bench results", (u64::from(ray_count) * RESULT_BYTES).max(RESULT_BYTES));
         let geometry = gpu.requirements & (crate::requirements::REQUIRES_SHAPES | crate::requirements::REQUIRES_PLANES);
         let packet = ctx.packet_walk_supported() && gpu.node_layout == crate::NodeLayout::Wide && geometry == 0;
-        let module = match crate::kernel::walk_replacement(gpu) {
-            Some(walk) => {
-                let mut source = Program::RayBench.source_replacing(crate::specialize::TRAVERSAL_FILE, &walk);
-                if packet {
-                    source.push_str(&format!("// ---- shaders/{} ----\n{}\n", crate::shaders::PACKET_WALK.name, crate::shaders::PACKET_WALK.source));
-                }
-                device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                    label: Some(Program::RayBench.label()),
-                    source: wgpu::ShaderSource::Wgsl(source.into()),
-                })
-            }
-            None => Program::RayBench.module(device),
-        };
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(Program::RayBench.label()),
+            source: wgpu::ShaderSource::Wgsl(crate::shaders::ray_bench_source(gpu.node_layout, packet).into()),
+        });
         let layout = bind_group_layout(device);
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("ray bench"),

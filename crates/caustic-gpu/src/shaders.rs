@@ -54,6 +54,20 @@ pub fn wide_walk(layout: crate::NodeLayout) -> Option<String> {
     Some(format!("// ---- shaders/{} ----\n{}\n// ---- shaders/{} ----\n{}", nodes.name, nodes.source, WIDE_TRAVERSAL.name, WIDE_TRAVERSAL.source))
 }
 
+/// The ray bench's source for a scene uploaded in `layout`: its walk in place of
+/// `bvh/traverse.wgsl`, and with `packet_walk` (quantised wide layout only) the packet walk
+/// of [`PACKET_WALK`] appended.
+pub fn ray_bench_source(layout: crate::NodeLayout, packet_walk: bool) -> String {
+    let mut source = match wide_walk(layout) {
+        Some(walk) => Program::RayBench.source_replacing(crate::specialize::TRAVERSAL_FILE, &walk),
+        None => Program::RayBench.source(),
+    };
+    if packet_walk && layout == crate::NodeLayout::Wide {
+        source.push_str(&format!("// ---- shaders/{} ----\n{}\n", PACKET_WALK.name, PACKET_WALK.source));
+    }
+    source
+}
+
 const PATH_TRACER: [ShaderFile; 27] = [
     shader_file!("integrator/bindings.wgsl"),
     shader_file!("integrator/camera.wgsl"),
@@ -88,7 +102,7 @@ const RAY_BENCH: [ShaderFile; 2] = [shader_file!("bench/rays.wgsl"), shader_file
 
 /// `bench/packet.wgsl`: the ray bench's packet walk for coherent rays, appended to
 /// [`Program::RayBench`] (with the quantised wide walk) where the device has subgroups.
-pub const PACKET_WALK: ShaderFile = shader_file!("bench/packet.wgsl");
+const PACKET_WALK: ShaderFile = shader_file!("bench/packet.wgsl");
 
 /// `post/bloom.wgsl`: the bloom post-process ([`crate::bloom`]), a program on its own.
 pub const BLOOM: ShaderFile = shader_file!("post/bloom.wgsl");

@@ -44,9 +44,7 @@ fn every_program_validates_with_the_wide_walk() {
 /// caustic_gpu::RayBench compiles it for devices with subgroups.
 #[test]
 fn the_ray_bench_validates_with_the_packet_walk() {
-    let walk = caustic_gpu::shaders::wide_walk(caustic_gpu::NodeLayout::Wide).expect("a wide walk");
-    let packet = &caustic_gpu::shaders::PACKET_WALK;
-    let source = format!("{}\n{}", Program::RayBench.source_replacing(caustic_gpu::specialize::TRAVERSAL_FILE, &walk), packet.source);
+    let source = caustic_gpu::shaders::ray_bench_source(caustic_gpu::NodeLayout::Wide, true);
     let module = validate("ray bench with the packet walk", &source);
     assert!(module.entry_points.iter().any(|e| e.name == "trace_rays_packet"), "the packet entry point is there");
 }
