@@ -1,9 +1,8 @@
 // The compressed four-wide node layout (caustic_bvh::GpuWideNode) for bvh/traverse_wide.wgsl:
 // each 64-byte node holds four children's boxes as bytes over a per-axis power-of-two step,
 // decoded as origin + q * step (the product is exact, so a fused multiply-add gives the same
-// box as the CPU twin's GpuWideNode::bounds).
-
-@group(0) @binding(1) var<storage, read> bvh_nodes: array<BvhWideNode>;
+// box as the CPU twin's GpuWideNode::bounds). The node array and its loader `wide_node` come
+// from bvh/wide_nodes.wgsl (32-bit loads) or bvh/wide_nodes_64.wgsl (64-bit loads).
 
 // The per-axis steps: powers of two with the biased exponents in bytes 0..=2.
 fn wide_steps(exponents: u32) -> vec3<f32> {
@@ -22,7 +21,7 @@ fn wide_child_entry(r: TraversalRay, node: BvhWideNode, steps: vec3<f32>, shift:
 
 // The children of node `index`: entry distances (CHILD_MISSED for misses and empty slots) and words.
 fn wide_node_entries(r: TraversalRay, index: u32, t_max: f32) -> WideOrder {
-    return wide_child_entries(r, bvh_nodes[index], t_max);
+    return wide_child_entries(r, wide_node(index), t_max);
 }
 
 // The children of `node`, as wide_node_entries.

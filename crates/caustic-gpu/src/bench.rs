@@ -242,7 +242,7 @@ impl<'a> RayBench<'a> {
         let packet = ctx.packet_walk_supported() && gpu.node_layout == crate::NodeLayout::Wide && geometry == 0;
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some(Program::RayBench.label()),
-            source: wgpu::ShaderSource::Wgsl(crate::shaders::ray_bench_source(gpu.node_layout, packet).into()),
+            source: wgpu::ShaderSource::Wgsl(crate::shaders::ray_bench_source(gpu.node_layout, gpu.node_words_64, packet).into()),
         });
         let layout = bind_group_layout(device);
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {

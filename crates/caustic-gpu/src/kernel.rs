@@ -161,7 +161,7 @@ fn traversal(gpu: &GpuScene, settings: &RenderSettings) -> Option<String> {
 
 /// The walk of `gpu`'s node layout when it is not the binary one `bvh/traverse.wgsl` reads.
 pub(crate) fn walk_replacement(gpu: &GpuScene) -> Option<String> {
-    crate::shaders::wide_walk(gpu.node_layout)
+    crate::shaders::wide_walk(gpu.node_layout, gpu.node_words_64)
 }
 
 /// The scene-specialised traversal (the primitives compiled in), if the kernel may use it.

@@ -41,6 +41,10 @@ pub struct GpuScene {
     pub nodes: wgpu::Buffer,
     /// The layout of `nodes`.
     pub node_layout: NodeLayout,
+    /// Whether kernels read the quantised wide nodes with 64-bit loads
+    /// (`bvh/wide_nodes_64.wgsl`): the layout is [`NodeLayout::Wide`] and the device has
+    /// `SHADER_INT64`.
+    pub node_words_64: bool,
     /// Why `nodes` are binary although a four-wide layout was asked for (the tree has no
     /// such form), for the front ends to report; `None` when the layout is the one asked for.
     pub layout_fallback: Option<caustic_bvh::WideError>,
@@ -157,9 +161,11 @@ impl GpuScene {
         let uploader = Uploader { ctx };
         let (environment_view, environment_color) = upload_environment(ctx, &scene.environment)?;
         let (nodes, node_layout, layout_fallback) = upload_nodes(&uploader, &gpu_bvh, layout)?;
+        let node_words_64 = node_layout == NodeLayout::Wide && ctx.device.features().contains(wgpu::Features::SHADER_INT64);
         let uploaded = GpuScene {
             nodes,
             node_layout,
+            node_words_64,
             layout_fallback,
             triangles: uploader.storage("BVH triangles", &gpu_bvh.triangles)?,
             shapes: uploader.storage("shapes", &caustic_bvh::shapes_and_motions(&gpu_bvh, &moving))?,

@@ -43,22 +43,28 @@ pub const WIDE_QUANTISED: ShaderFile = shader_file!("bvh/wide_quantised.wgsl");
 /// `bvh/wide_exact.wgsl`: the nodes of [`crate::NodeLayout::WideExact`].
 pub const WIDE_EXACT: ShaderFile = shader_file!("bvh/wide_exact.wgsl");
 
+/// `bvh/wide_nodes.wgsl` and `bvh/wide_nodes_64.wgsl`: the [`crate::NodeLayout::Wide`]
+/// node array with 32-bit and with 64-bit loads.
+const WIDE_NODES: ShaderFile = shader_file!("bvh/wide_nodes.wgsl");
+const WIDE_NODES_64: ShaderFile = shader_file!("bvh/wide_nodes_64.wgsl");
+
 /// The text replacing `bvh/traverse.wgsl` for a scene uploaded in a wide `layout`: the
-/// layout's node file, then the walk; `None` for the binary layout.
-pub fn wide_walk(layout: crate::NodeLayout) -> Option<String> {
-    let nodes = match layout {
+/// layout's node files, then the walk; `None` for the binary layout. With `words_64` the
+/// quantised nodes are read with 64-bit loads (the device needs `SHADER_INT64`).
+pub fn wide_walk(layout: crate::NodeLayout, words_64: bool) -> Option<String> {
+    let files: Vec<&ShaderFile> = match layout {
         crate::NodeLayout::Binary => return None,
-        crate::NodeLayout::Wide => &WIDE_QUANTISED,
-        crate::NodeLayout::WideExact => &WIDE_EXACT,
+        crate::NodeLayout::Wide => vec![if words_64 { &WIDE_NODES_64 } else { &WIDE_NODES }, &WIDE_QUANTISED, &WIDE_TRAVERSAL],
+        crate::NodeLayout::WideExact => vec![&WIDE_EXACT, &WIDE_TRAVERSAL],
     };
-    Some(format!("// ---- shaders/{} ----\n{}\n// ---- shaders/{} ----\n{}", nodes.name, nodes.source, WIDE_TRAVERSAL.name, WIDE_TRAVERSAL.source))
+    Some(files.iter().map(|f| format!("// ---- shaders/{} ----\n{}\n", f.name, f.source)).collect())
 }
 
 /// The ray bench's source for a scene uploaded in `layout`: its walk in place of
-/// `bvh/traverse.wgsl`, and with `packet_walk` (quantised wide layout only) the packet walk
+/// `bvh/traverse.wgsl` (with `words_64`, see [`wide_walk`]), and with `packet_walk` (quantised wide layout only) the packet walk
 /// of [`PACKET_WALK`] appended.
-pub fn ray_bench_source(layout: crate::NodeLayout, packet_walk: bool) -> String {
-    let mut source = match wide_walk(layout) {
+pub fn ray_bench_source(layout: crate::NodeLayout, words_64: bool, packet_walk: bool) -> String {
+    let mut source = match wide_walk(layout, words_64) {
         Some(walk) => Program::RayBench.source_replacing(crate::specialize::TRAVERSAL_FILE, &walk),
         None => Program::RayBench.source(),
     };

@@ -29,12 +29,12 @@ fn every_program_validates() {
 
 #[test]
 fn every_program_validates_with_the_wide_walk() {
-    for layout in [caustic_gpu::NodeLayout::Wide, caustic_gpu::NodeLayout::WideExact] {
-        let walk = caustic_gpu::shaders::wide_walk(layout).expect("a wide walk");
+    for (layout, words_64) in [(caustic_gpu::NodeLayout::Wide, false), (caustic_gpu::NodeLayout::Wide, true), (caustic_gpu::NodeLayout::WideExact, false)] {
+        let walk = caustic_gpu::shaders::wide_walk(layout, words_64).expect("a wide walk");
         for program in Program::ALL {
             let module = validate(program.label(), &program.source_replacing(caustic_gpu::specialize::TRAVERSAL_FILE, &walk));
             let trace = module.functions.iter().any(|(_, f)| f.name.as_deref() == Some("order_wide_children"));
-            println!("{} with the {layout:?} walk: {} functions valid", program.label(), module.functions.len());
+            println!("{} with the {layout:?} walk (64-bit loads: {words_64}): {} functions valid", program.label(), module.functions.len());
             assert!(trace, "the wide walk replaced the binary one");
         }
     }
@@ -44,7 +44,7 @@ fn every_program_validates_with_the_wide_walk() {
 /// caustic_gpu::RayBench compiles it for devices with subgroups.
 #[test]
 fn the_ray_bench_validates_with_the_packet_walk() {
-    let source = caustic_gpu::shaders::ray_bench_source(caustic_gpu::NodeLayout::Wide, true);
+    let source = caustic_gpu::shaders::ray_bench_source(caustic_gpu::NodeLayout::Wide, true, true);
     let module = validate("ray bench with the packet walk", &source);
     assert!(module.entry_points.iter().any(|e| e.name == "trace_rays_packet"), "the packet entry point is there");
 }
