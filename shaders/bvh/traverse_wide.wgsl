@@ -75,10 +75,9 @@ fn trace(ray: Ray, t_max: f32, any_hit: bool, cost: ptr<function, TraversalCost>
     // Tree level of `current`, for BVH_LEVELS (bvh/hit.wgsl).
     var level = 0u;
     loop {
+        // `current` is never EMPTY_CHILD: only entered children are taken or pushed, and an
+        // empty slot is never entered (wide_node_entries).
         if is_leaf(current) {
-            if current == EMPTY_CHILD {
-                break;
-            }
             if intersect_leaf(ray, r, current, any_hit, level, &hit, cost) {
                 return hit;
             }

@@ -37,7 +37,8 @@ const TRAVERSAL: [ShaderFile; 6] = [
 /// file) replaces `bvh/traverse.wgsl` for scenes uploaded in one ([`wide_walk`]).
 pub const WIDE_TRAVERSAL: ShaderFile = shader_file!("bvh/traverse_wide.wgsl");
 
-/// `bvh/wide_quantised.wgsl`: the nodes of [`crate::NodeLayout::Wide`].
+/// `bvh/wide_quantised.wgsl`: decoding the nodes of [`crate::NodeLayout::Wide`] (the array
+/// itself is in `bvh/wide_nodes.wgsl` or `bvh/wide_nodes_64.wgsl`).
 pub const WIDE_QUANTISED: ShaderFile = shader_file!("bvh/wide_quantised.wgsl");
 
 /// `bvh/wide_exact.wgsl`: the nodes of [`crate::NodeLayout::WideExact`].
@@ -61,14 +62,14 @@ pub fn wide_walk(layout: crate::NodeLayout, words_64: bool) -> Option<String> {
 }
 
 /// The ray bench's source for a scene uploaded in `layout`: its walk in place of
-/// `bvh/traverse.wgsl` (with `words_64`, see [`wide_walk`]), and with `packet_walk` (quantised wide layout only) the packet walk
-/// of [`PACKET_WALK`] appended.
+/// `bvh/traverse.wgsl` (with `words_64`, see [`wide_walk`]), and with `packet_walk` the packet
+/// walk of [`PACKET_WALK`] appended (the caller checks that it applies: RayBench does).
 pub fn ray_bench_source(layout: crate::NodeLayout, words_64: bool, packet_walk: bool) -> String {
     let mut source = match wide_walk(layout, words_64) {
         Some(walk) => Program::RayBench.source_replacing(crate::specialize::TRAVERSAL_FILE, &walk),
         None => Program::RayBench.source(),
     };
-    if packet_walk && layout == crate::NodeLayout::Wide {
+    if packet_walk {
         source.push_str(&format!("// ---- shaders/{} ----\n{}\n", PACKET_WALK.name, PACKET_WALK.source));
     }
     source

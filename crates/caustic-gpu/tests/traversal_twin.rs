@@ -8,22 +8,38 @@ use caustic_scene::{SceneSource, load_scene};
 use std::path::Path;
 
 fn compare_on(scene_name: &str) {
+    let ctx = GpuContext::new(std::env::var("CAUSTIC_ADAPTER").ok().as_deref()).expect("device");
     for layout in [NodeLayout::Binary, NodeLayout::Wide, NodeLayout::WideExact] {
-        compare_in(scene_name, layout);
+        compare_in(&ctx, scene_name, layout);
     }
 }
 
-fn compare_in(scene_name: &str, layout: NodeLayout) {
+/// A device on the same adapter opened without optional features: no subgroups (no packet
+/// walk) and no 64-bit integers (wide nodes read with 32-bit loads, `bvh/wide_nodes.wgsl`).
+fn plain_device() -> GpuContext {
+    let instance = wgpu::Instance::new(wgpu::InstanceDescriptor {
+        backends: wgpu::Backends::VULKAN,
+        ..wgpu::InstanceDescriptor::new_without_display_handle()
+    });
+    let adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::VULKAN));
+    let adapter = GpuContext::choose_adapter(adapters, std::env::var("CAUSTIC_ADAPTER").ok().as_deref()).expect("adapter");
+    let descriptor = wgpu::DeviceDescriptor { required_features: wgpu::Features::empty(), ..GpuContext::device_descriptor(&adapter) };
+    let (device, queue) = pollster::block_on(adapter.request_device(&descriptor)).expect("device without optional features");
+    GpuContext::from_parts(device, queue, &adapter.get_info())
+}
+
+fn compare_in(ctx: &GpuContext, scene_name: &str, layout: NodeLayout) {
     let scene = load_scene(&SceneSource::parse(scene_name)).expect("scene loads");
-    let ctx = GpuContext::new(std::env::var("CAUSTIC_ADAPTER").ok().as_deref()).expect("device");
     println!("adapter: {}", ctx.adapter);
-    let gpu = GpuScene::upload_with_layout(&ctx, &scene, &BuildOptions::default(), layout).expect("upload");
+    let gpu = GpuScene::upload_with_layout(ctx, &scene, &BuildOptions::default(), layout).expect("upload");
     assert_eq!(gpu.node_layout, layout, "the scene has a tree in that layout");
+    let int64 = ctx.device.features().contains(wgpu::Features::SHADER_INT64);
+    assert_eq!(gpu.node_words_64, layout == NodeLayout::Wide && int64, "64-bit node loads exactly where possible");
     let triangles: Vec<_> = scene.triangles().collect();
     let cpu = caustic_bvh::flatten(&caustic_bvh::build(&triangles, &BuildOptions::default()), &triangles);
     let wide = cpu.to_wide().expect("wide form");
     let exact = cpu.to_wide_exact().expect("wide form");
-    let bench = RayBench::new(&ctx, &gpu, &scene.camera, 192).expect("bench kernels");
+    let bench = RayBench::new(ctx, &gpu, &scene.camera, 192).expect("bench kernels");
     let twin = |ray: &Ray| match layout {
         NodeLayout::Binary => cpu.closest_hit(ray),
         NodeLayout::Wide => cpu.closest_hit_wide(&wide, ray),
@@ -41,7 +57,7 @@ fn compare_in(scene_name: &str, layout: NodeLayout) {
         if packets && kind == RayKind::Incoherent {
             // The packet walk on incoherent rays too: slower there, but the same answers.
             let external: Vec<ExternalRay> = rays.iter().map(|r| ExternalRay { origin: r.origin, direction: r.direction }).collect();
-            let mut forced = RayBench::with_rays(&ctx, &gpu, &external).expect("bench kernels");
+            let mut forced = RayBench::with_rays(ctx, &gpu, &external).expect("bench kernels");
             forced.set_external_walk(Walk::Packet);
             assert_eq!(forced.run(RayKind::External, 1).expect("trace").walk, Walk::Packet);
             check(&format!("{scene_name} {layout:?} {kind:?} (Packet walk)"), &forced.traced_rays().expect("read back"), twin);
@@ -71,6 +87,15 @@ fn check(label: &str, rays: &[TracedRay], twin: impl Fn(&Ray) -> Option<caustic_
 #[test]
 fn device_traversal_matches_the_cpu_twin_on_the_cornell_box() {
     compare_on("cornell");
+}
+
+/// The fallbacks for devices without subgroups or 64-bit integers: the lane walk with 32-bit
+/// node loads, in the wide layout, on the Cornell box.
+#[test]
+fn device_traversal_without_optional_features_matches_the_cpu_twin() {
+    let ctx = plain_device();
+    assert!(!ctx.packet_walk_supported(), "no subgroups were asked for");
+    compare_in(&ctx, "cornell", NodeLayout::Wide);
 }
 
 #[test]
