@@ -7,9 +7,7 @@
 //! submit and a wait each, ~0.15 ms on lavapipe since the per-dispatch recompilation was
 //! fixed: about 15 s).
 
-mod scenes;
-mod support;
-
+use crate::scenes;
 use caustic_gpu::gpu_types::AccumTexel;
 use caustic_gpu::{GpuContext, GpuScene, PathTracer, RenderSettings};
 use caustic_scene::{Environment, Scene};

@@ -2,8 +2,7 @@
 //! --hits OUT` traces the file's rays and writes, per ray, the closest hit's distance and
 //! triangle index in the mesh's face order, the same answers as a brute-force CPU search.
 
-mod support;
-
+use crate::support;
 use caustic_bvh::{Ray, closest_hit_brute_force};
 use glam::Vec3;
 

@@ -1,9 +1,8 @@
 //! `caustic render --feature`: the switches change the picture as documented, every gallery
 //! scene renders without NaN, and bad switches fail clearly without writing an image.
 
-mod support;
-
 /// Renders gallery scene `scene` at 64x48 and 2 spp with `extra` arguments; the image's mean.
+use crate::support;
 fn render(scene: &str, extra: &[&str]) -> [f64; 3] {
     // A folder per render: scratch() empties its folder, and the tests run in parallel.
     let name = format!("{scene}-{}", extra.join("_").replace(['=', '-'], ""));

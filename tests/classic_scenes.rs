@@ -11,8 +11,7 @@
 //! The CSE168 hw2 direct-lighting scenes are compared the same way with the course's PNGs of
 //! their fake-colour variants, filtered down to remove Monte Carlo noise (see the test).
 
-mod support;
-
+use crate::support;
 use caustic_gpu::{GpuContext, GpuScene, PathTracer, RenderSettings};
 use caustic_scene::lang;
 use std::path::Path;

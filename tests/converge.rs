@@ -2,8 +2,7 @@
 //! samples grow (relMSE roughly as 1/spp for an unbiased render), and its plot and CSV are
 //! written.
 
-mod support;
-
+use crate::support;
 #[test]
 fn error_falls_with_samples_and_outputs_are_written() {
     let dir = support::scratch("converge");

@@ -5,8 +5,7 @@
 //! the image's mean luminance and its standard error come from the batch means, and two variants
 //! must agree within 4 combined standard errors plus 1% of the mean.
 
-mod support;
-
+use crate::support;
 use caustic_gpu::{GpuContext, GpuScene, PathTracer, RenderSettings};
 use caustic_scene::{ImportanceSampling, NextEvent, RenderOptions, Scene, SceneSource, load_scene, luminance};
 use glam::Vec3;

@@ -2,8 +2,7 @@
 //! itself, reproducible, and carries exactly the radiance that sample adds in `caustic render`;
 //! `caustic render --debug VIEW` writes every debug view as a picture.
 
-mod support;
-
+use crate::support;
 fn debug_pixel(extra: &[&str]) -> serde_json::Value {
     let mut args = vec![
         "debug-pixel",

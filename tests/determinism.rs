@@ -2,9 +2,7 @@
 //! one process, and in a second process through the `caustic` binary, even though the tile
 //! size adapts to measured submit times and so differs from run to run.
 
-mod scenes;
-mod support;
-
+use crate::{scenes, support};
 use caustic_gpu::RenderSettings;
 use caustic_image::Image;
 use caustic_scene::cornell_box;

@@ -1,9 +1,8 @@
 //! `caustic render FILE.gltf --camera N`: the file's cameras selected from the command line.
 
-mod support;
-
 /// A glTF file: an emissive triangle at the origin facing +z, camera 0 looking at it from
 /// +z, camera 1 looking away from it (towards +z), and a black environment.
+use crate::support;
 const TWO_CAMERAS: &str = r#"{"asset": {"version": "2.0"}, "scenes": [{"nodes": [0, 1, 2]}],
     "nodes": [{"mesh": 0}, {"camera": 0, "translation": [0.3, 0.3, 2]}, {"camera": 1, "translation": [0.3, 0.3, 2], "rotation": [0, 1, 0, 0]}],
     "cameras": [{"type": "perspective", "perspective": {"yfov": 0.8, "znear": 0.1}}, {"type": "perspective", "perspective": {"yfov": 0.8, "aspectRatio": 2, "znear": 0.1}}],

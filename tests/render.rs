@@ -1,8 +1,7 @@
 //! End-to-end renders compared with ground truth: the Cornell box against Mitsuba 3, the white
 //! furnace against its analytic answer.
 
-mod support;
-
+use crate::support;
 use caustic_gpu::{GpuContext, GpuScene, PathTracer, RenderSettings};
 use caustic_image::{Image, metrics};
 use caustic_scene::{SceneSource, load_scene};

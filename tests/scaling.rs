@@ -1,8 +1,7 @@
 //! Renders split by sample ranges: exact merges, resuming, scheduler array jobs run as local
 //! processes, and clear refusals of bad parts that leave no output behind.
 
-mod support;
-
+use crate::support;
 use caustic_image::{Image, PartialImage};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};

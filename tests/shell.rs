@@ -2,8 +2,7 @@
 //! one interpreter; an error names `<stdin>:LINE:COLUMN` and the session goes on; each
 //! `render` writes and reports; `exit` stops reading.
 
-mod support;
-
+use crate::support;
 use std::io::Write;
 use std::process::{Command, Stdio};
 

@@ -3,14 +3,12 @@
 //! zero-area geometry leaks no light; closed meshes seen from inside give their analytic
 //! radiance; no sample is ever non-finite.
 
-mod scenes;
-mod support;
-
+use crate::scenes;
 use caustic_gpu::RenderSettings;
 use caustic_image::{Image, metrics};
 use caustic_scene::{Camera, Material, Mesh, NextEvent, Scene, cornell_box};
 use glam::{Mat4, Quat, Vec3};
-use scenes::{box_mesh, camera, channels, quad, render, scene};
+use crate::scenes::{box_mesh, camera, channels, quad, render, scene};
 
 /// Settings for zero-variance white furnaces: no Russian roulette, so with albedo 1 and a sky
 /// of 1 every path that escapes carries exactly 1 and a path that is lost carries 0.

@@ -3,8 +3,7 @@
 //! panel), and the command line it saves reproduces its image headlessly. Also the render
 //! options that command line uses (`--eye --target --up --fov --integrator`).
 
-mod support;
-
+use crate::support;
 use caustic_image::{Image, PartialImage};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
@@ -306,7 +305,8 @@ fn the_window_stays_responsive_while_a_pass_takes_longer_than_a_frame() {
         report["frames"],
     );
     assert!(report["spp"].as_u64().unwrap() >= 1, "no pass completed in 40 frames");
-    assert!(median < pass_ms, "a frame takes as long as a whole sample pass: the work per frame is not bounded");
+    let (spp, frames) = (report["spp"].as_u64().unwrap(), report["frames"].as_u64().unwrap());
+    assert!(spp < frames, "{spp} passes in {frames} frames: every frame finished a whole 2048x2048 pass, so the work per frame is not bounded");
 }
 
 #[test]

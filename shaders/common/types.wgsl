@@ -272,7 +272,7 @@ struct Light {
     select_pdf: f32,
     // Colour at a segment light's far end (radiance: the near end's); LIGHT_FLAG_* bits.
     color_end: vec3<f32>,
-    light_flags: u32,
+    flags: u32,
     // Quad lights' corner colours (lights/sample.wgsl quad_light_radiance): radiance at v0,
     // color_end at v0 + e1, color_far at v0 + e1 + e2, color_side at v0 + e2; and the
     // emitter material of the quad's two triangles, by which a hit on them finds the light.
@@ -283,17 +283,8 @@ struct Light {
     samples: u32,
 }
 
-const LIGHT_TRIANGLE: u32 = 0u;
-const LIGHT_QUAD: u32 = 1u;
-const LIGHT_POINT: u32 = 2u;
-const LIGHT_DIRECTIONAL: u32 = 3u;
-const LIGHT_SPOT: u32 = 4u;
-const LIGHT_SPHERE: u32 = 5u;
-const LIGHT_DISK: u32 = 6u;
-const LIGHT_ENVIRONMENT: u32 = 7u;
-const LIGHT_SEGMENT: u32 = 8u;
-// Light flag: the classic ray tracer lights with it (declared lights, emissive triangles).
-const LIGHT_FLAG_CLASSIC: u32 = 1u;
+// Light kinds (LIGHT_TRIANGLE ... LIGHT_SEGMENT) and LIGHT_FLAG_CLASSIC (the classic ray tracer
+// lights with it): generated/interface.wgsl, from caustic_gpu::interface.
 
 // Running sum of one pixel's samples with Kahan compensation; w counts samples.
 struct AccumTexel {
@@ -343,13 +334,5 @@ struct InspectRecord {
 
 const PI: f32 = 3.14159265358979;
 const INV_PI: f32 = 0.318309886183791;
-const FLAG_VERTEX_NORMALS: u32 = 1u;
-const FLAG_ALPHA_TESTED: u32 = 2u;
-const FLAG_QUAD_LIGHT: u32 = 4u;
-const FLAG_LIGHT_LISTED: u32 = 8u;
-const ALPHA_OPAQUE: u32 = 0u;
-const ALPHA_MASK: u32 = 1u;
-const ALPHA_BLEND: u32 = 2u;
-const NO_HIT: u32 = 0xffffffffu;
-// Flag of a hit's primitive id (and a gathered record's id) marking an analytic shape.
-const SHAPE_BIT: u32 = 0x80000000u;
+// Triangle flags (FLAG_*), alpha modes (ALPHA_*), NO_HIT and SHAPE_BIT (the flag of a hit's
+// primitive id marking an analytic shape): generated/interface.wgsl, from caustic_gpu::interface.

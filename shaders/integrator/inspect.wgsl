@@ -7,8 +7,7 @@
 
 @group(0) @binding(10) var<storage, read_write> inspection: InspectRecord;
 
-const NO_PIXEL: u32 = 0xffffffffu;
-const INSPECT_MAX_BOUNCES: u32 = 64u;
+// NO_PIXEL and INSPECT_MAX_BOUNCES: generated/interface.wgsl, from caustic_gpu::interface.
 // InspectBounce.flags
 const INSPECT_SURFACE: u32 = 1u;
 const INSPECT_FRONT_FACE: u32 = 2u;

@@ -140,7 +140,7 @@ fn quad_light_emission(material: u32, p: vec3<f32>, fallback: vec3<f32>) -> vec3
 // spheres and disks (their emission stays a colour, the CSE167 convention) nor the
 // environment (it shows in the classic image through reflections).
 fn classic_lights_with(light: Light) -> bool {
-    return (light.light_flags & LIGHT_FLAG_CLASSIC) != 0u;
+    return (light.flags & LIGHT_FLAG_CLASSIC) != 0u;
 }
 
 // The share of a spot light's colour sent towards -wi (glTF's smooth cone falloff; the CPU

@@ -10,15 +10,16 @@ pub fn workspace() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..").canonicalize().expect("workspace root")
 }
 
-/// `../shared` beside the checkout, or `None` (the caller prints why it skips).
+/// `../shared` beside the checkout, or `None` after saying so. Under `CI=true` its absence
+/// fails the test instead: CI must never pass by skipping what it did not check.
 pub fn shared() -> Option<PathBuf> {
     let path = workspace().join("../shared");
     if path.is_dir() {
-        Some(path)
-    } else {
-        eprintln!("skipping: ../shared not found beside the checkout");
-        None
+        return Some(path);
     }
+    assert!(std::env::var("CI").as_deref() != Ok("true"), "{} is missing, and CI=true needs it", path.display());
+    eprintln!("skipping: ../shared not found beside the checkout");
+    None
 }
 
 /// A fresh, empty scratch folder for one test.

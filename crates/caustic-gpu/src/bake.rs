@@ -9,7 +9,7 @@
 //! initialiser: a WGSL `const` array indexed at run time is copied to a local at every read
 //! (naga), which measured 1.7-4x slower. The words are generated from the very bytes the
 //! buffers would hold, member by member as `shaders/common/types.wgsl` declares the struct
-//! (its layout computed by WGSL's rules), so the baked kernel reads the same bits; the
+//! (its layout as naga computes it), so the baked kernel reads the same bits; the
 //! program's buffer reads `materials[i]` are rewritten to `baked_materials(i)`.
 
 use crate::gpu_types::{GpuLight, GpuMaterial, TriangleShading};
@@ -66,7 +66,7 @@ fn table<T: bytemuck::Pod>(which: usize, rows: &[T]) -> Option<String> {
     if rows.len() > BAKE_MAX_ENTRIES {
         return None;
     }
-    let layout = StructLayout::parse(TYPES_WGSL, name)?;
+    let layout = StructLayout::parse(name)?;
     if layout.size != std::mem::size_of::<T>() {
         return None;
     }
@@ -136,52 +136,59 @@ fn matching_bracket(text: &str) -> Option<usize> {
     None
 }
 
-/// A WGSL struct's members with their byte offsets and scalar kinds, as the host-shareable
-/// layout rules place them (scalars aligned to 4 bytes, `vec2` to 8, `vec3` and `vec4` to 16,
-/// a struct to its largest member, its size rounded up to that).
+/// A WGSL struct's members with their byte offsets and scalar kinds, as naga lays out the
+/// declaration in `types.wgsl` (WGSL's host-shareable rules).
 #[derive(Debug)]
 struct StructLayout {
     name: String,
     members: Vec<Member>,
     size: usize,
-    align: usize,
 }
 
 #[derive(Debug)]
 enum Member {
     /// `count` scalars (1: a scalar, 2-4: a vector) of `kind` (`f32`, `u32`, `i32`) at `offset`.
-    Vector { offset: usize, count: usize, kind: String },
+    Vector { offset: usize, count: usize, kind: &'static str },
     /// A nested struct at `offset`.
     Struct { offset: usize, layout: StructLayout },
 }
 
+/// `types.wgsl` after the generated constants, parsed once by naga (`None` if it does not
+/// parse, which the WGSL validation test reports).
+static TYPES: std::sync::LazyLock<Option<naga::Module>> =
+    std::sync::LazyLock::new(|| naga::front::wgsl::parse_str(&format!("{}{TYPES_WGSL}", crate::interface::INTERFACE_SOURCE.as_str())).ok());
+
 impl StructLayout {
-    /// The layout of struct `name` declared in `types`, or `None` if it is not declared there
-    /// or has a member type this generator does not know (arrays, matrices, atomics).
-    fn parse(types: &str, name: &str) -> Option<StructLayout> {
-        let body = struct_body(types, name)?;
-        let (mut members, mut offset, mut align) = (Vec::new(), 0usize, 4usize);
-        for declaration in body.split(',').map(str::trim).filter(|d| !d.is_empty()) {
-            let (_, ty) = declaration.split_once(':')?;
-            let ty = ty.trim();
-            let (member, size, member_align) = match scalar_vector(ty) {
-                Some((count, kind)) => {
-                    let member_align = [4, 4, 8, 16, 16][count];
-                    offset = offset.next_multiple_of(member_align);
-                    (Member::Vector { offset, count, kind }, 4 * count, member_align)
+    /// The layout of struct `name` declared in `types.wgsl`, or `None` if it is not declared
+    /// there or has a member type this generator does not know (arrays, matrices, atomics).
+    fn parse(name: &str) -> Option<StructLayout> {
+        let module = TYPES.as_ref()?;
+        let (handle, _) = module.types.iter().find(|(_, ty)| ty.name.as_deref() == Some(name))?;
+        StructLayout::of(module, handle)
+    }
+
+    fn of(module: &naga::Module, handle: naga::Handle<naga::Type>) -> Option<StructLayout> {
+        let ty = &module.types[handle];
+        let naga::TypeInner::Struct { members, span } = &ty.inner else { return None };
+        let kind = |scalar: &naga::Scalar| match (scalar.kind, scalar.width) {
+            (naga::ScalarKind::Float, 4) => Some("f32"),
+            (naga::ScalarKind::Uint, 4) => Some("u32"),
+            (naga::ScalarKind::Sint, 4) => Some("i32"),
+            _ => None,
+        };
+        let members = members
+            .iter()
+            .map(|member| {
+                let offset = member.offset as usize;
+                match &module.types[member.ty].inner {
+                    naga::TypeInner::Scalar(scalar) => Some(Member::Vector { offset, count: 1, kind: kind(scalar)? }),
+                    naga::TypeInner::Vector { size, scalar } => Some(Member::Vector { offset, count: *size as usize, kind: kind(scalar)? }),
+                    naga::TypeInner::Struct { .. } => Some(Member::Struct { offset, layout: StructLayout::of(module, member.ty)? }),
+                    _ => None,
                 }
-                None => {
-                    let layout = StructLayout::parse(types, ty)?;
-                    offset = offset.next_multiple_of(layout.align);
-                    let (size, member_align) = (layout.size, layout.align);
-                    (Member::Struct { offset, layout }, size, member_align)
-                }
-            };
-            members.push(member);
-            offset += size;
-            align = align.max(member_align);
-        }
-        Some(StructLayout { name: name.to_string(), members, size: offset.next_multiple_of(align), align })
+            })
+            .collect::<Option<Vec<Member>>>()?;
+        Some(StructLayout { name: ty.name.clone()?, members, size: *span as usize })
     }
 
     /// The WGSL expression building the struct from its words `w[0]`, `w[1]`, ... (each
@@ -199,7 +206,7 @@ impl StructLayout {
                 Member::Vector { offset, count, kind } => {
                     let first = base + offset / 4;
                     let words: Vec<String> = (first..first + count).map(|k| format!("w[{k}]")).collect();
-                    match (*count, kind.as_str()) {
+                    match (*count, *kind) {
                         (1, "u32") => words[0].clone(),
                         (1, _) => format!("bitcast<{kind}>({})", words[0]),
                         (_, "u32") => format!("vec{count}<u32>({})", words.join(", ")),
@@ -210,26 +217,6 @@ impl StructLayout {
             .collect();
         format!("{}({})", self.name, args.join(", "))
     }
-}
-
-/// The text between the braces of `struct name { ... }` in `types`, comments removed.
-fn struct_body(types: &str, name: &str) -> Option<String> {
-    let uncommented: String = types.lines().map(|l| l.split("//").next().unwrap_or("")).collect::<Vec<_>>().join("\n");
-    let header = format!("struct {name} {{");
-    let start = uncommented.find(&header)? + header.len();
-    let end = start + uncommented[start..].find('}')?;
-    Some(uncommented[start..end].to_string())
-}
-
-/// (component count, scalar type) of a scalar or vector type such as `f32` or `vec3<f32>`.
-fn scalar_vector(ty: &str) -> Option<(usize, String)> {
-    let scalar = |s: &str| matches!(s, "f32" | "u32" | "i32").then(|| s.to_string());
-    if let Some(kind) = scalar(ty) {
-        return Some((1, kind));
-    }
-    let rest = ty.strip_prefix("vec")?;
-    let count: usize = rest.get(..1)?.parse().ok().filter(|n| (2..=4).contains(n))?;
-    Some((count, scalar(rest[1..].strip_prefix('<')?.strip_suffix('>')?)?))
 }
 
 #[cfg(test)]
@@ -243,7 +230,7 @@ mod tests {
             ("Material", std::mem::size_of::<GpuMaterial>()),
             ("Light", std::mem::size_of::<GpuLight>()),
         ] {
-            let layout = StructLayout::parse(TYPES_WGSL, name).expect(name);
+            let layout = StructLayout::parse(name).expect(name);
             println!("{name}: {} members, {} bytes", layout.members.len(), layout.size);
             assert_eq!(layout.size, size, "{name}");
         }

@@ -132,8 +132,12 @@ pub struct TriangleShading {
     /// Index of this triangle's extension entry (`scene_data::extension_entry`: tangents and
     /// `TEXCOORD_1`), 0 for none.
     pub extension: u32,
-    /// Texture coordinates at v0, v1, v2.
-    pub uv: [[f32; 2]; 3],
+    /// Texture coordinates at v0.
+    pub uv0: [f32; 2],
+    /// Texture coordinates at v1.
+    pub uv1: [f32; 2],
+    /// Texture coordinates at v2.
+    pub uv2: [f32; 2],
     /// Padding.
     pub _pad1: [f32; 2],
 }

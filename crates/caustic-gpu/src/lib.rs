@@ -8,6 +8,7 @@
 //! ([`inspector`]) and [`debug_image`] turns the debug views into pictures.
 
 pub mod bake;
+pub mod bindings;
 mod bench;
 pub mod bloom;
 pub mod classic;
@@ -23,6 +24,7 @@ pub mod features;
 pub mod filter;
 pub mod gpu_types;
 pub mod inspector;
+pub mod interface;
 pub mod kernel;
 pub mod kernel_test;
 pub mod light_plane;

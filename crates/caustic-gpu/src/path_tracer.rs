@@ -1,5 +1,6 @@
 //! The accumulating path tracer: one bounded dispatch per tile and sample pass.
 
+use crate::bindings;
 use crate::gpu_types::{transport_flags, AccumTexel, Frame, InspectRecord, PixelSampling, NO_PIXEL};
 use crate::inspector::PathRecord;
 use crate::readback::read_buffer;
@@ -435,18 +436,18 @@ struct Film<'b> {
 /// The integrators' bindings: the frame constants, `gpu`'s scene buffers and the film.
 fn bind_group(device: &wgpu::Device, layout: &wgpu::BindGroupLayout, frame: &wgpu::Buffer, gpu: &GpuScene, film: &Film) -> wgpu::BindGroup {
     let entries = [
-        wgpu::BindGroupEntry { binding: 0, resource: frame.as_entire_binding() },
-        wgpu::BindGroupEntry { binding: 1, resource: gpu.nodes.as_entire_binding() },
-        wgpu::BindGroupEntry { binding: 2, resource: gpu.triangles.as_entire_binding() },
-        wgpu::BindGroupEntry { binding: 3, resource: gpu.shading.as_entire_binding() },
-        wgpu::BindGroupEntry { binding: 4, resource: gpu.materials.as_entire_binding() },
-        wgpu::BindGroupEntry { binding: 5, resource: gpu.lights.as_entire_binding() },
-        wgpu::BindGroupEntry { binding: 6, resource: film.accumulation.as_entire_binding() },
-        wgpu::BindGroupEntry { binding: 7, resource: film.nonfinite_counts.as_entire_binding() },
-        wgpu::BindGroupEntry { binding: 8, resource: wgpu::BindingResource::TextureView(&gpu.environment_view) },
-        wgpu::BindGroupEntry { binding: 9, resource: gpu.shapes.as_entire_binding() },
-        wgpu::BindGroupEntry { binding: 10, resource: film.inspection.as_entire_binding() },
-        wgpu::BindGroupEntry { binding: 11, resource: gpu.textures.as_entire_binding() },
+        wgpu::BindGroupEntry { binding: bindings::FRAME.index, resource: frame.as_entire_binding() },
+        wgpu::BindGroupEntry { binding: bindings::BVH_NODES.index, resource: gpu.nodes.as_entire_binding() },
+        wgpu::BindGroupEntry { binding: bindings::BVH_TRIANGLES.index, resource: gpu.triangles.as_entire_binding() },
+        wgpu::BindGroupEntry { binding: bindings::SHADING.index, resource: gpu.shading.as_entire_binding() },
+        wgpu::BindGroupEntry { binding: bindings::MATERIALS.index, resource: gpu.materials.as_entire_binding() },
+        wgpu::BindGroupEntry { binding: bindings::LIGHTS.index, resource: gpu.lights.as_entire_binding() },
+        wgpu::BindGroupEntry { binding: bindings::ACCUMULATION.index, resource: film.accumulation.as_entire_binding() },
+        wgpu::BindGroupEntry { binding: bindings::NONFINITE_COUNTS.index, resource: film.nonfinite_counts.as_entire_binding() },
+        wgpu::BindGroupEntry { binding: bindings::ENVIRONMENT_MAP.index, resource: wgpu::BindingResource::TextureView(&gpu.environment_view) },
+        wgpu::BindGroupEntry { binding: bindings::BVH_SHAPES.index, resource: gpu.shapes.as_entire_binding() },
+        wgpu::BindGroupEntry { binding: bindings::INSPECTION.index, resource: film.inspection.as_entire_binding() },
+        wgpu::BindGroupEntry { binding: bindings::TEXTURES.index, resource: gpu.textures.as_entire_binding() },
     ];
     device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("path tracer"), layout, entries: &entries })
 }
@@ -501,34 +502,9 @@ fn next_event(scene: &Scene, settings: &RenderSettings) -> NextEvent {
 }
 
 /// Bindings of `shaders/integrator/bindings.wgsl` and `shaders/bvh/bindings.wgsl`, shared by
-/// every integrator's entry point.
+/// every integrator's entry point ([`crate::bindings`]).
 fn bind_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
-    let entry = |binding, ty| wgpu::BindGroupLayoutEntry { binding, visibility: wgpu::ShaderStages::COMPUTE, ty, count: None };
-    let buffer = |ty| wgpu::BindingType::Buffer { ty, has_dynamic_offset: false, min_binding_size: None };
-    let read = buffer(wgpu::BufferBindingType::Storage { read_only: true });
-    let write = buffer(wgpu::BufferBindingType::Storage { read_only: false });
-    let texture = wgpu::BindingType::Texture {
-        sample_type: wgpu::TextureSampleType::Float { filterable: false },
-        view_dimension: wgpu::TextureViewDimension::D2,
-        multisampled: false,
-    };
-    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-        label: Some("integrators"),
-        entries: &[
-            entry(0, read),
-            entry(1, read),
-            entry(2, read),
-            entry(3, read),
-            entry(4, read),
-            entry(5, read),
-            entry(6, write),
-            entry(7, write),
-            entry(8, texture),
-            entry(9, read),
-            entry(10, write),
-            entry(11, read),
-        ],
-    })
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("integrators"), entries: &crate::bindings::layout_entries() })
 }
 
 /// The bounces a path may take under `settings` (`None`: unbounded, Russian roulette ends

@@ -1,4 +1,7 @@
-//! WGSL sources: each program is a concatenation of small files from `shaders/`.
+//! WGSL sources: each program is a concatenation of small files from `shaders/`, after the
+//! constants generated from Rust ([`crate::interface`]).
+
+use std::sync::LazyLock;
 
 /// A named WGSL file, embedded at compile time.
 pub struct ShaderFile {
@@ -12,6 +15,14 @@ macro_rules! shader_file {
     ($name:literal) => {
         ShaderFile { name: $name, source: include_str!(concat!("../../../shaders/", $name)) }
     };
+}
+
+/// The generated `generated/interface.wgsl` ([`crate::interface::wgsl_constants`]).
+static INTERFACE: LazyLock<ShaderFile> = LazyLock::new(|| ShaderFile { name: crate::interface::INTERFACE_FILE, source: crate::interface::INTERFACE_SOURCE.as_str() });
+
+/// The files every program starts with: the generated constants, then [`COMMON`].
+fn common() -> impl Iterator<Item = &'static ShaderFile> {
+    std::iter::once(&*INTERFACE).chain(COMMON.iter())
 }
 
 const COMMON: [ShaderFile; 7] = [
@@ -118,24 +129,24 @@ pub const BLOOM: ShaderFile = shader_file!("post/bloom.wgsl");
 /// and ray-box tests): no bindings, so kernel tests ([`crate::kernel_test`]) can run their
 /// functions alone.
 pub fn common_library() -> Vec<&'static ShaderFile> {
-    COMMON.iter().collect()
+    common().collect()
 }
 
 /// [`common_library`] and the BSDFs (`shaders/bsdf`), for kernel tests.
 pub fn bsdf_library() -> Vec<&'static ShaderFile> {
-    COMMON.iter().chain(PATH_TRACER.iter().filter(|f| f.name.starts_with("bsdf/"))).collect()
+    common().chain(PATH_TRACER.iter().filter(|f| f.name.starts_with("bsdf/"))).collect()
 }
 
 /// [`common_library`] and `integrator/material.wgsl` (glTF textures to lobes and normals),
 /// for kernel tests.
 pub fn material_library() -> Vec<&'static ShaderFile> {
-    COMMON.iter().chain(PATH_TRACER.iter().filter(|f| f.name == "integrator/material.wgsl")).collect()
+    common().chain(PATH_TRACER.iter().filter(|f| f.name == "integrator/material.wgsl")).collect()
 }
 
 /// [`common_library`] and `lights/shapes.wgsl` (sampling spheres and disks as lights), for
 /// kernel tests.
 pub fn light_library() -> Vec<&'static ShaderFile> {
-    COMMON.iter().chain(PATH_TRACER.iter().filter(|f| f.name == "lights/shapes.wgsl")).collect()
+    common().chain(PATH_TRACER.iter().filter(|f| f.name == "lights/shapes.wgsl")).collect()
 }
 
 /// The files of one program, in order.
@@ -144,7 +155,7 @@ pub fn program_files(program: Program) -> Vec<&'static ShaderFile> {
         Program::PathTracer => &PATH_TRACER,
         Program::RayBench => &RAY_BENCH,
     };
-    COMMON.iter().chain(TRAVERSAL.iter()).chain(own.iter()).collect()
+    common().chain(TRAVERSAL.iter()).chain(own.iter()).collect()
 }
 
 /// The WGSL programs Caustic compiles.

@@ -1,0 +1,70 @@
+//! The constants Rust and WGSL share, declared once here and generated into every program as
+//! `generated/interface.wgsl`, so no WGSL file repeats a number the host also writes (light
+//! kinds, triangle flags, alpha modes, the shape bit of hit ids, the inspector's sentinel).
+//!
+//! The struct layouts and bindings are checked against the shaders by naga reflection in
+//! `crates/caustic-gpu/tests/gpu/wgsl_validation.rs`; the override constants (requirement bits,
+//! classic features) are set through the pipeline and checked where they are declared.
+
+use crate::gpu_types::{ALPHA_BLEND, ALPHA_MASK, ALPHA_OPAQUE, FLAG_ALPHA_TESTED, FLAG_LIGHT_LISTED, FLAG_QUAD_LIGHT, FLAG_VERTEX_NORMALS, INSPECT_MAX_BOUNCES, NO_PIXEL};
+use crate::scene_data::{
+    LIGHT_DIRECTIONAL, LIGHT_DISK, LIGHT_ENVIRONMENT, LIGHT_FLAG_CLASSIC, LIGHT_POINT, LIGHT_QUAD, LIGHT_SEGMENT, LIGHT_SPHERE, LIGHT_SPOT, LIGHT_TRIANGLE,
+};
+use std::sync::LazyLock;
+
+/// Every shared `u32` constant by its name on both sides.
+pub const SHARED_CONSTANTS: &[(&str, u32)] = &[
+    ("LIGHT_TRIANGLE", LIGHT_TRIANGLE),
+    ("LIGHT_QUAD", LIGHT_QUAD),
+    ("LIGHT_POINT", LIGHT_POINT),
+    ("LIGHT_DIRECTIONAL", LIGHT_DIRECTIONAL),
+    ("LIGHT_SPOT", LIGHT_SPOT),
+    ("LIGHT_SPHERE", LIGHT_SPHERE),
+    ("LIGHT_DISK", LIGHT_DISK),
+    ("LIGHT_ENVIRONMENT", LIGHT_ENVIRONMENT),
+    ("LIGHT_SEGMENT", LIGHT_SEGMENT),
+    ("LIGHT_FLAG_CLASSIC", LIGHT_FLAG_CLASSIC),
+    ("FLAG_VERTEX_NORMALS", FLAG_VERTEX_NORMALS),
+    ("FLAG_ALPHA_TESTED", FLAG_ALPHA_TESTED),
+    ("FLAG_QUAD_LIGHT", FLAG_QUAD_LIGHT),
+    ("FLAG_LIGHT_LISTED", FLAG_LIGHT_LISTED),
+    ("ALPHA_OPAQUE", ALPHA_OPAQUE),
+    ("ALPHA_MASK", ALPHA_MASK),
+    ("ALPHA_BLEND", ALPHA_BLEND),
+    ("SHAPE_BIT", caustic_bvh::SHAPE_BIT),
+    ("NO_HIT", u32::MAX),
+    ("NO_PIXEL", NO_PIXEL),
+    ("INSPECT_MAX_BOUNCES", INSPECT_MAX_BOUNCES as u32),
+];
+
+/// Path under which the generated file appears in assembled programs and error messages.
+pub const INTERFACE_FILE: &str = "generated/interface.wgsl";
+
+/// The WGSL declarations of [`SHARED_CONSTANTS`].
+pub fn wgsl_constants() -> String {
+    let mut text = String::from("// Generated from caustic_gpu::interface::SHARED_CONSTANTS: edit the Rust side.\n");
+    for (name, value) in SHARED_CONSTANTS {
+        text.push_str(&format!("const {name}: u32 = {value:#x}u;\n"));
+    }
+    text
+}
+
+/// [`wgsl_constants`], made once per process.
+pub(crate) static INTERFACE_SOURCE: LazyLock<String> = LazyLock::new(wgsl_constants);
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_constant_is_declared_once() {
+        let mut names: Vec<&str> = SHARED_CONSTANTS.iter().map(|(name, _)| *name).collect();
+        names.sort_unstable();
+        let count = names.len();
+        names.dedup();
+        assert_eq!(names.len(), count, "a constant is listed twice");
+        let text = wgsl_constants();
+        assert_eq!(text.lines().filter(|l| l.starts_with("const ")).count(), count);
+        assert!(text.contains("const SHAPE_BIT: u32 = 0x80000000u;"), "{text}");
+    }
+}

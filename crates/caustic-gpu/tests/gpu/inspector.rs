@@ -1,0 +1,180 @@
+//! The pixel inspector's record of Cornell-box paths against CPU twins: each recorded ray is
+//! traced again by the CPU traversal (`caustic_bvh::GpuBvh::closest_hit`) and must find the
+//! same primitive at the same distance; each next ray starts at the recorded hit point moved
+//! off the surface as `offset_ray_origin` does; the throughput follows the recorded BSDF
+//! weights and Russian roulette; and the recorded radiance is what a render's sample adds.
+
+use crate::support::device;
+use caustic_bvh::{BuildOptions, GpuBvh, Ray};
+use caustic_gpu::inspector::{PathRecord, Primitive, Termination};
+use caustic_gpu::{GpuContext, GpuScene, PathTracer, RenderSettings};
+use caustic_scene::{load_scene, Scene, SceneSource};
+use glam::Vec3;
+
+const SIZE: u32 = 64;
+const PIXELS: [(u32, u32); 4] = [(32, 32), (20, 50), (45, 12), (5, 30)];
+const SAMPLES: std::ops::Range<u32> = 0..6;
+
+fn setup() -> (GpuContext, Scene, RenderSettings) {
+    let ctx = device();
+    let mut scene = load_scene(&SceneSource::parse("cornell")).expect("cornell");
+    scene.resolution = (SIZE, SIZE);
+    assert!(scene.shapes.is_empty(), "the CPU twin below covers triangles only");
+    let settings = RenderSettings {
+        max_depth: Some(8),
+        seed: 7,
+        ..RenderSettings::default()
+    };
+    (ctx, scene, settings)
+}
+
+/// CPU twin of `offset_ray_origin` (shaders/common/ray.wgsl).
+fn offset_ray_origin(p: Vec3, n: Vec3) -> Vec3 {
+    let offset = |p: f32, n: f32| {
+        if p.abs() < 1.0 / 32.0 {
+            return p + n / 65536.0;
+        }
+        let of = (256.0 * n) as i32;
+        f32::from_bits((p.to_bits() as i32 + if p < 0.0 { -of } else { of }) as u32)
+    };
+    Vec3::new(offset(p.x, n.x), offset(p.y, n.y), offset(p.z, n.z))
+}
+
+fn relative(a: f32, b: f32) -> f32 {
+    (a - b).abs() / b.abs().max(1e-6)
+}
+
+fn relative3(a: Vec3, b: Vec3) -> f32 {
+    (a - b).abs().max_element() / b.abs().max_element().max(1e-6)
+}
+
+#[derive(Default)]
+struct Worst {
+    rays: usize,
+    t: f32,
+    throughput: f32,
+    radiance: f32,
+}
+
+/// Checks one path against the CPU twins; returns the worst relative errors seen.
+fn check_path(path: &PathRecord, bvh: &GpuBvh, rr_start: u32, worst: &mut Worst) {
+    assert_eq!(path.bounces.len() as u32, path.ray_count, "the record holds the whole path");
+    for (i, bounce) in path.bounces.iter().enumerate() {
+        worst.rays += 1;
+        let cpu = bvh.closest_hit(&Ray {
+            origin: bounce.origin,
+            direction: bounce.direction,
+            t_max: 3.0e38,
+        });
+        match (&bounce.hit, cpu) {
+            (None, None) => {}
+            (Some(hit), Some(cpu)) => {
+                assert_eq!(
+                    hit.primitive,
+                    Primitive::Triangle(cpu.triangle),
+                    "pixel {:?} bounce {i}: another triangle",
+                    path.pixel
+                );
+                let error = relative(hit.t, cpu.t);
+                assert!(error < 1e-5, "pixel {:?} bounce {i}: t {} vs CPU {}", path.pixel, hit.t, cpu.t);
+                worst.t = worst.t.max(error);
+            }
+            (gpu, cpu) => panic!("pixel {:?} bounce {i}: device hit {gpu:?}, CPU twin {cpu:?}", path.pixel),
+        }
+        let Some(next) = path.bounces.get(i + 1) else {
+            continue;
+        };
+        let hit = bounce.hit.as_ref().expect("only a surface hit continues the path");
+        let bsdf = bounce.bsdf.as_ref().expect("a continued path sampled the BSDF");
+        assert_eq!(next.direction, bsdf.wi, "the next ray follows the BSDF sample");
+        let side = if next.direction.dot(hit.geometric_normal) >= 0.0 {
+            hit.geometric_normal
+        } else {
+            -hit.geometric_normal
+        };
+        assert_eq!(
+            next.origin,
+            offset_ray_origin(hit.point, side),
+            "the next ray starts at the offset hit point"
+        );
+        let mut expected = bounce.throughput * bsdf.weight;
+        if i as u32 + 1 >= rr_start {
+            expected /= expected.max_element().min(0.95);
+        }
+        let error = relative3(next.throughput, expected);
+        assert!(
+            error < 1e-5,
+            "pixel {:?} bounce {i}: throughput {} vs {expected}",
+            path.pixel,
+            next.throughput
+        );
+        worst.throughput = worst.throughput.max(error);
+    }
+    let last = path.bounces.last().expect("at least the camera ray");
+    match path.termination {
+        Termination::Escaped => assert!(last.hit.is_none()),
+        Termination::MaxDepth => assert_eq!(path.ray_count, 9, "max depth 8 ends at the ninth ray"),
+        Termination::RussianRoulette | Termination::Absorbed => assert!(last.bsdf.is_some()),
+    }
+}
+
+#[test]
+fn inspected_paths_match_cpu_traces_of_the_same_rays() {
+    let (ctx, scene, settings) = setup();
+    let gpu = GpuScene::upload(&ctx, &scene).expect("upload");
+    let triangles: Vec<_> = scene.triangles().collect();
+    let bvh = caustic_bvh::flatten(&caustic_bvh::build(&triangles, &BuildOptions::default()), &triangles);
+    let mut tracer = PathTracer::new(&ctx, &scene, &gpu, &settings).expect("tracer");
+    let mut worst = Worst::default();
+    let mut endings = std::collections::BTreeMap::new();
+    let began = std::time::Instant::now();
+    for sample in SAMPLES {
+        for (x, y) in PIXELS {
+            let path = tracer.inspect(x, y, sample).expect("inspect");
+            assert_eq!((path.pixel, path.sample), ((x, y), sample));
+            check_path(&path, &bvh, settings.rr_start, &mut worst);
+            *endings.entry(path.termination.name()).or_insert(0) += 1;
+        }
+    }
+    let paths = PIXELS.len() * SAMPLES.len();
+    println!("{:.1} ms per inspection (dispatch, read-back, checks)", began.elapsed().as_secs_f64() * 1e3 / paths as f64);
+    println!(
+        "{} rays of {} paths: worst relative t error {:.2e}, throughput {:.2e}; endings {endings:?}",
+        worst.rays,
+        PIXELS.len() * SAMPLES.len(),
+        worst.t,
+        worst.throughput
+    );
+    assert!(worst.rays > 2 * PIXELS.len() * SAMPLES.len(), "paths should bounce");
+}
+
+#[test]
+fn inspected_radiance_is_the_sample_a_render_adds() {
+    let (ctx, scene, settings) = setup();
+    let gpu = GpuScene::upload(&ctx, &scene).expect("upload");
+    let mut worst = Worst::default();
+    for sample in [0u32, 3] {
+        let settings = RenderSettings {
+            first_sample: sample,
+            ..settings
+        };
+        let mut tracer = PathTracer::new(&ctx, &scene, &gpu, &settings).expect("tracer");
+        tracer.render_sample().expect("pass");
+        let image = tracer.image().expect("image");
+        for (x, y) in PIXELS {
+            let path = tracer.inspect(x, y, sample).expect("inspect");
+            let rendered = Vec3::from(image.get(x, y));
+            let error = relative3(path.radiance, rendered);
+            println!("pixel ({x}, {y}) sample {sample}: inspected {} rendered {rendered}", path.radiance);
+            assert!(
+                error < 1e-5,
+                "the inspected radiance {} differs from the rendered sample {rendered}",
+                path.radiance
+            );
+            worst.radiance = worst.radiance.max(error);
+        }
+        let after = tracer.image().expect("image");
+        assert_eq!(after.pixels, image.pixels, "inspecting leaves the film as it was");
+    }
+    println!("worst relative radiance difference {:.2e}", worst.radiance);
+}
