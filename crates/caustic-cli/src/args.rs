@@ -173,6 +173,31 @@ pub struct SceneOverrides {
     /// Camera overrides.
     #[command(flatten)]
     pub camera: CameraArgs,
+    /// Limits on the files read.
+    #[command(flatten)]
+    pub input: InputArgs,
+}
+
+/// What input files may be (docs/ROBUSTNESS.md, "Input files"): how large, and where the files
+/// a model or scene script refers to, and a script's outputs, may lie.
+#[derive(Clone, Copy, Debug, Args)]
+pub struct InputArgs {
+    /// Largest file read (scene, mesh, material library, glTF buffer, texture, environment
+    /// map), in bytes; larger files, and anything not a regular file, are refused.
+    #[arg(long, env = "CAUSTIC_MAX_FILE_SIZE", value_name = "BYTES", default_value_t = caustic_scene::input_file::DEFAULT_MAX_FILE_SIZE)]
+    pub max_file_size: u64,
+    /// Let the files a model or scene script refers to (glTF buffers and images, OBJ material
+    /// libraries and textures, sourced files, environment maps) lie outside its folder, and a
+    /// script's `output` files outside the output folder (-o's folder, else the current one).
+    #[arg(long)]
+    pub allow_any_path: bool,
+}
+
+impl InputArgs {
+    /// The limits the loaders read within.
+    pub fn limits(&self) -> caustic_scene::InputLimits {
+        caustic_scene::InputLimits { max_file_size: self.max_file_size, allow_any_path: self.allow_any_path }
+    }
 }
 
 impl SceneOverrides {
@@ -198,7 +223,7 @@ impl SceneOverrides {
             scene.resolution = size;
         }
         if let Some(text) = &self.environment {
-            scene.environment = parse_environment(text)?;
+            scene.environment = parse_environment(text, &self.input.limits())?;
         }
         self.camera.apply(&mut scene.camera)?;
         let max_depth = match self.max_depth {
@@ -584,7 +609,7 @@ fn parse_integrator(text: &str) -> Result<Integrator, String> {
 
 /// Reads `--environment`: one number (grey), three comma-separated numbers, a sky model
 /// (`sky:ZENITH:HORIZON` or `overcast:ZENITH`, colours as before), or a map file.
-fn parse_environment(text: &str) -> anyhow::Result<Environment> {
+fn parse_environment(text: &str, limits: &caustic_scene::InputLimits) -> anyhow::Result<Environment> {
     let sky: Vec<&str> = text.split(':').collect();
     match sky.as_slice() {
         ["sky", zenith, horizon] => return Ok(Environment::Map(EnvironmentMap::gradient_sky(environment_color(text, zenith)?, environment_color(text, horizon)?))),
@@ -599,7 +624,7 @@ fn parse_environment(text: &str) -> anyhow::Result<Environment> {
     if !path.exists() {
         bail!("--environment {text}: neither a colour (`1` or `r,g,b`) nor an existing .hdr/.exr file");
     }
-    let map = EnvironmentMap::load(path).with_context(|| format!("--environment {text}"))?;
+    let map = EnvironmentMap::load_with(path, limits).with_context(|| format!("--environment {text}"))?;
     Ok(Environment::Map(map))
 }
 

@@ -28,6 +28,8 @@ pub struct LoadOptions {
     /// Motion blur for glTF files: the shutter's open and close times in seconds of the first
     /// animation, which poses the nodes at open and moves meshes to their pose at close.
     pub shutter: Option<(f32, f32)>,
+    /// How large input files may be and where the files a model refers to may lie.
+    pub limits: crate::InputLimits,
 }
 
 /// Loads and validates a scene from a built-in name or a file (`.gltf`, `.glb`, `.obj`, `.ply`,
@@ -71,11 +73,12 @@ fn load_file(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {
     if !path.exists() {
         return Err(SceneError::file(path, "no such file"));
     }
+    let limits = &options.limits;
     match extension(path).as_deref() {
-        Some("gltf" | "glb") => crate::gltf_loader::load(path, options.shutter),
-        Some("obj") => crate::obj_loader::load(path),
-        Some("ply") => crate::ply_loader::load(path),
-        Some("test" | "scene" | "txt") => crate::lang::load(path),
+        Some("gltf" | "glb") => crate::gltf_loader::load(path, options.shutter, limits),
+        Some("obj") => crate::obj_loader::load(path, limits),
+        Some("ply") => crate::ply_loader::load(path, limits),
+        Some("test" | "scene" | "txt") => crate::lang::load_with(path, limits),
         Some(other) => Err(SceneError::file(path, format!("unsupported scene format '.{other}' (supported: .gltf, .glb, .obj, .ply, .test, .scene, .txt)"))),
         None => Err(SceneError::file(path, "no file extension: cannot tell the format (supported: .gltf, .glb, .obj, .ply, .test, .scene, .txt)")),
     }
