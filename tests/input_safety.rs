@@ -108,5 +108,7 @@ fn unwritable_output_fails_before_the_render() {
         let stderr = fails_with(&output, &[expected]);
         println!("-o {out} refused in {took:?}");
         assert!(!stderr.contains("adapter:"), "the device was opened (and the scene rendered) before the output was checked: {stderr}");
+        assert!(stderr.matches("os error").count() <= 1, "the OS error is printed twice: {stderr}");
     }
+    assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1, "the check left a temporary file behind");
 }
