@@ -112,3 +112,48 @@ fn unwritable_output_fails_before_the_render() {
     }
     assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1, "the check left a temporary file behind");
 }
+
+/// A unit cube tilted 30 degrees towards the camera (which looks down -Z), so that its top
+/// and its front show.
+fn tilted_cube() -> String {
+    let (s, c) = 30f32.to_radians().sin_cos();
+    let mut text = String::new();
+    for i in 0..8 {
+        let (x, y, z) = ((i & 1) as f32 - 0.5, ((i >> 1) & 1) as f32 - 0.5, ((i >> 2) & 1) as f32 - 0.5);
+        text += &format!("v {x} {} {}\n", y * c - z * s, y * s + z * c);
+    }
+    for face in ["1 3 4 2", "5 6 8 7", "1 2 6 5", "3 7 8 4", "1 5 7 3", "2 4 8 6"] {
+        text += &format!("f {face}\n");
+    }
+    text
+}
+
+/// The spread of a tone-mapped image: its 90th minus its 10th percentile of sRGB-encoded
+/// luminance, 0..1.
+fn spread(path: &Path) -> f32 {
+    let image = caustic_image::Image::load(path).expect("the image loads");
+    let mut values: Vec<f32> = image.pixels.iter().map(|p| caustic_scene::linear_to_srgb(0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2])).collect();
+    values.sort_by(f32::total_cmp);
+    values[values.len() * 9 / 10] - values[values.len() / 10]
+}
+
+#[test]
+fn models_without_light_are_lit_by_the_default_sky() {
+    let dir = support::scratch("default-sky");
+    let cube = dir.join("cube.obj");
+    std::fs::write(&cube, tilted_cube()).unwrap();
+    let render = |name: &str, extra: &[&str]| {
+        let out = dir.join(name);
+        let mut args = vec!["render", cube.to_str().unwrap(), "--size", "32x32", "--spp", "4", "-o", out.to_str().unwrap()];
+        args.extend_from_slice(extra);
+        let output = support::caustic(&args);
+        assert!(output.status.success());
+        (spread(&out), String::from_utf8_lossy(&output.stderr).into_owned())
+    };
+    let (default, stderr) = render("default.png", &[]);
+    let (white, white_stderr) = render("white.png", &["--environment", "1"]);
+    println!("spread of sRGB luminance (90th - 10th percentile): default sky {default:.3}, white sky (the old default) {white:.3}");
+    assert_eq!(stderr.matches("default grey sky").count(), 1, "one line says so: {stderr}");
+    assert!(!white_stderr.contains("default grey sky"), "an --environment is not the default sky");
+    assert!(default > 0.15 && default > 2.0 * white, "the model must stand out: spread {default:.3} (> 0.15 and > 2x the white sky's {white:.3})");
+}

@@ -201,6 +201,12 @@ impl InputArgs {
 }
 
 impl SceneOverrides {
+    /// How to load the scene: within the input limits, and without the default sky when
+    /// --environment replaces it anyway.
+    pub fn load_options(&self) -> caustic_scene::LoadOptions {
+        caustic_scene::LoadOptions { limits: self.input.limits(), keep_unlit: self.environment.is_some(), ..caustic_scene::LoadOptions::default() }
+    }
+
     /// The `--feature` switches, in order (a later one wins).
     pub fn classic_features(&self) -> caustic_gpu::features::ClassicFeatures {
         let mut features = caustic_gpu::features::ClassicFeatures::default();

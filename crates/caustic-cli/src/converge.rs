@@ -10,7 +10,7 @@ use caustic_gpu::{GpuContext, GpuScene, PathTracer, RenderSettings};
 use caustic_image::metrics::{RELMSE_EPSILON, mean_absolute_error, relative_mse};
 use caustic_image::perceptual::{Viewing, mean_flip_color};
 use caustic_image::{Image, write_file_atomically};
-use caustic_scene::{SceneSource, load_scene_with, LoadOptions};
+use caustic_scene::{SceneSource, load_scene_with};
 use clap::Args;
 use serde::Serialize;
 use std::fmt::Write;
@@ -101,7 +101,7 @@ pub fn run(args: &ConvergeArgs) -> anyhow::Result<()> {
         bail!("--time {t}: must be a positive number of seconds");
     }
     let reference = Image::load(&args.reference).with_context(|| format!("reference {}", args.reference.display()))?;
-    let mut scene = load_scene_with(&SceneSource::parse(&args.scene), &LoadOptions { limits: args.overrides.input.limits(), ..LoadOptions::default() })?;
+    let mut scene = load_scene_with(&SceneSource::parse(&args.scene), &args.overrides.load_options())?;
     scene.resolution = (reference.width, reference.height);
     let (integrator, max_depth) = args.overrides.apply(&mut scene)?;
     if scene.resolution != (reference.width, reference.height) {

@@ -177,7 +177,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     if !split && script::is_script(Path::new(&scene_arg)) {
         return script::run_file(Path::new(&scene_arg), args);
     }
-    let mut scene = load_scene_with(&SceneSource::parse(&scene_arg), &LoadOptions { shutter: args.shutter, limits: args.overrides.input.limits() })?;
+    let mut scene = load_scene_with(&SceneSource::parse(&scene_arg), &LoadOptions { shutter: args.shutter, ..args.overrides.load_options() })?;
     let output = output_arg.unwrap_or_else(|| PathBuf::from(format!("{}.png", scene.name)));
     caustic_image::check_output_path(&output)?;
     let partial = is_exr(&output);

@@ -2,7 +2,7 @@
 
 use crate::args::ViewArgs;
 use anyhow::bail;
-use caustic_scene::{SceneSource, load_scene_with, LoadOptions};
+use caustic_scene::{SceneSource, load_scene_with};
 use caustic_viewer::{Script, ViewerOptions};
 
 /// Samples per pixel the viewer stops at when neither --spp nor the scene says.
@@ -13,7 +13,7 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
     if args.spp == Some(0) {
         bail!("--spp 0: at least one sample per pixel is needed");
     }
-    let mut scene = load_scene_with(&SceneSource::parse(&args.scene), &LoadOptions { limits: args.overrides.input.limits(), ..LoadOptions::default() })?;
+    let mut scene = load_scene_with(&SceneSource::parse(&args.scene), &args.overrides.load_options())?;
     let (integrator, max_depth) = args.overrides.apply(&mut scene)?;
     let script = args.frames.map(|frames| Script {
         frames,

@@ -18,7 +18,8 @@
 //! lights shine along their node's -Z; `range` is ignored.
 //!
 //! glTF cannot describe an environment: it is black unless an `env.json` sidecar next to the
-//! file says `{"type": "constant", "radiance": [r, g, b]}`.
+//! file says `{"type": "constant", "radiance": [r, g, b]}` (a file with no light at all then
+//! gets the default sky, [`crate::DEFAULT_SKY`]).
 //!
 //! A file that requires an extension not listed in [`SUPPORTED_EXTENSIONS`] is refused; other
 //! unsupported extensions it merely uses are named in a warning on stderr.

@@ -36,6 +36,7 @@ pub use environment::{Environment, EnvironmentMap};
 pub use error::SceneError;
 pub use input_file::{InputError, InputLimits};
 pub use load::{load_scene, load_scene_with, LoadOptions, SceneSource};
+pub use mesh_scene::DEFAULT_SKY;
 pub use light::{spot_cone, spot_scale_offset, Attenuation, Light};
 pub use material::{normal_mapped, AlphaMode, Anisotropy, Material, ShadingModel};
 pub use mesh::Mesh;

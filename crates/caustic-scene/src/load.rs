@@ -30,6 +30,9 @@ pub struct LoadOptions {
     pub shutter: Option<(f32, f32)>,
     /// How large input files may be and where the files a model refers to may lie.
     pub limits: crate::InputLimits,
+    /// Leave a model file without any light unlit (its caller sets an environment, such as
+    /// `--environment`) instead of lighting it by the default sky ([`crate::DEFAULT_SKY`]).
+    pub keep_unlit: bool,
 }
 
 /// Loads and validates a scene from a built-in name or a file (`.gltf`, `.glb`, `.obj`, `.ply`,
@@ -74,12 +77,17 @@ fn load_file(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {
         return Err(SceneError::file(path, "no such file"));
     }
     let limits = &options.limits;
-    match extension(path).as_deref() {
-        Some("gltf" | "glb") => crate::gltf_loader::load(path, options.shutter, limits),
-        Some("obj") => crate::obj_loader::load(path, limits),
-        Some("ply") => crate::ply_loader::load(path, limits),
-        Some("test" | "scene" | "txt") => crate::lang::load_with(path, limits),
-        Some(other) => Err(SceneError::file(path, format!("unsupported scene format '.{other}' (supported: .gltf, .glb, .obj, .ply, .test, .scene, .txt)"))),
-        None => Err(SceneError::file(path, "no file extension: cannot tell the format (supported: .gltf, .glb, .obj, .ply, .test, .scene, .txt)")),
+    let mut scene = match extension(path).as_deref() {
+        Some("gltf" | "glb") => crate::gltf_loader::load(path, options.shutter, limits)?,
+        Some("obj") => crate::obj_loader::load(path, limits)?,
+        Some("ply") => crate::ply_loader::load(path, limits)?,
+        // Scene-language files keep their own lighting (the classic ambient term included).
+        Some("test" | "scene" | "txt") => return crate::lang::load_with(path, limits),
+        Some(other) => return Err(SceneError::file(path, format!("unsupported scene format '.{other}' (supported: .gltf, .glb, .obj, .ply, .test, .scene, .txt)"))),
+        None => return Err(SceneError::file(path, "no file extension: cannot tell the format (supported: .gltf, .glb, .obj, .ply, .test, .scene, .txt)")),
+    };
+    if !options.keep_unlit {
+        crate::mesh_scene::light_if_unlit(path, &mut scene);
     }
+    Ok(scene)
 }

@@ -12,8 +12,8 @@
 //! all faces when there is no MTL, use a diffuse 0.8 grey material named "default". A missing
 //! MTL file is a warning, a malformed one an error.
 //!
-//! The camera frames the model and the environment is a white sky unless the model has
-//! emitters (see [`crate::mesh_scene`]).
+//! The camera frames the model; a model without emitters is lit by the default sky (see
+//! [`crate::mesh_scene`]).
 //!
 //! tobj reports errors without a position, so the file is read through a [`LineCounter`]:
 //! syntax errors name their line; an out-of-range index is noticed, and named, at the line

@@ -7,7 +7,7 @@
 //! skipped with a warning. Other elements and properties are read past and ignored.
 //!
 //! The whole file becomes one [`Mesh`] with a diffuse 0.8 grey material; camera, image size and
-//! environment (a white sky) are those of every mesh file (see [`crate::mesh_scene`]).
+//! environment (the default sky) are those of every mesh file (see [`crate::mesh_scene`]).
 //! Non-finite positions and out-of-range or negative indices are errors naming the vertex or
 //! face.
 
