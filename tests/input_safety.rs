@@ -157,3 +157,91 @@ fn models_without_light_are_lit_by_the_default_sky() {
     assert!(!white_stderr.contains("default grey sky"), "an --environment is not the default sky");
     assert!(default > 0.15 && default > 2.0 * white, "the model must stand out: spread {default:.3} (> 0.15 and > 2x the white sky's {white:.3})");
 }
+
+/// The exit status of `output` (panics if it was killed by a signal).
+fn status(output: &Output) -> i32 {
+    output.status.code().expect("an exit status, not killed by a signal")
+}
+
+#[test]
+fn exit_codes_and_json_errors() {
+    let dir = support::scratch("exit-codes");
+    let out = dir.join("out.png");
+    let o = out.to_str().unwrap();
+    let part = dir.join("part.exr");
+    let cases: [(&[&str], i32, &str); 5] = [
+        (&["render", "--no-such-option"], 2, "usage"),
+        (&["render", "--spp", "0", "-o", o], 2, "usage"),
+        (&["render", "--bloom", "0.5", "-o", part.to_str().unwrap()], 2, "usage"),
+        (&["render", "--eye", "0,0,0", "--target", "0,0,0", "-o", o], 2, "usage"),
+        (&["render", "no-such-scene.obj", "-o", o], 1, "runtime"),
+    ];
+    for (args, code, kind) in cases {
+        let plain = support::caustic(args);
+        assert_eq!(status(&plain), code, "caustic {args:?}");
+        let mut with_json = args.to_vec();
+        with_json.push("--json");
+        let output = support::caustic(&with_json);
+        assert_eq!(status(&output), code, "caustic {with_json:?}");
+        let stdout = String::from_utf8_lossy(&output.stdout);
+        println!("{args:?} -> exit {code}, stdout {stdout}");
+        let error: serde_json::Value = serde_json::from_str(stdout.trim()).unwrap_or_else(|e| panic!("one JSON object on stdout ({e}): {stdout}"));
+        assert_eq!(error["kind"], kind, "{error}");
+        assert!(error["error"].as_str().is_some_and(|m| !m.is_empty()), "{error}");
+    }
+    let camera = fails_with(&support::caustic(&["render", "--eye", "0,0,0", "--target", "0,0,0", "-o", o]), &["degenerate camera", "eye [0, 0, 0]"]);
+    assert!(!camera.contains("Vec3(") && !camera.contains("Camera {"), "a Rust Debug dump in the message: {camera}");
+}
+
+#[test]
+fn version_names_the_commit() {
+    let output = support::caustic(&["--version"]);
+    let text = String::from_utf8_lossy(&output.stdout);
+    println!("{text}");
+    assert!(output.status.success());
+    assert!(text.contains(env!("CARGO_PKG_VERSION")), "{text}");
+    if support::workspace().join(".git").exists() {
+        assert!(text.contains("(commit "), "built from a git checkout: the commit belongs in --version: {text}");
+    }
+}
+
+#[test]
+fn merge_refusal_names_the_setting_that_differs() {
+    let dir = support::scratch("merge-field");
+    let part = |name: &str, samples: &str, seed: &str| {
+        let path = dir.join(name);
+        let output = support::caustic(&["render", "--size", "16x16", "--samples", samples, "--seed", seed, "-o", path.to_str().unwrap()]);
+        assert!(output.status.success());
+        path
+    };
+    let a = part("a.exr", "0..1", "0");
+    let b = part("b.exr", "1..2", "7");
+    let merged = dir.join("merged.exr");
+    let output = support::caustic(&["merge", a.to_str().unwrap(), b.to_str().unwrap(), "-o", merged.to_str().unwrap()]);
+    fails_with(&output, &["b.exr", "seed 7 vs seed 0"]);
+    assert_eq!(status(&output), 1);
+}
+
+#[test]
+fn interrupted_renders_exit_128_plus_the_signal() {
+    let dir = support::scratch("signals");
+    for (signal, code) in [("TERM", 143), ("INT", 130)] {
+        let out = dir.join(format!("{signal}.exr"));
+        let child = std::process::Command::new(env!("CARGO_BIN_EXE_caustic"))
+            .args(["render", "--size", "32x32", "--spp", "1000000", "-o", out.to_str().unwrap()])
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .expect("start caustic");
+        // Past the start-up and the kernel's compilation, into the sample passes.
+        std::thread::sleep(Duration::from_secs(8));
+        let killed = std::process::Command::new("kill").args([&format!("-{signal}"), &child.id().to_string()]).status().expect("kill");
+        assert!(killed.success());
+        let output = child.wait_with_output().expect("caustic ends");
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        println!("SIG{signal}: exit {:?}\n{stderr}", output.status.code());
+        assert_eq!(status(&output), code, "SIG{signal}");
+        assert!(stderr.contains("interrupted by"), "{stderr}");
+        assert!(out.is_file(), "the partial image was written");
+    }
+}

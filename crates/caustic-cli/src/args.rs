@@ -1,6 +1,6 @@
 //! The command-line contract. Later features add options; existing ones keep their meaning.
 
-use anyhow::{Context, bail};
+use anyhow::Context;
 use caustic_gpu::DebugView;
 use caustic_scene::{Camera, Environment, EnvironmentMap, Integrator, Scene};
 use caustic_viewer::command::integrator_name;
@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 
 /// Caustic: a path tracer running in WGSL compute shaders.
 #[derive(Debug, Parser)]
-#[command(name = "caustic", version, about)]
+#[command(name = "caustic", version = env!("CAUSTIC_VERSION"), about)]
 pub struct Cli {
     /// What to do.
     #[command(subcommand)]
@@ -236,7 +236,7 @@ impl SceneOverrides {
             None => scene.options.max_depth,
             Some(-1) => None,
             Some(d) if d >= 0 => Some(u32::try_from(d).context("--max-depth is too large")?),
-            Some(d) => bail!("--max-depth {d}: use -1 for unbounded or a number of bounces >= 0"),
+            Some(d) => crate::failure::usage!("--max-depth {d}: use -1 for unbounded or a number of bounces >= 0"),
         };
         Ok((self.integrator.unwrap_or(scene.options.integrator), max_depth))
     }
@@ -300,7 +300,7 @@ impl CameraArgs {
             camera.set_lens(self.aperture.unwrap_or(camera.aperture), focus).map_err(|e| anyhow::anyhow!("--aperture/--focus-distance: {e}"))?;
         }
         if !camera.is_valid() {
-            bail!("--eye/--target/--up/--fov give a degenerate camera: {camera:?}");
+            crate::failure::usage!("--eye/--target/--up/--fov give a degenerate camera: {camera} (the eye must differ from the target, up must not be parallel to the view, the field of view must lie in (0, 180) degrees)");
         }
         Ok(())
     }
@@ -620,7 +620,7 @@ fn parse_environment(text: &str, limits: &caustic_scene::InputLimits) -> anyhow:
     match sky.as_slice() {
         ["sky", zenith, horizon] => return Ok(Environment::Map(EnvironmentMap::gradient_sky(environment_color(text, zenith)?, environment_color(text, horizon)?))),
         ["overcast", zenith] => return Ok(Environment::Map(EnvironmentMap::overcast_sky(environment_color(text, zenith)?))),
-        ["sky" | "overcast", ..] => bail!("--environment {text}: expected sky:ZENITH:HORIZON or overcast:ZENITH (colours `1` or `r,g,b`)"),
+        ["sky" | "overcast", ..] => crate::failure::usage!("--environment {text}: expected sky:ZENITH:HORIZON or overcast:ZENITH (colours `1` or `r,g,b`)"),
         _ => {}
     }
     if text.split(',').all(|s| s.trim().parse::<f32>().is_ok()) {
@@ -628,7 +628,7 @@ fn parse_environment(text: &str, limits: &caustic_scene::InputLimits) -> anyhow:
     }
     let path = Path::new(text);
     if !path.exists() {
-        bail!("--environment {text}: neither a colour (`1` or `r,g,b`) nor an existing .hdr/.exr file");
+        crate::failure::usage!("--environment {text}: neither a colour (`1` or `r,g,b`) nor an existing .hdr/.exr file");
     }
     let map = EnvironmentMap::load_with(path, limits).with_context(|| format!("--environment {text}"))?;
     Ok(Environment::Map(map))
@@ -640,10 +640,10 @@ fn environment_color(text: &str, part: &str) -> anyhow::Result<Vec3> {
     let color = match numbers.as_deref() {
         Ok([grey]) => Vec3::splat(*grey),
         Ok([r, g, b]) => Vec3::new(*r, *g, *b),
-        _ => bail!("--environment {text}: `{part}` is not a colour (`1` or `r,g,b`)"),
+        _ => crate::failure::usage!("--environment {text}: `{part}` is not a colour (`1` or `r,g,b`)"),
     };
     if !color.is_finite() || color.min_element() < 0.0 {
-        bail!("--environment {text}: radiance must be finite and not negative");
+        crate::failure::usage!("--environment {text}: radiance must be finite and not negative");
     }
     Ok(color)
 }

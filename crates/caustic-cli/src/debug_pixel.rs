@@ -14,7 +14,7 @@ pub fn run(args: &DebugPixelArgs) -> anyhow::Result<()> {
     let mut scene = load_scene_with(&SceneSource::parse(&args.scene), &args.overrides.load_options())?;
     let (integrator, max_depth) = args.overrides.apply(&mut scene)?;
     if !matches!(integrator, Integrator::PathTracer | Integrator::Direct) {
-        bail!("debug-pixel records path-traced paths; this scene renders with another integrator: add --integrator pathtracer");
+        crate::failure::usage!("debug-pixel records path-traced paths; this scene renders with another integrator: add --integrator pathtracer");
     }
     let (width, height) = scene.resolution;
     if args.x >= width || args.y >= height {

@@ -5,8 +5,9 @@
 
 use crate::args::{DeviceArgs, DisplayArgs, RenderArgs, SceneOverrides};
 use crate::fingerprint::fingerprint;
-use crate::render::{Budget, RenderReport, accumulate, check_limits, interrupt_flag, print_report};
-use anyhow::{Context, bail};
+use crate::failure::interrupt_flag;
+use crate::render::{Budget, RenderReport, accumulate, check_limits, print_report};
+use anyhow::Context;
 use caustic_gpu::{GpuContext, RenderSettings};
 use caustic_image::Image;
 use caustic_scene::Scene;
@@ -156,7 +157,7 @@ impl<'a> Host<'a> {
         self.save(hdr)?;
         print_report(&report, self.options.json)?;
         if interrupted {
-            bail!("interrupted (Ctrl-C) after {spp} samples per pixel; the partial image was written");
+            return Err(crate::failure::interrupted(&format!("after {spp} samples per pixel; the partial image was written")));
         }
         Ok(())
     }
