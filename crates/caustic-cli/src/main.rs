@@ -12,6 +12,7 @@ mod plot;
 mod preset;
 mod ray_file;
 mod render;
+mod scene_input;
 mod script;
 mod shell;
 mod tasks;
