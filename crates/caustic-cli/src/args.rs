@@ -1,17 +1,17 @@
 //! The command-line contract. Later features add options; existing ones keep their meaning.
 
-use anyhow::{Context, bail};
+use anyhow::Context;
 use caustic_gpu::DebugView;
-use caustic_scene::{Camera, Environment, EnvironmentMap, Integrator, Scene};
+use caustic_scene::{Camera, Integrator, Scene};
 use caustic_viewer::command::integrator_name;
 use clap::{Args, Parser, Subcommand};
 use glam::Vec3;
 use std::ops::Range;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// Caustic: a path tracer running in WGSL compute shaders.
 #[derive(Debug, Parser)]
-#[command(name = "caustic", version, about)]
+#[command(name = "caustic", version = env!("CAUSTIC_VERSION"), about)]
 pub struct Cli {
     /// What to do.
     #[command(subcommand)]
@@ -173,9 +173,18 @@ pub struct SceneOverrides {
     /// Camera overrides.
     #[command(flatten)]
     pub camera: CameraArgs,
+    /// Limits on the files read.
+    #[command(flatten)]
+    pub input: crate::scene_input::InputArgs,
 }
 
 impl SceneOverrides {
+    /// How to load the scene: within the input limits, and without the default sky when
+    /// --environment replaces it anyway.
+    pub fn load_options(&self) -> caustic_scene::LoadOptions {
+        caustic_scene::LoadOptions { limits: self.input.limits(), keep_unlit: self.environment.is_some(), ..caustic_scene::LoadOptions::default() }
+    }
+
     /// The `--feature` switches, in order (a later one wins).
     pub fn classic_features(&self) -> caustic_gpu::features::ClassicFeatures {
         let mut features = caustic_gpu::features::ClassicFeatures::default();
@@ -198,14 +207,14 @@ impl SceneOverrides {
             scene.resolution = size;
         }
         if let Some(text) = &self.environment {
-            scene.environment = parse_environment(text)?;
+            scene.environment = crate::scene_input::parse_environment(text, &self.input.limits())?;
         }
         self.camera.apply(&mut scene.camera)?;
         let max_depth = match self.max_depth {
             None => scene.options.max_depth,
             Some(-1) => None,
             Some(d) if d >= 0 => Some(u32::try_from(d).context("--max-depth is too large")?),
-            Some(d) => bail!("--max-depth {d}: use -1 for unbounded or a number of bounces >= 0"),
+            Some(d) => crate::failure::usage!("--max-depth {d}: use -1 for unbounded or a number of bounces >= 0"),
         };
         Ok((self.integrator.unwrap_or(scene.options.integrator), max_depth))
     }
@@ -269,7 +278,7 @@ impl CameraArgs {
             camera.set_lens(self.aperture.unwrap_or(camera.aperture), focus).map_err(|e| anyhow::anyhow!("--aperture/--focus-distance: {e}"))?;
         }
         if !camera.is_valid() {
-            bail!("--eye/--target/--up/--fov give a degenerate camera: {camera:?}");
+            crate::failure::usage!("--eye/--target/--up/--fov give a degenerate camera: {camera} (the eye must differ from the target, up must not be parallel to the view, the field of view must lie in (0, 180) degrees)");
         }
         Ok(())
     }
@@ -580,39 +589,4 @@ fn parse_integrator(text: &str) -> Result<Integrator, String> {
         let names: Vec<&str> = all.into_iter().map(integrator_name).collect();
         format!("unknown integrator '{text}'; expected one of: {}", names.join(", "))
     })
-}
-
-/// Reads `--environment`: one number (grey), three comma-separated numbers, a sky model
-/// (`sky:ZENITH:HORIZON` or `overcast:ZENITH`, colours as before), or a map file.
-fn parse_environment(text: &str) -> anyhow::Result<Environment> {
-    let sky: Vec<&str> = text.split(':').collect();
-    match sky.as_slice() {
-        ["sky", zenith, horizon] => return Ok(Environment::Map(EnvironmentMap::gradient_sky(environment_color(text, zenith)?, environment_color(text, horizon)?))),
-        ["overcast", zenith] => return Ok(Environment::Map(EnvironmentMap::overcast_sky(environment_color(text, zenith)?))),
-        ["sky" | "overcast", ..] => bail!("--environment {text}: expected sky:ZENITH:HORIZON or overcast:ZENITH (colours `1` or `r,g,b`)"),
-        _ => {}
-    }
-    if text.split(',').all(|s| s.trim().parse::<f32>().is_ok()) {
-        return Ok(Environment::Constant(environment_color(text, text)?));
-    }
-    let path = Path::new(text);
-    if !path.exists() {
-        bail!("--environment {text}: neither a colour (`1` or `r,g,b`) nor an existing .hdr/.exr file");
-    }
-    let map = EnvironmentMap::load(path).with_context(|| format!("--environment {text}"))?;
-    Ok(Environment::Map(map))
-}
-
-/// A radiance colour of `--environment {text}`: one number (grey) or `r,g,b`, finite, >= 0.
-fn environment_color(text: &str, part: &str) -> anyhow::Result<Vec3> {
-    let numbers: Result<Vec<f32>, _> = part.split(',').map(|s| s.trim().parse::<f32>()).collect();
-    let color = match numbers.as_deref() {
-        Ok([grey]) => Vec3::splat(*grey),
-        Ok([r, g, b]) => Vec3::new(*r, *g, *b),
-        _ => bail!("--environment {text}: `{part}` is not a colour (`1` or `r,g,b`)"),
-    };
-    if !color.is_finite() || color.min_element() < 0.0 {
-        bail!("--environment {text}: radiance must be finite and not negative");
-    }
-    Ok(color)
 }

@@ -113,11 +113,11 @@ struct BenchReport<T> {
 /// Runs `caustic bench`.
 pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     if args.grid == 0 || args.grid > 4096 {
-        anyhow::bail!("--grid {}: the generated ray sets are --grid squared; use 1..=4096", args.grid);
+        crate::failure::usage!("--grid {}: the generated ray sets are --grid squared; use 1..=4096", args.grid);
     }
     let names = if args.meshes.is_empty() { vec!["cornell".to_string()] } else { args.meshes.clone() };
     if args.hits.is_some() && names.len() != 1 {
-        anyhow::bail!("--hits takes one mesh, not {}", names.len());
+        crate::failure::usage!("--hits takes one mesh, not {}", names.len());
     }
     let external = args.rays.as_deref().map(read_rays).transpose()?;
     let ctx = GpuContext::new(args.device.adapter.as_deref())?;

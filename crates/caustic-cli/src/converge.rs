@@ -10,7 +10,7 @@ use caustic_gpu::{GpuContext, GpuScene, PathTracer, RenderSettings};
 use caustic_image::metrics::{RELMSE_EPSILON, mean_absolute_error, relative_mse};
 use caustic_image::perceptual::{Viewing, mean_flip_color};
 use caustic_image::{Image, write_file_atomically};
-use caustic_scene::{SceneSource, load_scene};
+use caustic_scene::{SceneSource, load_scene_with};
 use clap::Args;
 use serde::Serialize;
 use std::fmt::Write;
@@ -95,13 +95,13 @@ struct ConvergeReport {
 /// Runs `caustic converge`.
 pub fn run(args: &ConvergeArgs) -> anyhow::Result<()> {
     if args.points_per_doubling == 0 {
-        bail!("--points-per-doubling 0: at least one measurement per doubling is needed");
+        crate::failure::usage!("--points-per-doubling 0: at least one measurement per doubling is needed");
     }
     if let Some(t) = args.time.filter(|t| !(t.is_finite() && *t > 0.0)) {
-        bail!("--time {t}: must be a positive number of seconds");
+        crate::failure::usage!("--time {t}: must be a positive number of seconds");
     }
     let reference = Image::load(&args.reference).with_context(|| format!("reference {}", args.reference.display()))?;
-    let mut scene = load_scene(&SceneSource::parse(&args.scene))?;
+    let mut scene = load_scene_with(&SceneSource::parse(&args.scene), &args.overrides.load_options())?;
     scene.resolution = (reference.width, reference.height);
     let (integrator, max_depth) = args.overrides.apply(&mut scene)?;
     if scene.resolution != (reference.width, reference.height) {
@@ -115,7 +115,7 @@ pub fn run(args: &ConvergeArgs) -> anyhow::Result<()> {
     }
     let spp = args.spp.or(args.overrides.preset.map(Preset::spp)).unwrap_or(1024);
     if spp == 0 {
-        bail!("--spp 0: at least one sample per pixel is needed");
+        crate::failure::usage!("--spp 0: at least one sample per pixel is needed");
     }
     let ctx = GpuContext::new(args.device.adapter.as_deref())?;
     eprintln!("adapter: {}", ctx.adapter);

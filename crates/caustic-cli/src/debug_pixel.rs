@@ -5,16 +5,16 @@ use crate::args::DebugPixelArgs;
 use anyhow::bail;
 use caustic_gpu::inspector::{BounceRecord, BsdfRecord, LightRecord, PathRecord, Primitive, SurfaceRecord};
 use caustic_gpu::{GpuContext, GpuScene, PathTracer, RenderSettings};
-use caustic_scene::{load_scene, Integrator, Scene, SceneSource};
+use caustic_scene::{load_scene_with, Integrator, Scene, SceneSource};
 use glam::Vec3;
 use serde_json::{json, Value};
 
 /// Runs `caustic debug-pixel`.
 pub fn run(args: &DebugPixelArgs) -> anyhow::Result<()> {
-    let mut scene = load_scene(&SceneSource::parse(&args.scene))?;
+    let mut scene = load_scene_with(&SceneSource::parse(&args.scene), &args.overrides.load_options())?;
     let (integrator, max_depth) = args.overrides.apply(&mut scene)?;
     if !matches!(integrator, Integrator::PathTracer | Integrator::Direct) {
-        bail!("debug-pixel records path-traced paths; this scene renders with another integrator: add --integrator pathtracer");
+        crate::failure::usage!("debug-pixel records path-traced paths; this scene renders with another integrator: add --integrator pathtracer");
     }
     let (width, height) = scene.resolution;
     if args.x >= width || args.y >= height {

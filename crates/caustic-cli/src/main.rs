@@ -5,12 +5,14 @@ mod args;
 mod bench;
 mod converge;
 mod debug_pixel;
+mod failure;
 mod fingerprint;
 mod merge;
 mod plot;
 mod preset;
 mod ray_file;
 mod render;
+mod scene_input;
 mod script;
 mod shell;
 mod tasks;
@@ -19,8 +21,22 @@ mod view;
 use clap::Parser;
 use std::process::ExitCode;
 
+/// Parses the command line, runs the command and exits with the status of
+/// [`failure`]: 0, 2 for usage errors, 1 for runtime errors, 128 + the signal when
+/// interrupted. With `--json` a failure also prints one JSON error object on stdout.
 fn main() -> ExitCode {
-    let cli = args::Cli::parse();
+    let json = std::env::args_os().skip(1).any(|a| a == "--json");
+    let cli = match args::Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(error) => {
+            if json && error.use_stderr() {
+                let text = error.to_string();
+                let message = text.trim().strip_prefix("error: ").unwrap_or(text.trim());
+                println!("{}", failure::json_error(message, failure::Kind::Usage));
+            }
+            error.exit();
+        }
+    };
     let result = match cli.command {
         args::Command::Render(render_args) => render::run(&render_args),
         args::Command::Bench(bench_args) => bench::run(&bench_args),
@@ -33,8 +49,12 @@ fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(error) => {
+            let kind = failure::Kind::of(&error);
             eprintln!("error: {error:#}");
-            ExitCode::FAILURE
+            if json && !matches!(kind, failure::Kind::Interrupted(_)) {
+                println!("{}", failure::json_error(&format!("{error:#}"), kind));
+            }
+            ExitCode::from(kind.exit_status())
         }
     }
 }

@@ -29,7 +29,7 @@ struct MergeReport {
 pub fn run(args: &MergeArgs) -> anyhow::Result<()> {
     caustic_image::check_output_path(&args.output)?;
     if let Some(part) = args.parts.iter().find(|p| same_file(p, &args.output)) {
-        anyhow::bail!("-o {} is also one of the parts ({}): write the merge to a new file", args.output.display(), part.display());
+        crate::failure::usage!("-o {} is also one of the parts ({}): write the merge to a new file", args.output.display(), part.display());
     }
     let merged = PartialImage::merge(&args.parts, args.samples.clone())?;
     let is_exr = args.output.extension().is_some_and(|e| e.eq_ignore_ascii_case("exr"));

@@ -15,7 +15,6 @@ use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
@@ -151,11 +150,11 @@ impl Budget {
 /// Checks --spp and --time: at least one sample, a positive, finite time.
 pub fn check_limits(spp: Option<u32>, time: Option<f64>) -> anyhow::Result<()> {
     if spp == Some(0) {
-        bail!("--spp 0: at least one sample per pixel is needed");
+        crate::failure::usage!("--spp 0: at least one sample per pixel is needed");
     }
     if let Some(t) = time {
         if !(t.is_finite() && t > 0.0) {
-            bail!("--time {t}: must be a positive number of seconds");
+            crate::failure::usage!("--time {t}: must be a positive number of seconds");
         }
     }
     Ok(())
@@ -172,21 +171,21 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     // A debug view renders the scene once too: it shows what the kernels do, not the script.
     let split = args.samples.is_some() || args.samples_from_env || args.frame_from_env || args.resume || args.debug.is_some();
     if args.shutter.is_some() && script::is_script(Path::new(&scene_arg)) {
-        bail!("--shutter samples glTF animations; a scene-language file sets its shutter with the `shutter` command");
+        crate::failure::usage!("--shutter samples glTF animations; a scene-language file sets its shutter with the `shutter` command");
     }
     if !split && script::is_script(Path::new(&scene_arg)) {
         return script::run_file(Path::new(&scene_arg), args);
     }
-    let mut scene = load_scene_with(&SceneSource::parse(&scene_arg), &LoadOptions { shutter: args.shutter })?;
+    let mut scene = load_scene_with(&SceneSource::parse(&scene_arg), &LoadOptions { shutter: args.shutter, ..args.overrides.load_options() })?;
     let output = output_arg.unwrap_or_else(|| PathBuf::from(format!("{}.png", scene.name)));
     caustic_image::check_output_path(&output)?;
     let partial = is_exr(&output);
     if partial && args.bloom.is_some() {
-        bail!("--bloom applies to finished images: -o {} is a partial image for `caustic merge`; write .hdr or .png instead", output.display());
+        crate::failure::usage!("--bloom applies to finished images: -o {} is a partial image for `caustic merge`; write .hdr or .png instead", output.display());
     }
     if !partial && (args.samples_from_env || args.resume) {
         let option = if args.resume { "--resume" } else { "--samples-from-env" };
-        bail!("{option} writes a partial image for `caustic merge`: -o {} must end in .exr", output.display());
+        crate::failure::usage!("{option} writes a partial image for `caustic merge`: -o {} must end in .exr", output.display());
     }
     let (integrator, max_depth) = args.overrides.apply(&mut scene)?;
     let mut settings =
@@ -208,7 +207,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     settings.first_sample = budget.first_sample;
     // Installed before the device and scene set-up, so that a scheduler's SIGTERM during a long
     // start-up still ends the run cleanly (with what it has) instead of killing it.
-    let interrupted = interrupt_flag()?;
+    let interrupted = crate::failure::interrupt_flag()?;
     let ctx = GpuContext::new(args.device.adapter.as_deref())?;
     eprintln!("adapter: {}", ctx.adapter);
     let rendered = accumulate(&ctx, &scene, &settings, &budget, &interrupted)?;
@@ -236,7 +235,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     }
     print_report(&report, args.device.json)?;
     if interrupted {
-        bail!("interrupted (Ctrl-C or SIGTERM) after {} samples per pixel; the partial image was written", report.spp);
+        return Err(crate::failure::interrupted(&format!("after {} samples per pixel; the partial image was written", report.spp)));
     }
     Ok(())
 }
@@ -357,7 +356,7 @@ fn write_part(
 fn task_index(args: &RenderArgs) -> anyhow::Result<Option<TaskIndex>> {
     if !(args.samples_from_env || args.frame_from_env) {
         if args.tasks.is_some() {
-            bail!("--tasks applies to --samples-from-env or --frame-from-env");
+            crate::failure::usage!("--tasks applies to --samples-from-env or --frame-from-env");
         }
         return Ok(None);
     }
@@ -370,12 +369,12 @@ fn scene_argument(args: &RenderArgs, task: Option<&TaskIndex>) -> anyhow::Result
     match (args.frame_from_env, task) {
         (true, Some(task)) => {
             if !has_placeholder(&args.scene) {
-                bail!("--frame-from-env: SCENE '{}' has no {{index}} placeholder, so every task would render the same frame", args.scene);
+                crate::failure::usage!("--frame-from-env: SCENE '{}' has no {{index}} placeholder, so every task would render the same frame", args.scene);
             }
             substitute(&args.scene, task.index)
         }
         _ if has_placeholder(&args.scene) => {
-            bail!("SCENE '{}' contains {{index}}: add --frame-from-env to take the index from the scheduler", args.scene)
+            crate::failure::usage!("SCENE '{}' contains {{index}}: add --frame-from-env to take the index from the scheduler", args.scene)
         }
         _ => Ok(args.scene.clone()),
     }
@@ -385,16 +384,16 @@ fn scene_argument(args: &RenderArgs, task: Option<&TaskIndex>) -> anyhow::Result
 fn output_argument(args: &RenderArgs, task: Option<&TaskIndex>) -> anyhow::Result<Option<PathBuf>> {
     let Some(path) = &args.output else {
         if task.is_some() {
-            bail!("an array task needs -o with an {{index}} placeholder (e.g. -o part-{{index}}.exr) so that each task writes its own file");
+            crate::failure::usage!("an array task needs -o with an {{index}} placeholder (e.g. -o part-{{index}}.exr) so that each task writes its own file");
         }
         return Ok(None);
     };
     let text = path.to_string_lossy();
     match task {
         Some(task) if has_placeholder(&text) => Ok(Some(PathBuf::from(substitute(&text, task.index)?))),
-        Some(_) => bail!("-o {text}: add an {{index}} placeholder (e.g. part-{{index}}.exr) so that each array task writes its own file"),
+        Some(_) => crate::failure::usage!("-o {text}: add an {{index}} placeholder (e.g. part-{{index}}.exr) so that each array task writes its own file"),
         None if has_placeholder(&text) => {
-            bail!("-o {text} contains {{index}}: add --samples-from-env or --frame-from-env to take the index from the scheduler")
+            crate::failure::usage!("-o {text} contains {{index}}: add --samples-from-env or --frame-from-env to take the index from the scheduler")
         }
         None => Ok(Some(path.clone())),
     }
@@ -461,15 +460,6 @@ fn report_already_complete(output: &Path, part: &PartialImage, json: bool) -> an
         println!("{report}");
     }
     Ok(())
-}
-
-/// A flag that Ctrl-C (SIGINT) or SIGTERM sets, so the render stops at the next tile and writes
-/// what it has.
-pub fn interrupt_flag() -> anyhow::Result<Arc<AtomicBool>> {
-    let flag = Arc::new(AtomicBool::new(false));
-    let handler_flag = flag.clone();
-    ctrlc::set_handler(move || handler_flag.store(true, Ordering::SeqCst)).context("cannot install the Ctrl-C handler")?;
-    Ok(flag)
 }
 
 /// The pixels with the most non-finite samples, as (x, y, count), at most 16.

@@ -5,8 +5,9 @@
 
 use crate::args::{DeviceArgs, DisplayArgs, RenderArgs, SceneOverrides};
 use crate::fingerprint::fingerprint;
-use crate::render::{Budget, RenderReport, accumulate, check_limits, interrupt_flag, print_report};
-use anyhow::{Context, bail};
+use crate::failure::interrupt_flag;
+use crate::render::{Budget, RenderReport, accumulate, check_limits, print_report};
+use anyhow::Context;
 use caustic_gpu::{GpuContext, RenderSettings};
 use caustic_image::Image;
 use caustic_scene::Scene;
@@ -137,6 +138,7 @@ impl<'a> Host<'a> {
             ..RenderSettings::default()
         };
         let output = output_path(self.options.output.as_deref(), scene.options.output.as_deref(), &scene.name, hdr);
+        check_scene_outputs(self.options.output.as_deref(), &self.options.overrides.input.limits(), &scene, preview.as_deref())?;
         caustic_image::check_output_path(&output)?;
         let budget = Budget::from_zero(self.options.spp.or(scene.options.spp), self.options.time);
         settings.sampler = self.options.sampler.for_samples(budget.end());
@@ -155,7 +157,7 @@ impl<'a> Host<'a> {
         self.save(hdr)?;
         print_report(&report, self.options.json)?;
         if interrupted {
-            bail!("interrupted (Ctrl-C) after {spp} samples per pixel; the partial image was written");
+            return Err(crate::failure::interrupted(&format!("after {spp} samples per pixel; the partial image was written")));
         }
         Ok(())
     }
@@ -204,6 +206,21 @@ impl<'a> Host<'a> {
     }
 }
 
+/// Refuses `output` and `preview` names of `scene` outside the output folder (the folder of
+/// `-o`, else the current one) unless --allow-any-path, so that a downloaded script cannot
+/// overwrite files elsewhere.
+fn check_scene_outputs(command_line: Option<&Path>, limits: &caustic_scene::InputLimits, scene: &Scene, preview: Option<&Path>) -> anyhow::Result<()> {
+    let folder = match command_line.and_then(Path::parent) {
+        Some(dir) if !dir.as_os_str().is_empty() => dir,
+        _ => Path::new("."),
+    };
+    let output = if command_line.is_none() { scene.options.output.as_deref() } else { None };
+    for name in [output, preview].into_iter().flatten() {
+        limits.check_output(folder, name)?;
+    }
+    Ok(())
+}
+
 /// The file an image is written to: `-o` as given; else the scene's `output`, whose extension
 /// picks the format when it is one of the wanted kind (a name without one gets `.exr` for HDR
 /// and `.bmp` for LDR, one of the other kind is replaced by these); else `SCENE.exr` for HDR and
@@ -241,7 +258,7 @@ pub fn run_file(path: &Path, args: &RenderArgs) -> anyhow::Result<()> {
     if let Some(output) = &args.output {
         caustic_image::check_output_path(output)?;
     }
-    let (mut actions, mut interpreter) = lang::run_file(path)?;
+    let (mut actions, mut interpreter) = lang::run_file_with(path, &args.overrides.input.limits())?;
     for warning in interpreter.take_warnings() {
         eprintln!("{warning}");
     }
@@ -250,6 +267,13 @@ pub fn run_file(path: &Path, args: &RenderArgs) -> anyhow::Result<()> {
         scene.validate().map_err(|e| e.in_file(path))?;
         let (pass, hdr) = (scene.options.pass, scene.options.hdr);
         actions.insert(0, Action::Render { scene: Box::new(scene), pass, hdr, preview: interpreter.settings().preview.clone() });
+    }
+    // Every image the script writes is checked before the device opens and anything renders.
+    for action in &actions {
+        if let Action::Render { scene, hdr, preview, .. } = action {
+            check_scene_outputs(args.output.as_deref(), &args.overrides.input.limits(), scene, preview.as_deref())?;
+            caustic_image::check_output_path(&output_path(args.output.as_deref(), scene.options.output.as_deref(), &scene.name, *hdr))?;
+        }
     }
     let (ctx, interrupted) = open_device(&args.device)?;
     let mut options = HostOptions::new(&args.overrides, &args.display, args.spp, args.time, &args.device);

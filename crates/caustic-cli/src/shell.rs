@@ -73,6 +73,7 @@ pub fn run(args: &ShellArgs) -> anyhow::Result<()> {
     let mut host = Host::new(&ctx, options, interrupted);
     let mut interpreter = Interpreter::new();
     interpreter.set_scene_name("shell");
+    interpreter.set_input_limits(args.overrides.input.limits());
     let mut input = Input::open()?;
     if input.interactive() {
         eprintln!("Caustic scene language: one command a line (docs/SCENE_LANGUAGE.md); `exit` or Ctrl-D leaves.");

@@ -62,7 +62,7 @@ impl TaskIndex {
     /// `index * spp_per_task .. (index + 1) * spp_per_task`.
     pub fn sample_range(&self, spp_per_task: u32) -> anyhow::Result<Range<u32>> {
         if spp_per_task == 0 {
-            bail!("--spp-per-task 0: each task needs at least one sample per pixel");
+            crate::failure::usage!("--spp-per-task 0: each task needs at least one sample per pixel");
         }
         let start = self.index.checked_mul(spp_per_task);
         let end = start.and_then(|s| s.checked_add(spp_per_task));

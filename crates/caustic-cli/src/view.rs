@@ -1,8 +1,7 @@
 //! `caustic view`: load the scene, apply the command line's overrides and open the viewer.
 
 use crate::args::ViewArgs;
-use anyhow::bail;
-use caustic_scene::{SceneSource, load_scene};
+use caustic_scene::{SceneSource, load_scene_with};
 use caustic_viewer::{Script, ViewerOptions};
 
 /// Samples per pixel the viewer stops at when neither --spp nor the scene says.
@@ -11,9 +10,9 @@ const DEFAULT_SPP: u32 = 1024;
 /// Runs `caustic view`.
 pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
     if args.spp == Some(0) {
-        bail!("--spp 0: at least one sample per pixel is needed");
+        crate::failure::usage!("--spp 0: at least one sample per pixel is needed");
     }
-    let mut scene = load_scene(&SceneSource::parse(&args.scene))?;
+    let mut scene = load_scene_with(&SceneSource::parse(&args.scene), &args.overrides.load_options())?;
     let (integrator, max_depth) = args.overrides.apply(&mut scene)?;
     let script = args.frames.map(|frames| Script {
         frames,

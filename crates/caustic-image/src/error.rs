@@ -32,30 +32,31 @@ pub enum ImageError {
         folder: PathBuf,
     },
     /// An operating-system call on a file failed.
-    #[error("cannot {action} {}: {source}", path.display())]
+    #[error("cannot {action} {}: {error}", path.display())]
     Io {
         /// The file or folder the call was about.
         path: PathBuf,
         /// What we were trying to do, e.g. "create", "rename onto".
         action: &'static str,
-        /// The underlying error.
-        source: std::io::Error,
+        /// The underlying error (in the message, so not also a `source`: a chain printed
+        /// whole would repeat it).
+        error: std::io::Error,
     },
     /// The file exists but could not be decoded as an image.
-    #[error("cannot decode {}: {source}", path.display())]
+    #[error("cannot decode {}: {error}", path.display())]
     Decode {
         /// The file being read.
         path: PathBuf,
-        /// The decoder's error.
-        source: image::ImageError,
+        /// The decoder's error (in the message, so not also a `source`).
+        error: image::ImageError,
     },
     /// The encoder rejected the image (e.g. a zero-sized image).
-    #[error("cannot encode {}: {source}", path.display())]
+    #[error("cannot encode {}: {error}", path.display())]
     Encode {
         /// The file being written.
         path: PathBuf,
-        /// The encoder's error.
-        source: image::ImageError,
+        /// The encoder's error (in the message, so not also a `source`).
+        error: image::ImageError,
     },
     /// Two images that must have the same size (metrics) do not.
     #[error("image sizes differ: {}x{} vs reference {}x{}", image.0, image.1, reference.0, reference.1)]

@@ -49,11 +49,24 @@ impl Format {
     }
 }
 
-/// Checks, without touching the file system beyond a metadata look-up, that
-/// [`Image::save`] could write `path`: its extension is supported and its
-/// folder exists. Call it before a long render so a typo fails at once.
+/// Checks that [`Image::save`] could write `path`: its extension is
+/// supported, its folder exists, it is not a folder, and the temporary file
+/// a save writes first can be created beside it (it is created and removed
+/// at once; an existing `path` is left alone). Call it before a long render
+/// so that a typo or an unwritable folder fails at once, not after the work.
 pub fn check_output_path(path: &Path) -> Result<(), ImageError> {
-    output_format(path).map(|_| ())
+    output_format(path)?;
+    if path.is_dir() {
+        return Err(io_error(path, "write", std::io::Error::other("it is a folder")));
+    }
+    // The error names the output asked for, not the temporary's hidden name.
+    let (temp, file) = TempFile::create(path).map_err(|e| match e {
+        ImageError::Io { error, .. } => io_error(path, "write", error),
+        other => other,
+    })?;
+    drop(file);
+    drop(temp);
+    Ok(())
 }
 
 /// The format to write `path` in, after checking that its folder exists.
@@ -87,9 +100,9 @@ impl Image {
             .with_guessed_format()
             .map_err(|source| io_error(path, "read", source))?;
         reader.limits(load_limits());
-        let decoded = reader.decode().map_err(|source| ImageError::Decode {
+        let decoded = reader.decode().map_err(|error| ImageError::Decode {
             path: path.to_path_buf(),
-            source,
+            error,
         })?;
         Ok(from_decoded(decoded))
     }
@@ -246,11 +259,11 @@ fn parent_folder(path: &Path) -> PathBuf {
 }
 
 /// Wraps an OS error with the path and action it concerns.
-fn io_error(path: &Path, action: &'static str, source: std::io::Error) -> ImageError {
+fn io_error(path: &Path, action: &'static str, error: std::io::Error) -> ImageError {
     ImageError::Io {
         path: path.to_path_buf(),
         action,
-        source,
+        error,
     }
 }
 
@@ -271,9 +284,9 @@ pub(crate) fn write_atomically(
 ) -> Result<(), ImageError> {
     let (temp, file) = TempFile::create(target)?;
     let mut writer = BufWriter::new(file);
-    encode(&mut writer).map_err(|source| ImageError::Encode {
+    encode(&mut writer).map_err(|error| ImageError::Encode {
         path: target.to_path_buf(),
-        source,
+        error,
     })?;
     let file = writer
         .into_inner()

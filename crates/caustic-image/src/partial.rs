@@ -355,8 +355,9 @@ fn check_compatible(first_path: &Path, first: &PartInfo, path: &Path, info: &Par
         return Err(ImageError::Part {
             path: path.to_path_buf(),
             reason: format!(
-                "rendered from a different scene or settings than {} (fingerprint {} vs {}): [{}] vs [{}]",
+                "rendered from a different scene or settings than {}: {} (fingerprint {} vs {}; all settings: [{}] vs [{}])",
                 first_path.display(),
+                settings_difference(&info.settings, &first.settings),
                 info.fingerprint,
                 first.fingerprint,
                 info.settings,
@@ -365,6 +366,21 @@ fn check_compatible(first_path: &Path, first: &PartInfo, path: &Path, info: &Par
         });
     }
     Ok(())
+}
+
+/// What differs between two parts' settings descriptions (comma-separated `name value`
+/// fields): each differing field as `this` vs `that`, or, when every described field agrees,
+/// a note that an undescribed input (sampler, filter, materials, geometry) differs.
+fn settings_difference(this: &str, first: &str) -> String {
+    let (these, firsts): (Vec<&str>, Vec<&str>) = (this.split(", ").collect(), first.split(", ").collect());
+    if these.len() != firsts.len() {
+        return format!("the settings differ: [{this}] vs [{first}]");
+    }
+    let differing: Vec<String> = these.iter().zip(&firsts).filter(|(a, b)| a != b).map(|(a, b)| format!("{a} vs {b}")).collect();
+    match differing.is_empty() {
+        true => "an input the settings description does not list differs (sampler, filter, feature switches, materials or geometry)".to_string(),
+        false => differing.join("; "),
+    }
 }
 
 /// The union of the parts' ranges, after refusing overlaps, gaps and, when
@@ -515,6 +531,16 @@ mod tests {
         assert_eq!(merged.image.pixels[0][0], (2.0 * 1.0 + 2.0 * 4.0) / 4.0);
         assert_eq!(merged.image.pixels[1][0], (4.0 * 1.0 + 2.0 * 4.0) / 6.0);
         assert_eq!(merged.image.pixels[1][2], 0.5);
+    }
+
+    #[test]
+    fn a_settings_refusal_names_the_field_that_differs() {
+        let a = "scene cornell, 64x64, 32 triangles, integrator PathTracer, seed 3, caustic 0.1.0";
+        let b = "scene cornell, 64x64, 32 triangles, integrator PathTracer, seed 0, caustic 0.1.0";
+        let message = settings_difference(a, b);
+        println!("{message}");
+        assert_eq!(message, "seed 3 vs seed 0");
+        assert!(settings_difference(a, a).contains("does not list"));
     }
 
     #[test]

@@ -37,6 +37,14 @@ impl Default for Camera {
     }
 }
 
+/// The camera for messages, in the units of the command line (`--eye`, `--target`, `--up` as
+/// `[x, y, z]`, `--fov` in degrees).
+impl std::fmt::Display for Camera {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "eye {}, target {}, up {}, field of view {} degrees", self.eye, self.target, self.up, self.fov_y.to_degrees())
+    }
+}
+
 impl Camera {
     /// Orthonormal camera frame: (right, up, forward).
     pub fn frame(&self) -> (Vec3, Vec3, Vec3) {

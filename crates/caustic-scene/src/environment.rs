@@ -33,12 +33,16 @@ impl EnvironmentMap {
     /// Loads a `.hdr` or `.exr` latitude-longitude map, or a folder holding a six-face
     /// cubemap ([`EnvironmentMap::from_cubemap`]).
     pub fn load(path: &std::path::Path) -> Result<EnvironmentMap, crate::SceneError> {
+        EnvironmentMap::load_with(path, &crate::InputLimits::default())
+    }
+
+    /// [`EnvironmentMap::load`] reading files within `limits` (the map, or each cubemap face).
+    pub fn load_with(path: &std::path::Path, limits: &crate::InputLimits) -> Result<EnvironmentMap, crate::SceneError> {
         if path.is_dir() {
-            return EnvironmentMap::from_cubemap(path);
+            return EnvironmentMap::from_cubemap_with(path, limits);
         }
-        let image = image::open(path)
-            .map_err(|e| crate::SceneError::file(path, format!("cannot read environment map: {e}")))?
-            .into_rgb32f();
+        let bytes = limits.read(path)?;
+        let image = decode(path, &bytes).map_err(|e| crate::SceneError::file(path, format!("cannot read environment map: {e}")))?.into_rgb32f();
         let (width, height) = image.dimensions();
         let texels: Vec<[f32; 3]> = image.pixels().map(|p| p.0).collect();
         if let Some(bad) = texels.iter().position(|t| t.iter().any(|c| !c.is_finite() || *c < 0.0)) {
@@ -92,7 +96,12 @@ impl EnvironmentMap {
     /// latitude-longitude map 4 faces wide (at most 2048 texels), bilinearly. 8-bit faces are
     /// sRGB-decoded to linear radiance; `.hdr`/`.exr` faces are used as they are.
     pub fn from_cubemap(dir: &std::path::Path) -> Result<EnvironmentMap, crate::SceneError> {
-        let faces = CUBE_FACES.iter().map(|name| read_face(dir, name)).collect::<Result<Vec<_>, _>>()?;
+        EnvironmentMap::from_cubemap_with(dir, &crate::InputLimits::default())
+    }
+
+    /// [`EnvironmentMap::from_cubemap`] reading the faces within `limits`.
+    pub fn from_cubemap_with(dir: &std::path::Path, limits: &crate::InputLimits) -> Result<EnvironmentMap, crate::SceneError> {
+        let faces = CUBE_FACES.iter().map(|name| read_face(dir, name, limits)).collect::<Result<Vec<_>, _>>()?;
         let size = faces[0].width();
         if let Some(i) = faces.iter().position(|face| face.dimensions() != (size, size)) {
             let (w, h) = faces[i].dimensions();
@@ -113,12 +122,13 @@ impl EnvironmentMap {
 }
 
 /// One face as linear RGB: the first file in `dir` whose stem is `name`.
-fn read_face(dir: &std::path::Path, name: &str) -> Result<image::Rgb32FImage, crate::SceneError> {
+fn read_face(dir: &std::path::Path, name: &str, limits: &crate::InputLimits) -> Result<image::Rgb32FImage, crate::SceneError> {
     let entries = std::fs::read_dir(dir).map_err(|e| crate::SceneError::file(dir, format!("cannot list the cubemap folder: {e}")))?;
     let mut files: Vec<std::path::PathBuf> = entries.flatten().map(|e| e.path()).filter(|p| p.file_stem().is_some_and(|s| s == name)).collect();
     files.sort();
     let file = files.first().ok_or_else(|| crate::SceneError::file(dir, format!("cubemap face '{name}' is missing (faces: {})", CUBE_FACES.join(", "))))?;
-    let image = image::open(file).map_err(|e| crate::SceneError::file(file, format!("cannot read cubemap face: {e}")))?;
+    let bytes = limits.read(file)?;
+    let image = decode(file, &bytes).map_err(|e| crate::SceneError::file(file, format!("cannot read cubemap face: {e}")))?;
     let linear = matches!(image, image::DynamicImage::ImageRgb32F(_) | image::DynamicImage::ImageRgba32F(_));
     let mut rgb = image.into_rgb32f();
     if !linear {
@@ -153,4 +163,14 @@ fn cube_lookup(faces: &[image::Rgb32FImage], d: Vec3) -> [f32; 3] {
     let top = texel(x0, y0).lerp(texel(x1, y0), fx);
     let bottom = texel(x0, y1).lerp(texel(x1, y1), fx);
     top.lerp(bottom, fy).to_array()
+}
+
+/// Decodes an image read from `path` (the format told by its extension, else by the content).
+fn decode(path: &std::path::Path, bytes: &[u8]) -> Result<image::DynamicImage, String> {
+    let mut reader = image::ImageReader::new(std::io::Cursor::new(bytes));
+    match image::ImageFormat::from_path(path) {
+        Ok(format) => reader.set_format(format),
+        Err(_) => reader = reader.with_guessed_format().map_err(|e| e.to_string())?,
+    }
+    reader.decode().map_err(|e| e.to_string())
 }

@@ -1,44 +1,62 @@
-//! Checks of the files glTF buffer URIs name, made before the glTF crate reads them.
+//! Reading what glTF buffer and image URIs name, in place of the glTF crate's importer.
 //!
 //! gltf 1.4's `import_buffers` percent-decodes a relative URI with `unwrap` (a panic when the
-//! decoded bytes are not UTF-8, e.g. `"%ff"`) and reads whatever the URI names to its end, so
-//! a URI naming a device such as `/dev/zero` read forever, eating gigabytes a second.
-//! [`check_buffer_uris`] refuses both with an error naming the buffer.
+//! decoded bytes are not UTF-8, e.g. `"%ff"`), reads whatever the URI names to its end (a URI
+//! naming `/dev/zero` read forever, eating gigabytes a second) and follows `..` and absolute
+//! `file:` paths anywhere. Here every file a URI names is resolved inside the model's folder
+//! and read within the size limit by [`InputLimits`]; data URIs and the GLB binary chunk are
+//! decoded by the crate, which reads no file for them.
 
-use crate::SceneError;
+use crate::input_file::model_folder;
+use crate::{InputLimits, SceneError};
 use std::path::{Path, PathBuf};
 
-/// Checks every external buffer URI of `document` (loaded from `path`): it must decode to
-/// UTF-8 and name a regular file or nothing (the crate reports a missing file). Data URIs and
-/// the GLB binary chunk are left to the crate.
-pub(crate) fn check_buffer_uris(path: &Path, document: &gltf::Document) -> Result<(), SceneError> {
-    let Some(base) = path.parent() else { return Ok(()) };
+/// The data of every buffer of `document` (loaded from `path`, `blob` its GLB binary chunk),
+/// each padded to a multiple of 4 bytes as the crate's importer does; a buffer shorter than
+/// its declared length is an error naming it.
+pub(crate) fn load_buffers(path: &Path, document: &gltf::Document, mut blob: Option<Vec<u8>>, limits: &InputLimits) -> Result<Vec<gltf::buffer::Data>, SceneError> {
+    let mut buffers = Vec::new();
     for buffer in document.buffers() {
-        let gltf::buffer::Source::Uri(uri) = buffer.source() else { continue };
         let index = buffer.index();
-        let file = match file_of(base, uri) {
-            Ok(Some(file)) => file,
-            Ok(None) => continue,
-            Err(message) => return Err(SceneError::file(path, format!("cannot load buffers: buffer {index}: {message}"))),
+        let fail = |message: String| SceneError::file(path, format!("cannot load buffers: buffer {index}: {message}"));
+        let mut data = match buffer.source() {
+            gltf::buffer::Source::Uri(uri) => uri_bytes(path, uri, limits).map_err(fail)?,
+            gltf::buffer::Source::Bin => blob.take().ok_or_else(|| fail("the GLB binary chunk is missing".to_string()))?,
         };
-        // A missing file is left to the crate, whose error says so.
-        if file.exists() && !file.is_file() {
-            let message = format!("cannot load buffers: buffer {index}: '{}' is not a regular file", file.display());
-            return Err(SceneError::file(path, message));
+        if data.len() < buffer.length() {
+            return Err(fail(format!("holds {} bytes, less than its length {}", data.len(), buffer.length())));
         }
+        data.resize(data.len().next_multiple_of(4), 0);
+        buffers.push(gltf::buffer::Data(data));
     }
-    Ok(())
+    Ok(buffers)
 }
 
-/// The file a buffer URI names, resolved as gltf 1.4 does (`file:` URIs as they are, other
-/// URIs with a scheme not at all, the rest percent-decoded relative to `base`).
-pub(crate) fn file_of(base: &Path, uri: &str) -> Result<Option<PathBuf>, String> {
+/// The bytes a buffer or image URI of the glTF file `path` names: a file inside the model's
+/// folder read within `limits`, or a data URI's contents.
+pub(crate) fn uri_bytes(path: &Path, uri: &str, limits: &InputLimits) -> Result<Vec<u8>, String> {
+    let base = path.parent().unwrap_or(Path::new(""));
+    match file_of(uri)? {
+        Some(name) => {
+            let file = limits.resolve(&model_folder(path), base, &name).map_err(|e| e.to_string())?;
+            if !file.exists() {
+                return Err(format!("file '{}' does not exist", file.display()));
+            }
+            limits.read(&file).map(|bytes| bytes.to_vec()).map_err(|e| e.to_string())
+        }
+        None => gltf::buffer::Data::from_source(gltf::buffer::Source::Uri(uri), None).map(|data| data.0).map_err(|e| format!("cannot be read: {e}")),
+    }
+}
+
+/// The file a URI names, as gltf 1.4 reads it: `file:` URIs as they are, other URIs with a
+/// scheme (data URIs) none, the rest percent-decoded (relative to the glTF file's folder).
+fn file_of(uri: &str) -> Result<Option<PathBuf>, String> {
     if uri.contains(':') {
         let file = uri.strip_prefix("file://").or_else(|| uri.strip_prefix("file:"));
         return Ok(file.map(PathBuf::from));
     }
     let decoded = percent_decode(uri).ok_or_else(|| format!("URI '{uri}' does not decode to UTF-8"))?;
-    Ok(Some(base.join(decoded)))
+    Ok(Some(PathBuf::from(decoded)))
 }
 
 /// `%XX` escapes replaced by their bytes, or `None` when the result is not UTF-8.

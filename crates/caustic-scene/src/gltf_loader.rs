@@ -18,7 +18,8 @@
 //! lights shine along their node's -Z; `range` is ignored.
 //!
 //! glTF cannot describe an environment: it is black unless an `env.json` sidecar next to the
-//! file says `{"type": "constant", "radiance": [r, g, b]}`.
+//! file says `{"type": "constant", "radiance": [r, g, b]}` (a file with no light at all then
+//! gets the default sky, [`crate::DEFAULT_SKY`]).
 //!
 //! A file that requires an extension not listed in [`SUPPORTED_EXTENSIONS`] is refused; other
 //! unsupported extensions it merely uses are named in a warning on stderr.
@@ -27,7 +28,7 @@ use crate::mesh_scene::{framing_camera, scene_name, warn, DEFAULT_RESOLUTION};
 use crate::gltf_material::{default_material, MaterialReader};
 use crate::gltf_animation::Animation;
 use crate::gltf_primitive::read_primitive;
-use crate::{Attenuation, Camera, Environment, Light, Material, Mesh, Motion, Scene, SceneCamera, SceneError};
+use crate::{Attenuation, Camera, Environment, InputLimits, Light, Material, Mesh, Motion, Scene, SceneCamera, SceneError};
 use glam::{Mat4, Vec3};
 use gltf::json::validation::Validate;
 use gltf::khr_lights_punctual::Kind;
@@ -49,12 +50,12 @@ pub const SUPPORTED_EXTENSIONS: [&str; 7] = [
 /// (open and close, seconds of the first animation) nodes are posed as the animation has them
 /// at shutter open and each mesh moves rigidly to its pose at close (motion blur,
 /// [`crate::gltf_animation`]); without one the nodes keep their own transforms.
-pub(crate) fn load(path: &Path, shutter: Option<(f32, f32)>) -> Result<Scene, SceneError> {
-    let (document, buffers) = read_document(path)?;
+pub(crate) fn load(path: &Path, shutter: Option<(f32, f32)>, limits: &InputLimits) -> Result<Scene, SceneError> {
+    let (document, buffers) = read_document(path, limits)?;
     let scene = document.default_scene().or_else(|| document.scenes().next());
     let scene = scene.ok_or_else(|| SceneError::file(path, "defines no scene"))?;
     check_hierarchy(path, &document, &scene)?;
-    let mut reader = MaterialReader::new(path, &buffers);
+    let mut reader = MaterialReader::new(path, &buffers, limits);
     let materials = document.materials().map(|m| reader.material(&m)).collect();
     let animation = match shutter {
         Some(times) => Animation::read(path, &document, &buffers)?.map(|a| (a, times)),
@@ -66,7 +67,7 @@ pub(crate) fn load(path: &Path, shutter: Option<(f32, f32)>) -> Result<Scene, Sc
         Some(first) => (first.camera.clone(), first.resolution.unwrap_or(DEFAULT_RESOLUTION)),
         None => (framing_camera(path, &walk.meshes)?, DEFAULT_RESOLUTION),
     };
-    let environment = sidecar_environment(path)?;
+    let environment = sidecar_environment(path, limits)?;
     Ok(Scene {
         name: scene_name(path),
         meshes: walk.meshes,
@@ -83,15 +84,13 @@ pub(crate) fn load(path: &Path, shutter: Option<(f32, f32)>) -> Result<Scene, Sc
 
 /// Parses and validates the file and loads its buffers. Images are decoded later, each on its
 /// own, so that a broken image only costs its texture.
-fn read_document(path: &Path) -> Result<(gltf::Document, Vec<gltf::buffer::Data>), SceneError> {
-    let bytes = std::fs::read(path).map_err(|e| SceneError::file(path, format!("cannot read: {e}")))?;
+fn read_document(path: &Path, limits: &InputLimits) -> Result<(gltf::Document, Vec<gltf::buffer::Data>), SceneError> {
+    let bytes = limits.read(path)?;
     let gltf::Gltf { document, blob } = gltf::Gltf::from_slice_without_validation(&bytes)
         .map_err(|e| SceneError::file(path, format!("not a valid glTF file: {e}")))?;
     check_extensions(path, document.as_json())?;
     validate(path, document.as_json())?;
-    crate::gltf_buffers::check_buffer_uris(path, &document)?;
-    let buffers = gltf::import_buffers(&document, path.parent(), blob)
-        .map_err(|e| SceneError::file(path, format!("cannot load buffers: {e}")))?;
+    let buffers = crate::gltf_buffers::load_buffers(path, &document, blob, limits)?;
     Ok((document, buffers))
 }
 
@@ -319,12 +318,12 @@ fn punctual_light(light: &gltf::khr_lights_punctual::Light, world: Mat4) -> Ligh
 }
 
 /// The environment given by an `env.json` next to the glTF file, or black when there is none.
-fn sidecar_environment(path: &Path) -> Result<Environment, SceneError> {
+fn sidecar_environment(path: &Path, limits: &InputLimits) -> Result<Environment, SceneError> {
     let sidecar = path.with_file_name("env.json");
-    if !sidecar.is_file() {
+    if !sidecar.exists() {
         return Ok(Environment::default());
     }
-    let text = std::fs::read_to_string(&sidecar).map_err(|e| SceneError::file(&sidecar, format!("cannot read: {e}")))?;
+    let text = limits.read_to_string(&sidecar)?;
     let json: serde_json::Value = serde_json::from_str(&text).map_err(|e| SceneError::file(&sidecar, format!("invalid JSON: {e}")))?;
     if json["type"] != "constant" {
         return Err(SceneError::file(&sidecar, format!("environment type {} is not supported (only \"constant\")", json["type"])));

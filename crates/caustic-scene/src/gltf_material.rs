@@ -7,7 +7,7 @@
 //! from loading.
 
 use crate::mesh_scene::warn;
-use crate::{AlphaMode, ColorSpace, Material, MipFilter, Texture, TextureFilter, TextureSlot, WrapMode};
+use crate::{AlphaMode, ColorSpace, InputLimits, Material, MipFilter, Texture, TextureFilter, TextureSlot, WrapMode};
 use glam::{Vec2, Vec3};
 use gltf::texture::WrappingMode;
 use std::collections::HashMap;
@@ -17,6 +17,7 @@ use std::path::Path;
 pub(crate) struct MaterialReader<'a> {
     path: &'a Path,
     buffers: &'a [gltf::buffer::Data],
+    limits: &'a InputLimits,
     /// Index in `textures` of each (image, colour space) decoded so far.
     decoded: HashMap<(usize, ColorSpace), u32>,
     /// The decoded textures, in first-use order.
@@ -24,9 +25,10 @@ pub(crate) struct MaterialReader<'a> {
 }
 
 impl<'a> MaterialReader<'a> {
-    /// A reader for the file at `path` with its loaded buffers.
-    pub fn new(path: &'a Path, buffers: &'a [gltf::buffer::Data]) -> Self {
-        MaterialReader { path, buffers, decoded: HashMap::new(), textures: Vec::new() }
+    /// A reader for the file at `path` with its loaded buffers, reading image files within
+    /// `limits`.
+    pub fn new(path: &'a Path, buffers: &'a [gltf::buffer::Data], limits: &'a InputLimits) -> Self {
+        MaterialReader { path, buffers, limits, decoded: HashMap::new(), textures: Vec::new() }
     }
 
     /// A glTF material as a [`Material`] (see `docs/MATERIALS.md`, section "glTF").
@@ -133,7 +135,7 @@ impl<'a> MaterialReader<'a> {
     fn decode(&self, texture: &gltf::Texture, color_space: ColorSpace) -> Texture {
         let image = texture.source();
         let name = image_name(&image);
-        let decoded = image_bytes(self.path, self.buffers, &image).and_then(|bytes| Texture::decode(&name, &bytes, color_space));
+        let decoded = image_bytes(self.path, self.buffers, &image, self.limits).and_then(|bytes| Texture::decode(&name, &bytes, color_space));
         decoded.unwrap_or_else(|message| {
             warn(self.path, &format!("texture {} ('{name}') {message}: using a magenta texture", texture.index()));
             Texture::missing(&name, color_space)
@@ -182,24 +184,13 @@ fn image_name(image: &gltf::Image) -> String {
 }
 
 /// The encoded bytes of an image: from its buffer view, a data URI or a file next to `path`.
-fn image_bytes(path: &Path, buffers: &[gltf::buffer::Data], image: &gltf::Image) -> Result<Vec<u8>, String> {
+fn image_bytes(path: &Path, buffers: &[gltf::buffer::Data], image: &gltf::Image, limits: &InputLimits) -> Result<Vec<u8>, String> {
     match image.source() {
         gltf::image::Source::View { view, .. } => {
             let buffer = buffers.get(view.buffer().index()).ok_or("names a buffer that does not exist")?;
             let range = view.offset()..view.offset().saturating_add(view.length());
             buffer.0.get(range).map(<[u8]>::to_vec).ok_or_else(|| format!("lies outside buffer {}", view.buffer().index()))
         }
-        gltf::image::Source::Uri { uri, .. } => {
-            let base = path.parent().unwrap_or(Path::new("."));
-            if let Some(file) = crate::gltf_buffers::file_of(base, uri)? {
-                if !file.exists() {
-                    return Err(format!("file '{}' does not exist", file.display()));
-                }
-                if !file.is_file() {
-                    return Err(format!("'{}' is not a regular file", file.display()));
-                }
-            }
-            gltf::buffer::Data::from_source(gltf::buffer::Source::Uri(uri), Some(base)).map(|data| data.0).map_err(|e| format!("cannot be read: {e}"))
-        }
+        gltf::image::Source::Uri { uri, .. } => crate::gltf_buffers::uri_bytes(path, uri, limits),
     }
 }

@@ -28,6 +28,11 @@ pub struct LoadOptions {
     /// Motion blur for glTF files: the shutter's open and close times in seconds of the first
     /// animation, which poses the nodes at open and moves meshes to their pose at close.
     pub shutter: Option<(f32, f32)>,
+    /// How large input files may be and where the files a model refers to may lie.
+    pub limits: crate::InputLimits,
+    /// Leave a model file without any light unlit (its caller sets an environment, such as
+    /// `--environment`) instead of lighting it by the default sky ([`crate::DEFAULT_SKY`]).
+    pub keep_unlit: bool,
 }
 
 /// Loads and validates a scene from a built-in name or a file (`.gltf`, `.glb`, `.obj`, `.ply`,
@@ -71,12 +76,18 @@ fn load_file(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {
     if !path.exists() {
         return Err(SceneError::file(path, "no such file"));
     }
-    match extension(path).as_deref() {
-        Some("gltf" | "glb") => crate::gltf_loader::load(path, options.shutter),
-        Some("obj") => crate::obj_loader::load(path),
-        Some("ply") => crate::ply_loader::load(path),
-        Some("test" | "scene" | "txt") => crate::lang::load(path),
-        Some(other) => Err(SceneError::file(path, format!("unsupported scene format '.{other}' (supported: .gltf, .glb, .obj, .ply, .test, .scene, .txt)"))),
-        None => Err(SceneError::file(path, "no file extension: cannot tell the format (supported: .gltf, .glb, .obj, .ply, .test, .scene, .txt)")),
+    let limits = &options.limits;
+    let mut scene = match extension(path).as_deref() {
+        Some("gltf" | "glb") => crate::gltf_loader::load(path, options.shutter, limits)?,
+        Some("obj") => crate::obj_loader::load(path, limits)?,
+        Some("ply") => crate::ply_loader::load(path, limits)?,
+        // Scene-language files keep their own lighting (the classic ambient term included).
+        Some("test" | "scene" | "txt") => return crate::lang::load_with(path, limits),
+        Some(other) => return Err(SceneError::file(path, format!("unsupported scene format '.{other}' (supported: .gltf, .glb, .obj, .ply, .test, .scene, .txt)"))),
+        None => return Err(SceneError::file(path, "no file extension: cannot tell the format (supported: .gltf, .glb, .obj, .ply, .test, .scene, .txt)")),
+    };
+    if !options.keep_unlit {
+        crate::mesh_scene::light_if_unlit(path, &mut scene);
     }
+    Ok(scene)
 }

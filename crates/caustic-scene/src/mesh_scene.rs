@@ -5,11 +5,10 @@
 //!
 //! * camera: [`Camera::framing`] of the scene bounds (looking down -Z at the whole model);
 //! * resolution: [`DEFAULT_RESOLUTION`];
-//! * environment: a **white sky** (`Environment::Constant(1, 1, 1)`) when no mesh uses an
-//!   emissive material, so that a bare mesh is lit and visible; black otherwise, so that a
-//!   scene with its own lights (such as the OBJ Cornell box) is lit only by them.
+//! * environment: black, so that a scene with its own lights (such as the OBJ Cornell box) is
+//!   lit only by them; a model without any light gets the default sky of [`light_if_unlit`].
 
-use crate::{Camera, Environment, Material, Mesh, Scene, SceneError};
+use crate::{Camera, Environment, EnvironmentMap, Material, Mesh, Scene, SceneError};
 use glam::Vec3;
 use std::path::Path;
 
@@ -43,7 +42,25 @@ pub(crate) fn framing_camera(path: &Path, meshes: &[Mesh]) -> Result<Camera, Sce
 /// Builds the scene of a mesh file (OBJ, PLY) as the module documentation describes.
 pub(crate) fn assemble(path: &Path, meshes: Vec<Mesh>, materials: Vec<Material>) -> Result<Scene, SceneError> {
     let camera = framing_camera(path, &meshes)?;
-    let lit = meshes.iter().any(|m| materials.get(m.material as usize).is_some_and(Material::is_emissive));
-    let environment = if lit { Environment::default() } else { Environment::Constant(Vec3::ONE) };
-    Ok(Scene { name: scene_name(path), meshes, materials, camera, resolution: DEFAULT_RESOLUTION, environment, ..Scene::default() })
+    Ok(Scene { name: scene_name(path), meshes, materials, camera, resolution: DEFAULT_RESOLUTION, ..Scene::default() })
+}
+
+/// The default sky's radiance straight up and at (and below) the horizon: a neutral grey
+/// gradient (`--environment sky:1:0.2`). Lit from above and darker towards the ground, a
+/// model shows its shape, and a white model stands out from the background, which a uniform
+/// white sky (white on white) and no light at all (black) do not.
+pub const DEFAULT_SKY: (f32, f32) = (1.0, 0.2);
+
+/// Gives a model file (glTF, OBJ, PLY) that has no light (no light source, no emissive
+/// material and a black environment) the default sky [`DEFAULT_SKY`], and says so in one line
+/// on stderr. Returns whether it did.
+pub(crate) fn light_if_unlit(path: &Path, scene: &mut Scene) -> bool {
+    let emissive = scene.meshes.iter().any(|m| scene.materials.get(m.material as usize).is_some_and(Material::is_emissive));
+    if emissive || !scene.lights.is_empty() || scene.environment != Environment::default() {
+        return false;
+    }
+    let (zenith, horizon) = DEFAULT_SKY;
+    scene.environment = Environment::Map(EnvironmentMap::gradient_sky(Vec3::splat(zenith), Vec3::splat(horizon)));
+    eprintln!("note: {}: no lights and no environment: lit by the default grey sky (sky:{zenith}:{horizon}); --environment replaces it", path.display());
+    true
 }

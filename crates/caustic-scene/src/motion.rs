@@ -76,7 +76,7 @@ impl Motion {
     pub fn validate(&self, object: &str) -> Result<(), crate::SceneError> {
         let finite = self.translation.is_finite() && self.axis.is_finite() && self.angle.is_finite() && self.pivot.is_finite();
         if !finite {
-            return Err(crate::SceneError::invalid(object, format!("motion is not finite ({self:?})")));
+            return Err(crate::SceneError::invalid(object, format!("motion is not finite (translation {}, axis {}, angle {}, pivot {})", self.translation, self.axis, self.angle, self.pivot)));
         }
         if (self.axis.length() - 1.0).abs() > 1e-3 {
             return Err(crate::SceneError::invalid(object, format!("motion axis {} is not a unit vector", self.axis)));

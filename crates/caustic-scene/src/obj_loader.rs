@@ -12,35 +12,36 @@
 //! all faces when there is no MTL, use a diffuse 0.8 grey material named "default". A missing
 //! MTL file is a warning, a malformed one an error.
 //!
-//! The camera frames the model and the environment is a white sky unless the model has
-//! emitters (see [`crate::mesh_scene`]).
+//! The camera frames the model; a model without emitters is lit by the default sky (see
+//! [`crate::mesh_scene`]).
 //!
 //! tobj reports errors without a position, so the file is read through a [`LineCounter`]:
 //! syntax errors name their line; an out-of-range index is noticed, and named, at the line
 //! that ends its object or group.
 
 use crate::mesh_scene::{assemble, default_material, warn};
-use crate::{ColorSpace, Material, Mesh, Scene, SceneError, Texture, TextureSlot};
+use crate::input_file::model_folder;
+use crate::{ColorSpace, InputLimits, Material, Mesh, Scene, SceneError, Texture, TextureSlot};
 use glam::{Vec2, Vec3};
 use std::cell::RefCell;
 use std::io::{BufRead, BufReader, Read};
 use std::path::{Path, PathBuf};
 
 /// Loads an OBJ file and its materials as the module documentation describes.
-pub(crate) fn load(path: &Path) -> Result<Scene, SceneError> {
-    let file = std::fs::File::open(path).map_err(|e| SceneError::file(path, format!("cannot open: {e}")))?;
+pub(crate) fn load(path: &Path, limits: &InputLimits) -> Result<Scene, SceneError> {
+    let file = limits.open(path)?;
     let mut reader = LineCounter::new(BufReader::new(file));
     #[allow(clippy::needless_update, reason = "tobj's optional features add fields")]
     let options = tobj::LoadOptions { triangulate: true, single_index: true, ignore_points: true, ignore_lines: true, ..Default::default() };
     let mtl_failure = RefCell::new(None);
-    let loaded = tobj::load_obj_buf(&mut reader, &options, |mtl| load_mtl(path, mtl, &mtl_failure));
+    let loaded = tobj::load_obj_buf(&mut reader, &options, |mtl| load_mtl(path, mtl, limits, &mtl_failure));
     if let Some(error) = mtl_failure.into_inner() {
         return Err(error);
     }
     let (models, mtl_materials) = loaded.map_err(|e| obj_error(path, e, reader.line()))?;
     let mtl_materials = mtl_materials.unwrap_or_default();
     let mut materials: Vec<Material> = mtl_materials.iter().map(material).collect();
-    let textures = diffuse_textures(path, &mtl_materials, &mut materials);
+    let textures = diffuse_textures(path, &mtl_materials, &mut materials, limits);
     let known = materials.len();
     let mut default_index = None;
     let mut meshes = Vec::new();
@@ -59,14 +60,17 @@ pub(crate) fn load(path: &Path) -> Result<Scene, SceneError> {
 
 /// Decodes each distinct `map_Kd` file (relative to the OBJ's folder) once and points the
 /// materials that name it at it; an unusable file becomes a magenta texture and a warning.
-fn diffuse_textures(path: &Path, mtl: &[tobj::Material], materials: &mut [Material]) -> Vec<Texture> {
+fn diffuse_textures(path: &Path, mtl: &[tobj::Material], materials: &mut [Material], limits: &InputLimits) -> Vec<Texture> {
     let mut textures = Vec::new();
     let mut decoded: std::collections::HashMap<PathBuf, u32> = std::collections::HashMap::new();
+    let folder = model_folder(path);
     for (material, m) in materials.iter_mut().zip(mtl) {
         let Some(name) = m.diffuse_texture.as_deref() else { continue };
-        let file = path.parent().unwrap_or(Path::new(".")).join(name.replace('\\', "/"));
+        let relative = name.replace('\\', "/");
+        let file = path.parent().unwrap_or(Path::new(".")).join(&relative);
         let index = *decoded.entry(file.clone()).or_insert_with(|| {
-            textures.push(Texture::read_file(&file, ColorSpace::Srgb).unwrap_or_else(|message| {
+            let read = limits.resolve(&folder, path.parent().unwrap_or(Path::new(".")), Path::new(&relative)).map_err(|e| e.to_string());
+            textures.push(read.and_then(|file| Texture::read_file(&file, ColorSpace::Srgb, limits)).unwrap_or_else(|message| {
                 warn(path, &format!("material '{}': map_Kd {message}: using a magenta texture", m.name));
                 Texture::missing(name, ColorSpace::Srgb)
             }));
@@ -92,19 +96,18 @@ fn obj_error(path: &Path, error: tobj::LoadError, line: usize) -> SceneError {
 /// tobj's material loader: reads the MTL file `mtl` named by the OBJ file `obj`. A missing
 /// file is a warning (tobj then leaves the faces without material); a malformed one is kept in
 /// `failure` for [`load`] to return.
-fn load_mtl(obj: &Path, mtl: &Path, failure: &RefCell<Option<SceneError>>) -> tobj::MTLLoadResult {
-    let full: PathBuf = obj.parent().map_or_else(|| mtl.to_path_buf(), |dir| dir.join(mtl));
-    let text = match std::fs::read_to_string(&full) {
-        Ok(text) => text,
-        Err(e) => {
-            warn(obj, &format!("cannot read material library {}: {e}; its materials become the default grey", full.display()));
-            return Err(tobj::LoadError::OpenFileFailed);
-        }
-    };
+fn load_mtl(obj: &Path, mtl: &Path, limits: &InputLimits, failure: &RefCell<Option<SceneError>>) -> tobj::MTLLoadResult {
     let mut fail = |error: SceneError| {
         failure.borrow_mut().get_or_insert(error);
         tobj::LoadError::MaterialParseError
     };
+    let dir = obj.parent().unwrap_or(Path::new(""));
+    let full = limits.resolve(&model_folder(obj), dir, mtl).map_err(|e| fail(e.into()))?;
+    if !full.exists() {
+        warn(obj, &format!("material library {} does not exist; its materials become the default grey", full.display()));
+        return Err(tobj::LoadError::OpenFileFailed);
+    }
+    let text = limits.read_to_string(&full).map_err(|e| fail(e.into()))?;
     check_colours(&full, &text).map_err(&mut fail)?;
     let mut reader = LineCounter::new(text.as_bytes());
     let parsed = tobj::load_mtl_buf(&mut reader);

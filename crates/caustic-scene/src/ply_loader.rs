@@ -7,7 +7,7 @@
 //! skipped with a warning. Other elements and properties are read past and ignored.
 //!
 //! The whole file becomes one [`Mesh`] with a diffuse 0.8 grey material; camera, image size and
-//! environment (a white sky) are those of every mesh file (see [`crate::mesh_scene`]).
+//! environment (the default sky) are those of every mesh file (see [`crate::mesh_scene`]).
 //! Non-finite positions and out-of-range or negative indices are errors naming the vertex or
 //! face.
 
@@ -39,8 +39,8 @@ const VERTEX_SLOTS: [(&str, usize); 12] = [
 const INDEX_LISTS: [&str; 2] = ["vertex_indices", "vertex_index"];
 
 /// Loads a PLY file as the module documentation describes.
-pub(crate) fn load(path: &Path) -> Result<Scene, SceneError> {
-    let file = std::fs::File::open(path).map_err(|e| SceneError::file(path, format!("cannot open: {e}")))?;
+pub(crate) fn load(path: &Path, limits: &crate::InputLimits) -> Result<Scene, SceneError> {
+    let file = limits.open(path)?;
     let mut reader = Reader::new(BufReader::new(file));
     let header = Parser::<Ignored>::new().read_header(&mut reader).map_err(|e| parse_error(path, e, true))?;
     let layout = Layout::of(path, &header)?;

@@ -160,7 +160,7 @@ impl Scene {
             light.validate(index)?;
         }
         if !self.camera.is_valid() {
-            return Err(SceneError::invalid("camera", format!("degenerate camera {:?}", self.camera)));
+            return Err(SceneError::invalid("camera", format!("degenerate camera: {} (the eye must differ from the target, up must not be parallel to the view, the field of view must lie in (0, 180) degrees)", self.camera)));
         }
         let (w, h) = self.resolution;
         if w == 0 || h == 0 || w > 16384 || h > 16384 {

@@ -48,14 +48,13 @@ impl Texture {
         Ok(Texture { name: name.to_string(), width, height, color_space, texels })
     }
 
-    /// Reads and decodes an image file; the error says why it cannot be used (missing, not
-    /// a regular file, unreadable, or as [`Texture::decode`]).
-    pub fn read_file(file: &std::path::Path, color_space: ColorSpace) -> Result<Texture, String> {
-        if !file.is_file() {
-            let what = if file.exists() { "is not a regular file" } else { "does not exist" };
-            return Err(format!("file '{}' {what}", file.display()));
+    /// Reads an image file within `limits` and decodes it; the error says why it cannot be
+    /// used (missing, not a regular file, too large, unreadable, or as [`Texture::decode`]).
+    pub fn read_file(file: &std::path::Path, color_space: ColorSpace, limits: &crate::InputLimits) -> Result<Texture, String> {
+        if !file.exists() {
+            return Err(format!("file '{}' does not exist", file.display()));
         }
-        let bytes = std::fs::read(file).map_err(|e| format!("file '{}' cannot be read: {e}", file.display()))?;
+        let bytes = limits.read(file).map_err(|e| format!("file '{}' {}", file.display(), e.message))?;
         Texture::decode(&file.display().to_string(), &bytes, color_space)
     }
 

@@ -48,7 +48,7 @@ fn animated_gltf(name: &str) -> PathBuf {
 }
 
 fn load(name: &str, shutter: Option<(f32, f32)>) -> Scene {
-    load_scene_with(&SceneSource::File(animated_gltf(name)), &LoadOptions { shutter }).expect("loads")
+    load_scene_with(&SceneSource::File(animated_gltf(name)), &LoadOptions { shutter, ..LoadOptions::default() }).expect("loads")
 }
 
 /// Node 0's pose at animation time `t` (the channels are linear in time over 0..2 s).
@@ -88,7 +88,7 @@ fn without_a_shutter_the_nodes_keep_their_own_transforms() {
 
 #[test]
 fn bad_shutters_are_named() {
-    let error = |source: SceneSource, shutter| load_scene_with(&source, &LoadOptions { shutter: Some(shutter) }).expect_err("rejected").to_string();
+    let error = |source: SceneSource, shutter| load_scene_with(&source, &LoadOptions { shutter: Some(shutter), ..LoadOptions::default() }).expect_err("rejected").to_string();
     let backwards = error(SceneSource::File(animated_gltf("bad")), (1.0, 0.5));
     assert!(backwards.contains("shutter") && backwards.contains("close >= open"), "{backwards}");
     let not_gltf = error(SceneSource::parse("cornell"), (0.0, 1.0));

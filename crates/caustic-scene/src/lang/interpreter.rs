@@ -34,6 +34,7 @@ pub struct Interpreter {
     warnings: Vec<LangWarning>,
     pub(super) exit_requested: bool,
     pub(super) file_access: bool,
+    limits: crate::InputLimits,
     sourced_files: usize,
     pub(super) snapshots_left: usize,
     /// Whether a `render` line has run in this session (`save` and `postprocess` need one).
@@ -46,24 +47,37 @@ impl Default for Interpreter {
     }
 }
 
-/// `name` relative to the folder of `file` (unchanged when absolute).
-pub(super) fn resolve(file: &Path, name: &str) -> PathBuf {
-    match file.parent() {
-        Some(dir) => dir.join(name),
-        None => PathBuf::from(name),
-    }
-}
-
 impl Interpreter {
     /// A fresh session with the default state.
     pub fn new() -> Interpreter {
-        Interpreter { world: World::new("scene".to_string()), frames: Vec::new(), warnings: Vec::new(), exit_requested: false, file_access: true, sourced_files: 0, snapshots_left: usize::MAX, rendered: false }
+        Interpreter { world: World::new("scene".to_string()), frames: Vec::new(), warnings: Vec::new(), exit_requested: false, file_access: true, limits: crate::InputLimits::default(), sourced_files: 0, snapshots_left: usize::MAX, rendered: false }
     }
 
     /// Allows or forbids reading files (`source`, `environment FILE`); forbidden, they are
     /// errors. Fuzzing and untrusted input turn it off.
     pub fn set_file_access(&mut self, allowed: bool) {
         self.file_access = allowed;
+    }
+
+    /// Sets how large the files read may be and where they may lie: `source`d files and
+    /// environment maps must resolve inside the folder of the file first run (the current
+    /// folder for lines not read from a file) unless `limits` allow any path.
+    pub fn set_input_limits(&mut self, limits: crate::InputLimits) {
+        self.limits = limits;
+    }
+
+    /// The limits files are read within ([`Interpreter::set_input_limits`]).
+    pub fn input_limits(&self) -> &crate::InputLimits {
+        &self.limits
+    }
+
+    /// The file `name` names in a line of `file`: relative to `file`'s folder, and inside
+    /// the folder of the outermost file being run unless the limits allow any path.
+    pub(super) fn input_path(&self, file: &Path, name: &str) -> Result<PathBuf, String> {
+        let outermost = self.frames.first().map_or(file, |f| f.shown.as_path());
+        let root = crate::input_file::model_folder(outermost);
+        let dir = file.parent().unwrap_or(Path::new(""));
+        self.limits.resolve(&root, dir, Path::new(name)).map_err(|e| e.to_string())
     }
 
     /// Limits how many `render` lines produce an [`Action::Render`] (each holds a snapshot
@@ -238,12 +252,7 @@ impl Interpreter {
             let chain: Vec<String> = self.frames[first..].iter().map(|f| f.shown.display().to_string()).chain([path.display().to_string()]).collect();
             return Err(LangError::whole_file(path, format!("source cycle: {}", chain.join(" -> "))));
         }
-        match std::fs::metadata(&canonical) {
-            Ok(meta) if meta.is_file() => {}
-            Ok(_) => return Err(LangError::whole_file(path, "not a regular file")),
-            Err(e) => return Err(LangError::whole_file(path, format!("cannot read the file: {e}"))),
-        }
-        let bytes = std::fs::read(&canonical).map_err(|e| LangError::whole_file(path, format!("cannot read the file: {e}")))?;
+        let bytes = self.limits.read(&canonical).map_err(|e| LangError::whole_file(path, e.message))?;
         self.frames.push(Frame {
             canonical,
             shown: path.to_path_buf(),
@@ -276,7 +285,7 @@ impl Interpreter {
         let fault = |f: Fault| LangError::at(at, f.column, f.message);
         a.expect(&[1]).map_err(fault)?;
         let name = a.text(0).map_err(fault)?;
-        let path = resolve(at.file, name);
+        let path = self.input_path(at.file, name).map_err(|message| LangError::at(at, a.column(0), format!("source: {message}")))?;
         self.run_path(&path, actions).map_err(|mut e| {
             if e.line == 0 {
                 LangError::at(at, a.column(0), format!("source: {}: {}", path.display(), e.message))

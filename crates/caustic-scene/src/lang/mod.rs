@@ -38,7 +38,13 @@ use std::path::Path;
 /// Runs `path` in a fresh interpreter; returns the actions in order and the interpreter (its
 /// final state and warnings).
 pub fn run_file(path: &Path) -> Result<(Vec<Action>, Interpreter), LangError> {
+    run_file_with(path, &crate::InputLimits::default())
+}
+
+/// [`run_file`] reading files within `limits`.
+pub fn run_file_with(path: &Path, limits: &crate::InputLimits) -> Result<(Vec<Action>, Interpreter), LangError> {
     let mut interpreter = Interpreter::new();
+    interpreter.set_input_limits(*limits);
     let actions = interpreter.run_file(path)?;
     Ok((actions, interpreter))
 }
@@ -72,7 +78,13 @@ pub fn parse_str(text: &str, name: &Path) -> Result<(Scene, Vec<LangWarning>), L
 /// Warnings are printed to stderr. The result is not validated here; [`crate::load_scene`]
 /// validates it.
 pub fn load(path: &Path) -> Result<Scene, SceneError> {
+    load_with(path, &crate::InputLimits::default())
+}
+
+/// [`load`] reading files within `limits`.
+pub fn load_with(path: &Path, limits: &crate::InputLimits) -> Result<Scene, SceneError> {
     let mut interpreter = Interpreter::new();
+    interpreter.set_input_limits(*limits);
     interpreter.set_render_snapshots(1);
     let actions = interpreter.run_file(path)?;
     for warning in interpreter.take_warnings() {

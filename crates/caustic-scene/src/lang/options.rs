@@ -3,7 +3,7 @@
 
 use super::args::{shown, Args, Res};
 use super::error::Location;
-use super::interpreter::{resolve, MAX_IMAGE_SIDE, RESERVE_CAP};
+use super::interpreter::{MAX_IMAGE_SIDE, RESERVE_CAP};
 use super::Interpreter;
 use crate::{Camera, Environment, EnvironmentMap, ImportanceSampling, Integrator, NextEvent, RenderOptions, RenderPass};
 use glam::Vec3;
@@ -92,7 +92,7 @@ impl Interpreter {
                     2 => &[4],
                     _ => &[1, 3],
                 })?;
-                w.scene.environment = if sky == 1 {
+                self.world.scene.environment = if sky == 1 {
                     Environment::Map(EnvironmentMap::gradient_sky(a.color(1)?, a.color(4)?))
                 } else if sky == 2 {
                     Environment::Map(EnvironmentMap::overcast_sky(a.color(1)?))
@@ -104,8 +104,11 @@ impl Interpreter {
                 } else if !self.file_access {
                     return a.fail_at(0, "reading files is disabled in this session");
                 } else {
-                    let path = resolve(at.file, a.text(0)?);
-                    match EnvironmentMap::load(&path) {
+                    let path = match self.input_path(at.file, a.text(0)?) {
+                        Ok(path) => path,
+                        Err(message) => return a.fail_at(0, message),
+                    };
+                    match EnvironmentMap::load_with(&path, self.input_limits()) {
                         Ok(map) => Environment::Map(map),
                         Err(e) => return a.fail_at(0, e),
                     }

@@ -1,0 +1,161 @@
+//! How a run fails: its exit status and what it prints.
+//!
+//! | kind | exit status | examples |
+//! |---|---|---|
+//! | usage | 2 | an unknown option (clap), conflicting or out-of-range options (`--spp 0`) |
+//! | runtime | 1 | a missing or malformed scene, no device, an unwritable output |
+//! | interrupted | 128 + the signal: 130 (SIGINT, Ctrl-C), 143 (SIGTERM) | a render stopped after writing its partial image |
+//!
+//! The message goes to stderr as `error: ...`; with `--json` one object
+//! `{"error": "...", "kind": "usage|runtime|interrupted"}` goes to stdout as well (an
+//! interrupted render has printed its report, which says `"interrupted": true`, instead).
+
+use std::fmt;
+use std::sync::atomic::{AtomicBool, AtomicI32, Ordering};
+use std::sync::{Arc, OnceLock};
+
+/// A mistake in the command line that parsing cannot catch (conflicting or out-of-range
+/// options): exit status 2, like clap's own usage errors.
+#[derive(Debug)]
+pub struct UsageError(pub String);
+
+impl fmt::Display for UsageError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for UsageError {}
+
+/// Returns a [`UsageError`] with the formatted message from the enclosing function.
+macro_rules! usage {
+    ($($arg:tt)*) => {
+        return Err(anyhow::Error::new($crate::failure::UsageError(format!($($arg)*))))
+    };
+}
+pub(crate) use usage;
+
+/// A render stopped by a signal after writing what it had.
+#[derive(Debug)]
+pub struct Interrupted {
+    /// The signal's number (2 SIGINT, 15 SIGTERM).
+    pub signal: i32,
+    /// What was stopped and written.
+    pub message: String,
+}
+
+impl fmt::Display for Interrupted {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.message)
+    }
+}
+
+impl std::error::Error for Interrupted {}
+
+/// The interrupted error for the signal received, naming it: `what` says what was written.
+pub fn interrupted(what: &str) -> anyhow::Error {
+    let signal = received_signal();
+    let name = match signal {
+        2 => "Ctrl-C (SIGINT)".to_string(),
+        15 => "SIGTERM".to_string(),
+        1 => "SIGHUP".to_string(),
+        other => format!("signal {other}"),
+    };
+    anyhow::Error::new(Interrupted { signal, message: format!("interrupted by {name} {what}") })
+}
+
+/// What kind of failure `error` is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kind {
+    /// A command-line mistake.
+    Usage,
+    /// Anything else that went wrong.
+    Runtime,
+    /// Stopped by this signal.
+    Interrupted(i32),
+}
+
+impl Kind {
+    /// The kind of `error`, looking through its context chain.
+    pub fn of(error: &anyhow::Error) -> Kind {
+        for cause in error.chain() {
+            if cause.is::<UsageError>() {
+                return Kind::Usage;
+            }
+            if let Some(interrupted) = cause.downcast_ref::<Interrupted>() {
+                return Kind::Interrupted(interrupted.signal);
+            }
+        }
+        Kind::Runtime
+    }
+
+    /// The exit status: 2, 1, or 128 + the signal.
+    pub fn exit_status(self) -> u8 {
+        match self {
+            Kind::Usage => 2,
+            Kind::Runtime => 1,
+            Kind::Interrupted(signal) => u8::try_from(128 + signal).unwrap_or(1),
+        }
+    }
+
+    /// The name in the JSON error object.
+    pub fn name(self) -> &'static str {
+        match self {
+            Kind::Usage => "usage",
+            Kind::Runtime => "runtime",
+            Kind::Interrupted(_) => "interrupted",
+        }
+    }
+}
+
+/// The one JSON error object a `--json` run prints on failure.
+pub fn json_error(message: &str, kind: Kind) -> String {
+    serde_json::json!({ "error": message, "kind": kind.name() }).to_string()
+}
+
+/// The flag the interrupt handler sets, shared by every render of the process.
+static FLAG: OnceLock<Arc<AtomicBool>> = OnceLock::new();
+/// The last interrupting signal received (0: none).
+static SIGNAL: AtomicI32 = AtomicI32::new(0);
+
+/// The signal that interrupted the run (SIGINT when none was recorded).
+fn received_signal() -> i32 {
+    match SIGNAL.load(Ordering::SeqCst) {
+        0 => 2,
+        signal => signal,
+    }
+}
+
+#[cfg(unix)]
+extern "C" fn on_signal(signal: std::ffi::c_int) {
+    // Only atomic stores: async-signal-safe.
+    SIGNAL.store(signal, Ordering::SeqCst);
+    if let Some(flag) = FLAG.get() {
+        flag.store(true, Ordering::SeqCst);
+    }
+}
+
+/// A flag that Ctrl-C (SIGINT), SIGTERM or SIGHUP sets, so the render stops at the next tile
+/// and writes what it has; the signal is kept for the exit status ([`interrupted`]).
+#[cfg(unix)]
+pub fn interrupt_flag() -> anyhow::Result<Arc<AtomicBool>> {
+    use anyhow::Context;
+    use nix::sys::signal::{sigaction, SaFlags, SigAction, SigHandler, SigSet, Signal};
+    let flag = FLAG.get_or_init(|| Arc::new(AtomicBool::new(false))).clone();
+    let action = SigAction::new(SigHandler::Handler(on_signal), SaFlags::SA_RESTART, SigSet::empty());
+    for signal in [Signal::SIGINT, Signal::SIGTERM, Signal::SIGHUP] {
+        // SAFETY: the handler only stores to atomics, which is async-signal-safe.
+        unsafe { sigaction(signal, &action) }.context("cannot install the interrupt handler")?;
+    }
+    Ok(flag)
+}
+
+/// A flag that Ctrl-C sets, so the render stops at the next tile and writes what it has.
+#[cfg(not(unix))]
+pub fn interrupt_flag() -> anyhow::Result<Arc<AtomicBool>> {
+    use anyhow::Context;
+    let flag = FLAG.get_or_init(|| Arc::new(AtomicBool::new(false))).clone();
+    let handler_flag = flag.clone();
+    ctrlc::set_handler(move || handler_flag.store(true, Ordering::SeqCst)).context("cannot install the Ctrl-C handler")?;
+    Ok(flag)
+}
