@@ -15,6 +15,7 @@ mod cse168_pathtracer;
 mod debug_pixel;
 mod determinism;
 mod gltf_cli;
+mod input_safety;
 mod render;
 mod scaling;
 mod shell;

@@ -3,13 +3,16 @@
 
 #[path = "../common/mod.rs"]
 mod common;
+
 mod assets;
 mod bad_input;
 mod corpus;
 mod cubemap;
+mod default_environment;
 mod fuzz_regressions;
 mod gltf;
 mod gltf_features;
+mod input_limits;
 mod lang_commands;
 mod lang_errors;
 mod lang_scenes;

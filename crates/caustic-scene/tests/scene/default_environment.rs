@@ -2,8 +2,7 @@
 //! black (glTF) or white on white (a bare mesh under a white sky); one with any light keeps
 //! its own lighting.
 
-mod common;
-
+use crate::common;
 use caustic_scene::{Environment, DEFAULT_SKY};
 use std::path::Path;
 

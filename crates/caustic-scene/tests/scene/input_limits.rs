@@ -2,8 +2,7 @@
 //! and the files a model refers to must lie inside its folder (docs/ROBUSTNESS.md, "Input
 //! files"). Every refusal names the file and, where an option lifts it, the option.
 
-mod common;
-
+use crate::common;
 use caustic_scene::{load_scene_with, InputLimits, LoadOptions, Scene, SceneError, SceneSource};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
