@@ -56,6 +56,9 @@ pub struct RenderReport {
     nonfinite_samples: u64,
     /// Up to 16 pixels that rejected non-finite samples: (x, y, count), most first.
     nonfinite_pixels: Vec<(u32, u32, u32)>,
+    /// Pixels whose estimate has a negative component (the negative lobes of Mitchell-Netravali
+    /// and Lanczos ringing beside an edge); LDR output clamps them to 0.
+    negative_pixels: u64,
     /// Whether Ctrl-C ended the render early (the image holds what was accumulated).
     interrupted: bool,
     /// The global sample range the output holds, [start, end) (with --resume, the earlier
@@ -94,6 +97,7 @@ impl RenderReport {
             samples_per_second: f64::from(width) * f64::from(height) * f64::from(rendered.spp) / rendered.seconds.max(1e-9),
             nonfinite_samples: rendered.nonfinite.iter().map(|&c| u64::from(c)).sum(),
             nonfinite_pixels: worst_pixels(&rendered.nonfinite, width),
+            negative_pixels: rendered.image.pixels.iter().filter(|p| p.iter().any(|&c| c < 0.0)).count() as u64,
             interrupted,
             samples: [rendered.drawn.start, rendered.drawn.end],
             task_index: None,
@@ -511,7 +515,7 @@ pub fn print_report(report: &RenderReport, json: bool) -> anyhow::Result<()> {
         return Ok(());
     }
     eprintln!(
-        "{}: {}x{}, {} triangles, {} spp in {:.2} s ({:.2} M samples/s), BVH {:.1} ms, {} non-finite samples{} -> {}",
+        "{}: {}x{}, {} triangles, {} spp in {:.2} s ({:.2} M samples/s), BVH {:.1} ms, {} non-finite samples{}{} -> {}",
         report.scene,
         report.width,
         report.height,
@@ -522,6 +526,7 @@ pub fn print_report(report: &RenderReport, json: bool) -> anyhow::Result<()> {
         report.bvh_build_ms,
         report.nonfinite_samples,
         if report.nonfinite_pixels.is_empty() { String::new() } else { format!(" (worst pixels x, y, count: {:?})", report.nonfinite_pixels) },
+        if report.negative_pixels == 0 { String::new() } else { format!(", {} negative pixels (0 in LDR output)", report.negative_pixels) },
         report.output.display()
     );
     Ok(())

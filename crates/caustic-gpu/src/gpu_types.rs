@@ -322,7 +322,8 @@ pub struct GpuLight {
     pub samples: u32,
 }
 
-/// One pixel's running sample sum with Kahan compensation; `sum[3]` counts samples.
+/// One pixel's running sample sum with Kahan compensation; `sum[3]` sums the samples' filter
+/// weights (the sample count with the box filter).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
 pub struct AccumTexel {

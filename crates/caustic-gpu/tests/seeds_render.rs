@@ -4,6 +4,7 @@
 //! flat region at 8 spp; glTF's orthographic camera; OBJ's `Ks`/`Ns` Phong highlight.
 
 use caustic_gpu::classic_reference::pixel_centre_ray;
+use caustic_gpu::filter::PixelFilter;
 use caustic_gpu::{GpuContext, GpuScene, PathTracer, RenderSettings};
 use caustic_scene::lang::Interpreter;
 use caustic_scene::{Camera, Environment, Integrator, NextEvent, Scene};
@@ -88,3 +89,23 @@ fn a_point_light_alone_lights_the_path_tracer_with_next_event_estimation_off() {
 /// RGBFilm), so each pixel is 0.5 whatever it is. Before, the sum was clamped to at least 1 and
 /// 66 of 4,096 pixels came out negative (black in LDR). Metric: pixels below 0.25 (none) and the
 /// worst deviation from 0.5 (under 1e-4, float rounding of the weighted sums).
+#[test]
+fn lanczos_keeps_a_flat_region_flat_at_8_spp() {
+    let scene = Scene {
+        name: "flat".into(),
+        resolution: (64, 64),
+        camera: Camera::default(),
+        environment: Environment::Constant(Vec3::splat(0.5)),
+        ..Scene::default()
+    };
+    let ctx = context();
+    for filter in ["lanczos", "mitchell", "box"] {
+        let settings = RenderSettings { max_depth: Some(0), filter: PixelFilter::parse(filter).unwrap(), ..RenderSettings::default() };
+        let (pixels, nonfinite) = render(&ctx, &scene, settings, 8);
+        assert_eq!(nonfinite, 0);
+        let black = pixels.iter().filter(|p| p[0] < 0.25).count();
+        let worst = pixels.iter().map(|p| (p[0] - 0.5).abs().max((p[1] - 0.5).abs()).max((p[2] - 0.5).abs())).fold(0f32, f32::max);
+        println!("{filter} at 8 spp over a flat 0.5: {black} of {} pixels below 0.25 (tolerance 0), worst deviation {worst:.2e} (tolerance 1e-4)", pixels.len());
+        assert!(black == 0 && worst < 1e-4, "{filter}: a flat region stays flat");
+    }
+}
