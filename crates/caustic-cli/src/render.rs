@@ -10,7 +10,7 @@ use caustic_gpu::bloom::{Bloom, BloomSettings};
 use caustic_gpu::debug_image::{DEBUG_SAVE_OPTIONS, debug_picture};
 use caustic_gpu::{DebugView, GpuContext, GpuScene, PassOutcome, PathTracer, RenderSettings};
 use caustic_image::{Image, PartInfo, PartialImage};
-use caustic_scene::{LoadOptions, Scene, SceneSource, load_scene_with};
+use caustic_scene::{LoadOptions, RenderPass, Scene, SceneSource, load_scene_with};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
 use std::ops::Range;
@@ -215,7 +215,13 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let interrupted = interrupt_flag()?;
     let ctx = GpuContext::new(args.device.adapter.as_deref())?;
     eprintln!("adapter: {}", ctx.adapter);
-    let rendered = accumulate(&ctx, &scene, &settings, &budget, &interrupted)?;
+    let mut rendered = accumulate(&ctx, &scene, &settings, &budget, &interrupted)?;
+    // A depth pass: parts and HDR files hold the raw distances, LDR files the normalised depth.
+    let depth_display = (scene.options.pass == RenderPass::Depth).then(|| {
+        let (raw, display) = crate::depth::depth_images(&rendered.image);
+        rendered.image = raw;
+        display
+    });
     let interrupted = interrupted.load(Ordering::SeqCst);
     if interrupted {
         eprintln!("interrupted: writing the image accumulated so far ({} complete samples per pixel)", rendered.spp);
@@ -235,6 +241,8 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         }
     } else if let Some(view) = args.debug {
         save_debug_picture(view, &rendered, &output)?;
+    } else if let (Some(display), false) = (&depth_display, script::is_linear(&output)) {
+        display.save_gamma(&output, 1.0)?;
     } else {
         apply_bloom(&ctx, rendered.image, args.bloom.as_ref())?.save(&output, &args.display.save_options())?;
     }
