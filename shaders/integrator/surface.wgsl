@@ -86,7 +86,7 @@ fn tex_coords(ray: Ray, hit: Hit, tri: BvhTriangle, attributes: TriangleShading)
     }
     let e1 = tri.v1 - tri.v0;
     let e2 = tri.v2 - tri.v0;
-    tc.primary = all(ray.origin == frame.eye) && length(cross(e1, e2)) > 0.0;
+    tc.primary = is_pinhole_camera_ray(ray) && length(cross(e1, e2)) > 0.0;
     if tc.primary {
         tc.footprint = footprint_lod(ray.direction, hit.t, e1, e2);
     }

@@ -298,13 +298,10 @@ fn shadow_ray(p: Vec3, origin: Vec3, wi: Vec3, distance: f32) -> (Vec3, Vec3, f3
 }
 
 /// The camera ray through the centre of pixel (`x`, `y`) of `scene`'s pinhole camera
-/// (`camera_ray`): origin and unit direction.
+/// (`camera_ray`), perspective or orthographic: origin and unit direction.
 pub fn pixel_centre_ray(scene: &Scene, x: u32, y: u32) -> (Vec3, Vec3) {
     let (width, height) = scene.resolution;
-    let (right, up, forward) = scene.camera.frame();
-    let half_height = (scene.camera.fov_y * 0.5).tan();
-    let half_width = half_height * width as f32 / height as f32;
     let ndc_x = 2.0 * (x as f32 + 0.5) / width as f32 - 1.0;
     let ndc_y = 1.0 - 2.0 * (y as f32 + 0.5) / height as f32;
-    (scene.camera.eye, (forward + ndc_x * half_width * right + ndc_y * half_height * up).normalize())
+    scene.camera.ray(scene.resolution, (ndc_x, ndc_y))
 }

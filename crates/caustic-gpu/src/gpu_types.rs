@@ -12,11 +12,12 @@ pub struct Frame {
     pub eye: [f32; 3],
     /// Image width in pixels.
     pub width: u32,
-    /// Image right, scaled by tan(fov_y / 2) x aspect.
+    /// Image right, scaled by tan(fov_y / 2) x aspect (orthographic: the half-width in world
+    /// units).
     pub right: [f32; 3],
     /// Image height in pixels.
     pub height: u32,
-    /// Image up, scaled by tan(fov_y / 2).
+    /// Image up, scaled by tan(fov_y / 2) (orthographic: the half-height in world units).
     pub up: [f32; 3],
     /// Global sample index of this pass (the same for every pixel).
     pub sample_index: u32,
@@ -57,8 +58,11 @@ pub struct Frame {
     pub lens_radius: f32,
     /// Distance from the eye to the plane of focus along `forward`.
     pub focus_distance: f32,
+    /// 0 = perspective (rays from `eye`), 1 = orthographic (rays along `forward` from the
+    /// film rectangle around `eye`), `PROJECTION_*` in `camera.wgsl`.
+    pub projection: u32,
     /// Rounds the struct up to WGSL's 16-byte multiple.
-    pub _lens_pad: [u32; 2],
+    pub _lens_pad: u32,
     /// Pixel sampling and reconstruction (sampler strata, filter, light samples).
     pub pixel_sampling: PixelSampling,
     /// Classic ray tracer: samples per extended light with soft shadows on

@@ -8,7 +8,7 @@ use crate::render_settings::RenderSettings;
 use crate::wavefront::{KernelShape, Wavefront, WavefrontProfile};
 use crate::{GpuContext, GpuError, GpuScene};
 use caustic_image::Image;
-use caustic_scene::{Integrator, NextEvent, RenderPass, Scene};
+use caustic_scene::{Integrator, NextEvent, Projection, RenderPass, Scene};
 use std::time::{Duration, Instant};
 
 /// How a sample pass ended.
@@ -453,8 +453,7 @@ fn bind_group(device: &wgpu::Device, layout: &wgpu::BindGroupLayout, frame: &wgp
 fn frame_constants(scene: &Scene, gpu: &GpuScene, settings: &RenderSettings) -> Frame {
     let (width, height) = scene.resolution;
     let (right, up, forward) = scene.camera.frame();
-    let half_height = (scene.camera.fov_y * 0.5).tan();
-    let half_width = half_height * width as f32 / height as f32;
+    let (half_width, half_height) = scene.camera.half_extent(scene.resolution);
     Frame {
         eye: scene.camera.eye.to_array(),
         width,
@@ -477,6 +476,10 @@ fn frame_constants(scene: &Scene, gpu: &GpuScene, settings: &RenderSettings) -> 
         transport: transport_flags(next_event(scene, settings), scene.options.importance_sampling),
         lens_radius: scene.camera.aperture,
         focus_distance: scene.camera.focus(),
+        projection: match scene.camera.projection {
+            Projection::Perspective => 0,
+            Projection::Orthographic { .. } => 1,
+        },
         pixel_sampling: settings.filter.gpu_table(PixelSampling {
             strata: settings.sampler.strata(),
             light_samples: scene.options.light_samples.max(1),

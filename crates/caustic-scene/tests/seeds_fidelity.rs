@@ -1,8 +1,10 @@
-//! Where the scene language follows the seeds (`../shared/seeds/`, the HDR path tracer's
-//! manual) that it once departed from.
+//! Where the scene language and the loaders follow what they once departed from: the seeds
+//! (`../shared/seeds/`, the HDR path tracer's manual) and the files people render (OBJ's
+//! `Ks`/`Ns`).
 
 use caustic_scene::lang::{self, Interpreter};
-use caustic_scene::Scene;
+use caustic_scene::{Scene, ShadingModel};
+use glam::Vec3;
 use std::path::Path;
 
 fn scene(text: &str) -> Scene {
@@ -42,5 +44,29 @@ fn imagesamples_checks_its_count() {
         let error = interpreter.execute_str(text, Path::new("seeds.test")).expect_err(text).to_string();
         println!("{text:?}: {error}");
         assert!(error.contains(needle), "{error}");
+    }
+}
+
+/// The standard `CornellBox-Original.obj` (in `../shared`): its blocks are `Kd 0`, `Ks 0.725
+/// 0.71 0.68`, `Ns 200`, so with `Ks` ignored they were black. They are the modified Phong
+/// model now, the walls (`Ks 0`) still Lambertian. Fails, not skips, without `../shared` when
+/// CI=true.
+#[test]
+fn the_cornell_box_blocks_keep_their_phong_highlight() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/assets/scenes/cornell-box-obj");
+    if !dir.is_dir() {
+        assert_ne!(std::env::var("CI").as_deref(), Ok("true"), "CI=true: {} is missing", dir.display());
+        println!("skipping: ../shared not found");
+        return;
+    }
+    let scene = caustic_scene::load_scene(&caustic_scene::SceneSource::File(dir.join("CornellBox-Original.obj"))).unwrap_or_else(|e| panic!("{e}"));
+    for material in &scene.materials {
+        println!("{}: {:?}, kd {}, ks {}, exponent {}", material.name, material.model, material.base_color, material.specular_color, material.shininess);
+        let block = material.name.ends_with("Box");
+        let expected = if block { ShadingModel::Phong } else { ShadingModel::Lambert };
+        assert_eq!(material.model, expected, "{}", material.name);
+        if block {
+            assert_eq!((material.base_color, material.specular_color, material.shininess), (Vec3::ZERO, Vec3::new(0.725, 0.71, 0.68), 200.0));
+        }
     }
 }
