@@ -349,6 +349,9 @@ const FLAG_VERTEX_NORMALS: u32 = 1u;
 const FLAG_ALPHA_TESTED: u32 = 2u;
 const FLAG_QUAD_LIGHT: u32 = 4u;
 const FLAG_LIGHT_LISTED: u32 = 8u;
+// Material.flags: a 3D checker albedo; cartoon (toon-ramp) direct light.
+const MATERIAL_CHECKERS: u32 = 1u;
+const MATERIAL_FLAT: u32 = 2u;
 const ALPHA_OPAQUE: u32 = 0u;
 const ALPHA_MASK: u32 = 1u;
 const ALPHA_BLEND: u32 = 2u;

@@ -56,7 +56,9 @@ fn light_connection(si: SurfaceInteraction, local: Frame3, wo: vec3<f32>, rng: p
         return nothing;
     }
     let eta = relative_ior(si);
-    let f = eval_bsdf(si.material, eta, wo, wi_local);
+    // A flat material's direct light is its diffuse albedo / pi times the toon ramp of the
+    // cosine instead of the cosine (the seed's cartoon shading, where light is sampled).
+    let f = select(eval_bsdf(si.material, eta, wo, wi_local), si.material.diffuse * INV_PI * toon_ramp(wi_local.z), is_flat(si.material));
     if all(f == vec3<f32>(0.0)) {
         return nothing;
     }

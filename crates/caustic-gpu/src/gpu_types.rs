@@ -161,7 +161,7 @@ pub const FLAG_LIGHT_LISTED: u32 = 8;
 pub struct GpuMaterial {
     /// Diffuse albedo.
     pub base_color: [f32; 3],
-    /// Reserved feature bits.
+    /// `MATERIAL_*` bits: the seed's `checkers` and `flat` shading models.
     pub flags: u32,
     /// Emitted radiance (front face).
     pub emission: [f32; 3],
@@ -264,6 +264,35 @@ pub struct GpuMaterial {
     pub anisotropic_axis: [f32; 3],
     /// Its exponent nv along the bitangent.
     pub anisotropic_nv: f32,
+}
+
+/// [`GpuMaterial::flags`]: the albedo is a 3D checker pattern (`checkered` in
+/// `shaders/integrator/surface.wgsl`): cells of one world unit, numbered by truncation towards
+/// zero so the cells either side of each main axis plane form one band twice as wide.
+pub const MATERIAL_CHECKERS: u32 = 1;
+/// [`GpuMaterial::flags`]: cartoon shading: direct light's cosine through a two-step ramp
+/// (`toon_ramp`), in the classic ray tracer and in the path tracer's light samples.
+pub const MATERIAL_FLAT: u32 = 2;
+/// The albedo of a checker material's odd cells, as a fraction of its own.
+pub const CHECKER_DARK: f32 = 0.2;
+
+/// The checker pattern's cell parity at `p` (true: an odd cell, darkened by [`CHECKER_DARK`]),
+/// the CPU twin of `checkered`.
+pub fn checker_odd(p: glam::Vec3) -> bool {
+    let cell = p.to_array().map(|c| c.trunc().clamp(i32::MIN as f32, i32::MAX as f32) as i32);
+    cell.iter().fold(0i32, |a, &c| a.wrapping_add(c)) & 1 != 0
+}
+
+/// The cartoon ramp of a flat material: 1 where the light's cosine is at least 1/2, 1/2 where
+/// it is positive, else 0 (the CPU twin of `toon_ramp`).
+pub fn toon_ramp(cos: f32) -> f32 {
+    if cos >= 0.5 {
+        1.0
+    } else if cos > 0.0 {
+        0.5
+    } else {
+        0.0
+    }
 }
 
 /// [`GpuMaterial::alpha_mode`]: alpha ignored.

@@ -1,7 +1,8 @@
 //! Renders where Caustic once departed from its seeds (`../shared/seeds/`) and from what its
 //! docs promise, each against a closed form: a scene lit only by a point light, path-traced
 //! with next-event estimation off (the scene language's default); the Lanczos filter over a
-//! flat region at 8 spp; glTF's orthographic camera; OBJ's `Ks`/`Ns` Phong highlight.
+//! flat region at 8 spp; glTF's orthographic camera; OBJ's `Ks`/`Ns` Phong highlight; the
+//! seed's `material checkers` and `material flat` in both integrators.
 
 use caustic_gpu::classic_reference::pixel_centre_ray;
 use caustic_gpu::filter::PixelFilter;
@@ -233,4 +234,58 @@ fn obj_ks_and_ns_are_a_phong_highlight() {
     println!("OBJ Ks/Ns under a point light: image sum {sum:.4} against {expected_sum:.4} (relative {total_error:.2e}, tolerance 1e-2); worst pixel relative error {worst:.2e} (tolerance 3e-2)");
     assert_eq!(material.model, caustic_scene::ShadingModel::Phong);
     assert!(total_error < 1e-2 && worst < 3e-2, "the modified Phong highlight");
+}
+
+/// `scene` rendered by the classic ray tracer and by the path tracer (depth 1: direct light),
+/// 4 spp each, with the path tracer's image times pi (a white Lambertian surface under unit
+/// irradiance is 1 / pi there, 1 in the classic tracer).
+fn both_integrators(ctx: &GpuContext, scene: &Scene) -> [(&'static str, Vec<[f32; 3]>); 2] {
+    [("raytracer", Integrator::RayTracer, 1.0), ("pathtracer", Integrator::PathTracer, std::f32::consts::PI)].map(|(name, integrator, scale)| {
+        let (pixels, nonfinite) = render(ctx, scene, RenderSettings { integrator, max_depth: Some(1), ..RenderSettings::default() }, 4);
+        assert_eq!(nonfinite, 0);
+        (name, pixels.iter().map(|p| p.map(|c| c * scale)).collect())
+    })
+}
+
+/// The seed's `material checkers` ("a simple 3D checkered material with a wider band at the
+/// main axes"): a white plane z = 0 facing the camera under a unit directional light along its
+/// normal, seen 2 units high and 8 wide (64x16 pixels, 8 per world unit). Along the row at
+/// y = 0.44, the pixels at x = -2.44, -1.44, -0.44, 0.56, 1.56, 2.56 lie in cells (truncation
+/// towards zero) -2, -1, 0, 0, 1, 2: bright, dark, bright, bright, dark, bright, the band
+/// around x = 0 twice as wide (a floor-based checker would alternate). Metric: each pixel
+/// against 1 or 0.2 (the dark cells' share), tolerance 1e-3, in both integrators; plain
+/// Lambert (before) is 1 everywhere.
+#[test]
+fn material_checkers_is_a_3d_checker_with_a_wider_band_at_the_axes() {
+    let scene = scene_language(
+        "size 64 16\ncamera 0 0 10 0 0 0 0 1 0 11.421186\ndirectional 0 0 1 1 1 1\nmaterial checkers\ndiffuse 1 1 1\n\
+         vertex -4 -1 0\nvertex 4 -1 0\nvertex 4 1 0\nvertex -4 1 0\ntri 0 1 2\ntri 0 2 3\n",
+    );
+    let ctx = context();
+    let expected = [1.0, 0.2, 1.0, 1.0, 0.2, 1.0];
+    for (name, pixels) in both_integrators(&ctx, &scene) {
+        let row: Vec<f32> = [12u32, 20, 28, 36, 44, 52].iter().map(|&x| pixels[(4 * 64 + x) as usize][0]).collect();
+        println!("{name}: checkers along y = 0.44 at x = -2.44 .. 2.56: {row:.4?} (expected {expected:?} +- 1e-3)");
+        assert!(row.iter().zip(expected).all(|(got, want)| (got - want).abs() < 1e-3), "{name}: the checker pattern");
+    }
+}
+
+/// The seed's `material flat` ("cartoony shader with lighting and shadows"): a white sphere
+/// under a unit directional light from the camera's side. Lambert gives a continuum of
+/// cosines; the toon ramp gives two levels, 1 where the cosine is at least 1/2 and 1/2 below.
+/// Metric: the share of the sphere's pixels (value > 0.01; 64x64, the sphere 55 pixels across)
+/// within 1e-3 of 1 or 1/2: at least 75% (the rest straddle a band edge or the silhouette; a
+/// Lambertian sphere has almost none), both levels present, in both integrators.
+#[test]
+fn material_flat_is_a_two_step_toon_ramp() {
+    let scene = scene_language("size 64 64\ncamera 0 0 6 0 0 0 0 1 0 22\ndirectional 0 0 1 1 1 1\nmaterial flat\ndiffuse 1 1 1\nsphere 0 0 0 1\n");
+    let ctx = context();
+    for (name, pixels) in both_integrators(&ctx, &scene) {
+        let sphere: Vec<f32> = pixels.iter().map(|p| p[0]).filter(|&v| v > 0.01).collect();
+        let near = |level: f32| sphere.iter().filter(|&&v| (v - level).abs() < 1e-3).count();
+        let (full, half) = (near(1.0), near(0.5));
+        let share = (full + half) as f64 / sphere.len() as f64;
+        println!("{name}: flat sphere: {} pixels, {full} at 1, {half} at 1/2 ({:.1}% on a level; tolerance 75%)", sphere.len(), 100.0 * share);
+        assert!(share >= 0.75 && full > 0 && half > 0, "{name}: a two-step toon ramp");
+    }
 }
