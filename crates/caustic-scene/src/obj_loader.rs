@@ -138,7 +138,7 @@ fn material(m: &tobj::Material) -> Material {
         ..Material::default()
     };
     let specular = m.specular.map_or(Vec3::ZERO, Vec3::from);
-    if !(specular.max_element() > 0.0) {
+    if !specular.is_finite() || specular.max_element() <= 0.0 {
         return diffuse;
     }
     let shininess = m.shininess.filter(|n| n.is_finite()).unwrap_or(0.0).max(0.0);
