@@ -18,6 +18,7 @@ mod gltf_cli;
 mod input_safety;
 mod render;
 mod scaling;
+mod seeds_cli;
 mod shell;
 mod stability;
 mod viewer;

@@ -27,6 +27,9 @@ fn highlight_power(c: f32, shininess: f32) -> f32 {
 // along unit view.
 fn classic_reflectance(si: SurfaceInteraction, view: vec3<f32>, wi: vec3<f32>) -> vec3<f32> {
     let m = si.material;
+    if is_flat(m) {
+        return m.base_color * toon_ramp(dot(si.ns, wi));
+    }
     let diffuse = m.base_color * max(dot(si.ns, wi), 0.0);
     if CLASSIC_SHADING == 1u {
         return diffuse + m.specular * highlight_power(dot(reflect(-wi, si.ns), view), m.shininess);

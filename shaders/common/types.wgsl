@@ -6,10 +6,10 @@
 struct Frame {
     eye: vec3<f32>,
     width: u32,
-    // Image right, scaled by tan(fov_y / 2) * aspect.
+    // Image right, scaled by tan(fov_y / 2) * aspect (orthographic: the half-width, world units).
     right: vec3<f32>,
     height: u32,
-    // Image up, scaled by tan(fov_y / 2).
+    // Image up, scaled by tan(fov_y / 2) (orthographic: the half-height, world units).
     up: vec3<f32>,
     sample_index: u32,
     forward: vec3<f32>,
@@ -43,7 +43,9 @@ struct Frame {
     lens_radius: f32,
     // Distance from the eye to the plane of focus along `forward`.
     focus_distance: f32,
-    _lens_pad: vec2<u32>,
+    // 0 = perspective, 1 = orthographic (integrator/camera.wgsl).
+    projection: u32,
+    _lens_pad: u32,
     // Pixel sampling and reconstruction (helper E: common/rng.wgsl, common/filter.wgsl,
     // integrator/film.wgsl, the path tracer's light samples).
     pixel_sampling: PixelSampling,
@@ -334,5 +336,5 @@ struct InspectRecord {
 
 const PI: f32 = 3.14159265358979;
 const INV_PI: f32 = 0.318309886183791;
-// Triangle flags (FLAG_*), alpha modes (ALPHA_*), NO_HIT and SHAPE_BIT (the flag of a hit's
+// Triangle flags (FLAG_*), material flags (MATERIAL_*), alpha modes (ALPHA_*), NO_HIT and SHAPE_BIT (the flag of a hit's
 // primitive id marking an analytic shape): generated/interface.wgsl, from caustic_gpu::interface.

@@ -1,7 +1,9 @@
 // Auxiliary passes of the scene language's `render depth|normals`, and CSE168's
 // `analyticdirect`: exact, noise-free irradiance from polygonal lights without shadows.
 
-// Distance along the camera ray to the first hit (0 where the ray escapes).
+// Camera depth of the first hit (its distance along the view direction; 0 where the ray
+// escapes) in red and blue, and whether the ray hit (1 or 0) in green: the pixel's mean is its
+// filtered depth and covered fraction, from which caustic-cli's `depth` normalises LDR output.
 @compute @workgroup_size(64)
 fn render_depth(@builtin(global_invocation_id) id: vec3<u32>) {
     if id.x >= frame.tile_pixels {
@@ -11,8 +13,9 @@ fn render_depth(@builtin(global_invocation_id) id: vec3<u32>) {
     var rng = rng_for_sample(pixel, frame.sample_index, frame.seed);
     let ray = pixel_ray(pixel, &rng);
     let hit = closest_hit(ray, 3.0e38);
-    let depth = select(0.0, hit.t * dot(ray.direction, frame.forward), hit.triangle != NO_HIT);
-    record_sample(pixel, vec3<f32>(depth));
+    let covered = hit.triangle != NO_HIT;
+    let depth = select(0.0, hit.t * dot(ray.direction, frame.forward), covered);
+    record_sample(pixel, vec3<f32>(depth, select(0.0, 1.0, covered), depth));
 }
 
 // World-space shading normal of the first hit facing the camera, mapped to [0, 1] colours

@@ -1,7 +1,8 @@
 // The unidirectional path tracer: one sample of every pixel of a tile per dispatch.
 // Every material's BSDF (bsdf/bsdf.wgsl); next-event estimation over all lights, MIS (power
 // heuristic) with BSDF sampling for area lights, delta lobes skipping NEE; Russian roulette.
-// Frame.transport carries the CSE168 switches (NEE off|on|mis, reflection sampling
+// Frame.transport carries the CSE168 switches (NEE off|on|mis, where off still samples the
+// delta lights, which nothing else can reach; reflection sampling
 // hemisphere|cosine|brdf). The pixel's running sum is updated with Kahan summation.
 
 const SAFETY_MAX_BOUNCES: u32 = 1024u;
@@ -49,11 +50,15 @@ fn light_connection(si: SurfaceInteraction, local: Frame3, wo: vec3<f32>, rng: p
     let ls = sample_light(si.p, u_select, u_point);
     inspect_light(u_select, ls);
     let wi_local = vec3<f32>(dot(ls.wi, local.t), dot(ls.wi, local.b), dot(ls.wi, si.ns));
-    if ls.pdf <= 0.0 || next_event_mode() == NEE_OFF || !same_side(si, ls.wi, wi_local.z) {
+    // Delta lights (point, spot, segment, directional) are light-sampled whatever the mode:
+    // BSDF sampling can never hit them, so with NEE off they would light nothing.
+    if ls.pdf <= 0.0 || (next_event_mode() == NEE_OFF && !ls.is_delta) || !same_side(si, ls.wi, wi_local.z) {
         return nothing;
     }
     let eta = relative_ior(si);
-    let f = eval_bsdf(si.material, eta, wo, wi_local);
+    // A flat material's direct light is its diffuse albedo / pi times the toon ramp of the
+    // cosine instead of the cosine (the seed's cartoon shading, where light is sampled).
+    let f = select(eval_bsdf(si.material, eta, wo, wi_local), si.material.diffuse * INV_PI * toon_ramp(wi_local.z), is_flat(si.material));
     if all(f == vec3<f32>(0.0)) {
         return nothing;
     }

@@ -16,6 +16,7 @@ fn surface_interaction(ray: Ray, hit: Hit) -> SurfaceInteraction {
     // then the point and normals are carried to the path's time.
     let motion = hit_motion(hit);
     var si = surface_interaction_open(ray_to_open(ray, motion), hit);
+    si.material = checkered(si.material, si.p);
     si.p = point_at_ray_time(si.p, motion);
     si.ng = vector_at_ray_time(si.ng, motion);
     si.ns = vector_at_ray_time(si.ns, motion);
@@ -62,6 +63,40 @@ fn surface_interaction_open(ray: Ray, hit: Hit) -> SurfaceInteraction {
     return SurfaceInteraction(p, ng, ns, front_face, material);
 }
 
+// The seed's `checkers` material ("a simple 3D checkered material with a wider band at the
+// main axes"): cells of one world unit at the object's point p (shutter-open frame), numbered by
+// truncation towards zero, so the two cells either side of each main axis plane are one band
+// twice as wide; odd cells have CHECKER_DARK of the albedo (classic base colour and the
+// path tracer's diffuse lobe). CPU twin: caustic_gpu::gpu_types::checker_odd.
+
+fn checkered(m: Material, p: vec3<f32>) -> Material {
+    if (m.flags & MATERIAL_CHECKERS) == 0u {
+        return m;
+    }
+    let cell = vec3<i32>(trunc(p));
+    if ((cell.x + cell.y + cell.z) & 1) == 0 {
+        return m;
+    }
+    var dark = m;
+    dark.base_color *= CHECKER_DARK;
+    dark.diffuse *= CHECKER_DARK;
+    return dark;
+}
+
+// The seed's `flat` material ("cartoony shader with lighting and shadows"): direct light's
+// cosine through a two-step ramp, 1 from cos 1/2 up, 1/2 below down to grazing, 0 behind. CPU
+// twin: caustic_gpu::gpu_types::toon_ramp.
+fn toon_ramp(cos_theta: f32) -> f32 {
+    if cos_theta >= 0.5 {
+        return 1.0;
+    }
+    return select(0.0, 0.5, cos_theta > 0.0);
+}
+
+fn is_flat(m: Material) -> bool {
+    return (m.flags & MATERIAL_FLAT) != 0u;
+}
+
 // Whether material m reads any texture.
 fn has_textures(m: Material) -> bool {
     return (m.base_color_texture | m.metallic_roughness_map.texture | m.normal_map.texture | m.emissive_map.texture) != 0u;
@@ -86,7 +121,7 @@ fn tex_coords(ray: Ray, hit: Hit, tri: BvhTriangle, attributes: TriangleShading)
     }
     let e1 = tri.v1 - tri.v0;
     let e2 = tri.v2 - tri.v0;
-    tc.primary = all(ray.origin == frame.eye) && length(cross(e1, e2)) > 0.0;
+    tc.primary = is_pinhole_camera_ray(ray) && length(cross(e1, e2)) > 0.0;
     if tc.primary {
         tc.footprint = footprint_lod(ray.direction, hit.t, e1, e2);
     }

@@ -112,7 +112,9 @@ fn footprint_lod(direction: vec3<f32>, t: f32, e1: vec3<f32>, e2: vec3<f32>) -> 
     let world_area = length(normal);
     let cos_theta = abs(dot(direction, normal)) / world_area;
     let pixel_angle = 2.0 * length(frame.up) / f32(frame.height);
-    return log2(t * pixel_angle / sqrt(max(cos_theta, 1e-3))) - 0.5 * log2(world_area);
+    // An orthographic pixel is pixel_angle world units wide at every distance.
+    let width = select(t * pixel_angle, pixel_angle, frame.projection == PROJECTION_ORTHOGRAPHIC);
+    return log2(width / sqrt(max(cos_theta, 1e-3))) - 0.5 * log2(world_area);
 }
 
 // Where texture reference r reads: the hit's coordinates in r's set.

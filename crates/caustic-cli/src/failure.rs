@@ -11,7 +11,7 @@
 //! interrupted render has printed its report, which says `"interrupted": true`, instead).
 
 use std::fmt;
-use std::sync::atomic::{AtomicBool, AtomicI32, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Arc, OnceLock};
 
 /// A mistake in the command line that parsing cannot catch (conflicting or out-of-range
@@ -115,47 +115,32 @@ pub fn json_error(message: &str, kind: Kind) -> String {
 
 /// The flag the interrupt handler sets, shared by every render of the process.
 static FLAG: OnceLock<Arc<AtomicBool>> = OnceLock::new();
-/// The last interrupting signal received (0: none).
-static SIGNAL: AtomicI32 = AtomicI32::new(0);
+/// The number of the signal that interrupted the run (0: none recorded).
+static SIGNAL: OnceLock<Arc<AtomicUsize>> = OnceLock::new();
 
 /// The signal that interrupted the run (SIGINT when none was recorded).
 fn received_signal() -> i32 {
-    match SIGNAL.load(Ordering::SeqCst) {
-        0 => 2,
-        signal => signal,
+    match SIGNAL.get().map_or(0, |s| s.load(Ordering::SeqCst)) {
+        0 => signal_hook::consts::SIGINT,
+        signal => signal as i32,
     }
 }
 
-#[cfg(unix)]
-extern "C" fn on_signal(signal: std::ffi::c_int) {
-    // Only atomic stores: async-signal-safe.
-    SIGNAL.store(signal, Ordering::SeqCst);
-    if let Some(flag) = FLAG.get() {
-        flag.store(true, Ordering::SeqCst);
-    }
-}
-
-/// A flag that Ctrl-C (SIGINT), SIGTERM or SIGHUP sets, so the render stops at the next tile
-/// and writes what it has; the signal is kept for the exit status ([`interrupted`]).
-#[cfg(unix)]
+/// A flag that Ctrl-C (SIGINT), SIGTERM or (on Unix) SIGHUP sets, so the render stops at the
+/// next tile and writes what it has; the signal is kept for the exit status ([`interrupted`]).
+/// signal-hook's handlers only store to atomics, which is async-signal-safe.
 pub fn interrupt_flag() -> anyhow::Result<Arc<AtomicBool>> {
     use anyhow::Context;
-    use nix::sys::signal::{sigaction, SaFlags, SigAction, SigHandler, SigSet, Signal};
+    use signal_hook::consts::{SIGINT, SIGTERM};
     let flag = FLAG.get_or_init(|| Arc::new(AtomicBool::new(false))).clone();
-    let action = SigAction::new(SigHandler::Handler(on_signal), SaFlags::SA_RESTART, SigSet::empty());
-    for signal in [Signal::SIGINT, Signal::SIGTERM, Signal::SIGHUP] {
-        // SAFETY: the handler only stores to atomics, which is async-signal-safe.
-        unsafe { sigaction(signal, &action) }.context("cannot install the interrupt handler")?;
+    let signal = SIGNAL.get_or_init(|| Arc::new(AtomicUsize::new(0))).clone();
+    #[cfg(unix)]
+    let signals = [SIGINT, SIGTERM, signal_hook::consts::SIGHUP];
+    #[cfg(not(unix))]
+    let signals = [SIGINT, SIGTERM];
+    for number in signals {
+        signal_hook::flag::register_usize(number, signal.clone(), number as usize).context("cannot install the interrupt handler")?;
+        signal_hook::flag::register(number, flag.clone()).context("cannot install the interrupt handler")?;
     }
-    Ok(flag)
-}
-
-/// A flag that Ctrl-C sets, so the render stops at the next tile and writes what it has.
-#[cfg(not(unix))]
-pub fn interrupt_flag() -> anyhow::Result<Arc<AtomicBool>> {
-    use anyhow::Context;
-    let flag = FLAG.get_or_init(|| Arc::new(AtomicBool::new(false))).clone();
-    let handler_flag = flag.clone();
-    ctrlc::set_handler(move || handler_flag.store(true, Ordering::SeqCst)).context("cannot install the Ctrl-C handler")?;
     Ok(flag)
 }

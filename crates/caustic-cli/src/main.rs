@@ -5,6 +5,7 @@ mod args;
 mod bench;
 mod converge;
 mod debug_pixel;
+mod depth;
 mod failure;
 mod fingerprint;
 mod merge;

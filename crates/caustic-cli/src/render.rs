@@ -10,7 +10,7 @@ use caustic_gpu::bloom::{Bloom, BloomSettings};
 use caustic_gpu::debug_image::{DEBUG_SAVE_OPTIONS, debug_picture};
 use caustic_gpu::{DebugView, GpuContext, GpuScene, PassOutcome, PathTracer, RenderSettings};
 use caustic_image::{Image, PartInfo, PartialImage};
-use caustic_scene::{LoadOptions, Scene, SceneSource, load_scene_with};
+use caustic_scene::{LoadOptions, RenderPass, Scene, SceneSource, load_scene_with};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
 use std::ops::Range;
@@ -55,6 +55,9 @@ pub struct RenderReport {
     nonfinite_samples: u64,
     /// Up to 16 pixels that rejected non-finite samples: (x, y, count), most first.
     nonfinite_pixels: Vec<(u32, u32, u32)>,
+    /// Pixels whose estimate has a negative component (the negative lobes of Mitchell-Netravali
+    /// and Lanczos ringing beside an edge); LDR output clamps them to 0.
+    negative_pixels: u64,
     /// Whether Ctrl-C ended the render early (the image holds what was accumulated).
     interrupted: bool,
     /// The global sample range the output holds, [start, end) (with --resume, the earlier
@@ -93,6 +96,7 @@ impl RenderReport {
             samples_per_second: f64::from(width) * f64::from(height) * f64::from(rendered.spp) / rendered.seconds.max(1e-9),
             nonfinite_samples: rendered.nonfinite.iter().map(|&c| u64::from(c)).sum(),
             nonfinite_pixels: worst_pixels(&rendered.nonfinite, width),
+            negative_pixels: rendered.image.pixels.iter().filter(|p| p.iter().any(|&c| c < 0.0)).count() as u64,
             interrupted,
             samples: [rendered.drawn.start, rendered.drawn.end],
             task_index: None,
@@ -210,7 +214,13 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let interrupted = crate::failure::interrupt_flag()?;
     let ctx = GpuContext::new(args.device.adapter.as_deref())?;
     eprintln!("adapter: {}", ctx.adapter);
-    let rendered = accumulate(&ctx, &scene, &settings, &budget, &interrupted)?;
+    let mut rendered = accumulate(&ctx, &scene, &settings, &budget, &interrupted)?;
+    // A depth pass: parts and HDR files hold the raw distances, LDR files the normalised depth.
+    let depth_display = (scene.options.pass == RenderPass::Depth).then(|| {
+        let (raw, display) = crate::depth::depth_images(&rendered.image);
+        rendered.image = raw;
+        display
+    });
     let interrupted = interrupted.load(Ordering::SeqCst);
     if interrupted {
         eprintln!("interrupted: writing the image accumulated so far ({} complete samples per pixel)", rendered.spp);
@@ -230,6 +240,8 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         }
     } else if let Some(view) = args.debug {
         save_debug_picture(view, &rendered, &output)?;
+    } else if let (Some(display), false) = (&depth_display, script::is_linear(&output)) {
+        display.save_gamma(&output, 1.0)?;
     } else {
         apply_bloom(&ctx, rendered.image, args.bloom.as_ref())?.save(&output, &args.display.save_options())?;
     }
@@ -501,7 +513,7 @@ pub fn print_report(report: &RenderReport, json: bool) -> anyhow::Result<()> {
         return Ok(());
     }
     eprintln!(
-        "{}: {}x{}, {} triangles, {} spp in {:.2} s ({:.2} M samples/s), BVH {:.1} ms, {} non-finite samples{} -> {}",
+        "{}: {}x{}, {} triangles, {} spp in {:.2} s ({:.2} M samples/s), BVH {:.1} ms, {} non-finite samples{}{} -> {}",
         report.scene,
         report.width,
         report.height,
@@ -512,6 +524,7 @@ pub fn print_report(report: &RenderReport, json: bool) -> anyhow::Result<()> {
         report.bvh_build_ms,
         report.nonfinite_samples,
         if report.nonfinite_pixels.is_empty() { String::new() } else { format!(" (worst pixels x, y, count: {:?})", report.nonfinite_pixels) },
+        if report.negative_pixels == 0 { String::new() } else { format!(", {} negative pixels (0 in LDR output)", report.negative_pixels) },
         report.output.display()
     );
     Ok(())

@@ -10,7 +10,7 @@ use crate::render::{Budget, RenderReport, accumulate, check_limits, print_report
 use anyhow::Context;
 use caustic_gpu::{GpuContext, RenderSettings};
 use caustic_image::Image;
-use caustic_scene::Scene;
+use caustic_scene::{RenderPass, Scene};
 use caustic_scene::lang::{self, Action, PostProcess};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -26,6 +26,11 @@ const LDR_EXTENSIONS: [&str; 4] = ["png", "bmp", "jpg", "jpeg"];
 /// Whether `path` names a scene-language file (`.test`, `.scene`, `.txt`).
 pub fn is_script(path: &Path) -> bool {
     extension(path).is_some_and(|e| SCRIPT_EXTENSIONS.contains(&e.as_str()))
+}
+
+/// Whether `path` names a linear (HDR) image file (`.exr`, `.hdr`).
+pub fn is_linear(path: &Path) -> bool {
+    extension(path).is_some_and(|e| HDR_EXTENSIONS.contains(&e.as_str()))
 }
 
 fn extension(path: &Path) -> Option<String> {
@@ -91,6 +96,9 @@ pub enum Flow {
 /// The last rendered image and how to write it.
 struct LastImage {
     image: Image,
+    /// What LDR files show instead of `image`, written as is: a depth pass's depth normalised
+    /// over its hits (`crate::depth`), where `image` holds the raw distances.
+    display: Option<Image>,
     scene: String,
     output: Option<PathBuf>,
     gamma: f32,
@@ -147,8 +155,16 @@ impl<'a> Host<'a> {
         let (interrupted, spp) = (self.interrupted.load(Ordering::SeqCst), rendered.spp);
         let print = fingerprint(&scene, &settings);
         let report = RenderReport::new(self.ctx, &scene, &rendered, interrupted, print.hash, output);
+        let (image, display) = match scene.options.pass {
+            RenderPass::Depth => {
+                let (raw, display) = crate::depth::depth_images(&rendered.image);
+                (raw, Some(display))
+            }
+            _ => (rendered.image, None),
+        };
         self.last = Some(LastImage {
-            image: crate::render::apply_bloom(self.ctx, rendered.image, self.options.bloom.as_ref())?,
+            image: crate::render::apply_bloom(self.ctx, image, self.options.bloom.as_ref())?,
+            display,
             scene: scene.name,
             output: scene.options.output,
             gamma: scene.options.gamma,
@@ -166,21 +182,27 @@ impl<'a> Host<'a> {
     fn save(&self, hdr: bool) -> anyhow::Result<PathBuf> {
         let last = self.last.as_ref().context("nothing has been rendered yet")?;
         let path = output_path(self.options.output.as_deref(), last.output.as_deref(), &last.scene, hdr);
-        self.write(&last.image, &path, last.gamma)?;
+        self.write(last, &path)?;
         eprintln!("wrote {}", path.display());
         if let (true, Some(preview)) = (hdr, &last.preview) {
             let preview = with_extension(preview, &["jpg", "jpeg"], "jpg");
-            self.write(&last.image, &preview, last.gamma)?;
+            self.write(last, &preview)?;
             eprintln!("wrote {} (preview)", preview.display());
         }
         Ok(path)
     }
 
-    /// Writes `image` to `path`: linear for `.exr`/`.hdr`; otherwise clamped and raised to
-    /// 1 / `gamma` after the exposure, or through `--tone-map` and sRGB when it is given.
-    fn write(&self, image: &Image, path: &Path, gamma: f32) -> anyhow::Result<()> {
+    /// Writes the last image to `path`: linear for `.exr`/`.hdr`; otherwise its `display`
+    /// image as is if it has one, else clamped and raised to 1 / `gamma` after the exposure, or
+    /// through `--tone-map` and sRGB when it is given.
+    fn write(&self, last: &LastImage, path: &Path) -> anyhow::Result<()> {
+        let (image, gamma) = (&last.image, last.gamma);
         let display = self.options.display;
-        let linear = extension(path).is_some_and(|e| HDR_EXTENSIONS.contains(&e.as_str()));
+        let linear = is_linear(path);
+        if let (false, Some(shown)) = (linear, &last.display) {
+            shown.save_gamma(path, 1.0)?;
+            return Ok(());
+        }
         if linear || display.tone_map.is_some() {
             image.save(path, &display.save_options())?;
             return Ok(());
@@ -198,9 +220,11 @@ impl<'a> Host<'a> {
     /// Applies a post-process effect to the last image.
     fn post_process(&mut self, effect: PostProcess) -> anyhow::Result<()> {
         let last = self.last.as_mut().context("nothing has been rendered yet")?;
-        match effect {
-            PostProcess::Monochrome => last.image.monochrome(),
-            PostProcess::Blur { radius } => last.image = last.image.gaussian_blur(radius),
+        for image in std::iter::once(&mut last.image).chain(last.display.as_mut()) {
+            match effect {
+                PostProcess::Monochrome => image.monochrome(),
+                PostProcess::Blur { radius } => *image = image.gaussian_blur(radius),
+            }
         }
         Ok(())
     }

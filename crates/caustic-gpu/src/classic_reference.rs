@@ -11,7 +11,7 @@ use crate::features::{
     ClassicFeatures, FeatureConstants, FEATURE_ENVIRONMENT_REFLECTIONS, FEATURE_FROSTED, FEATURE_GLOSSY, FEATURE_LIGHT_TRANSPARENCY, FEATURE_REFLECTION,
     FEATURE_REFRACTION, FEATURE_SHADOWS, FEATURE_SMOOTH_NORMALS,
 };
-use crate::gpu_types::{GpuLight, GpuMaterial, FLAG_VERTEX_NORMALS};
+use crate::gpu_types::{checker_odd, toon_ramp, GpuLight, GpuMaterial, CHECKER_DARK, FLAG_VERTEX_NORMALS, MATERIAL_CHECKERS, MATERIAL_FLAT};
 use crate::scene_data::{SceneData, LIGHT_DIRECTIONAL, LIGHT_FLAG_CLASSIC, LIGHT_POINT};
 use caustic_bsdf::{fresnel_dielectric, fresnel_schlick, reflect, refract};
 use caustic_bvh::{closest_hit_brute_force, Hit, Ray};
@@ -143,7 +143,11 @@ impl ClassicReference {
                 ns = if ns.dot(ng) >= 0.0 { ns } else { -ns };
             }
         }
-        Interaction { p, ng, ns, front_face, material: self.data.materials[attributes.material as usize] }
+        let mut material = self.data.materials[attributes.material as usize];
+        if material.flags & MATERIAL_CHECKERS != 0 && checker_odd(p) {
+            material.base_color = (Vec3::from(material.base_color) * CHECKER_DARK).to_array();
+        }
+        Interaction { p, ng, ns, front_face, material }
     }
 
     /// The weights a ray along `direction` passes on at `si` (`split_at`).
@@ -193,6 +197,9 @@ impl ClassicReference {
     /// Diffuse plus the highlight of the shading model (`classic_reflectance`).
     fn reflectance(&self, si: &Interaction, view: Vec3, wi: Vec3) -> Vec3 {
         let m = &si.material;
+        if m.flags & MATERIAL_FLAT != 0 {
+            return Vec3::from(m.base_color) * toon_ramp(si.ns.dot(wi));
+        }
         let diffuse = Vec3::from(m.base_color) * si.ns.dot(wi).max(0.0);
         let highlight = match self.constants.shading {
             1 => highlight_power(reflect(wi, si.ns).dot(view), m.shininess),
@@ -298,13 +305,10 @@ fn shadow_ray(p: Vec3, origin: Vec3, wi: Vec3, distance: f32) -> (Vec3, Vec3, f3
 }
 
 /// The camera ray through the centre of pixel (`x`, `y`) of `scene`'s pinhole camera
-/// (`camera_ray`): origin and unit direction.
+/// (`camera_ray`), perspective or orthographic: origin and unit direction.
 pub fn pixel_centre_ray(scene: &Scene, x: u32, y: u32) -> (Vec3, Vec3) {
     let (width, height) = scene.resolution;
-    let (right, up, forward) = scene.camera.frame();
-    let half_height = (scene.camera.fov_y * 0.5).tan();
-    let half_width = half_height * width as f32 / height as f32;
     let ndc_x = 2.0 * (x as f32 + 0.5) / width as f32 - 1.0;
     let ndc_y = 1.0 - 2.0 * (y as f32 + 0.5) / height as f32;
-    (scene.camera.eye, (forward + ndc_x * half_width * right + ndc_y * half_height * up).normalize())
+    scene.camera.ray(scene.resolution, (ndc_x, ndc_y))
 }

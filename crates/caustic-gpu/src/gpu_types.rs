@@ -12,11 +12,12 @@ pub struct Frame {
     pub eye: [f32; 3],
     /// Image width in pixels.
     pub width: u32,
-    /// Image right, scaled by tan(fov_y / 2) x aspect.
+    /// Image right, scaled by tan(fov_y / 2) x aspect (orthographic: the half-width in world
+    /// units).
     pub right: [f32; 3],
     /// Image height in pixels.
     pub height: u32,
-    /// Image up, scaled by tan(fov_y / 2).
+    /// Image up, scaled by tan(fov_y / 2) (orthographic: the half-height in world units).
     pub up: [f32; 3],
     /// Global sample index of this pass (the same for every pixel).
     pub sample_index: u32,
@@ -57,8 +58,11 @@ pub struct Frame {
     pub lens_radius: f32,
     /// Distance from the eye to the plane of focus along `forward`.
     pub focus_distance: f32,
+    /// [`PROJECTION_PERSPECTIVE`] (rays from `eye`) or [`PROJECTION_ORTHOGRAPHIC`] (rays along
+    /// `forward` from the film rectangle around `eye`); `camera.wgsl`.
+    pub projection: u32,
     /// Rounds the struct up to WGSL's 16-byte multiple.
-    pub _lens_pad: [u32; 2],
+    pub _lens_pad: u32,
     /// Pixel sampling and reconstruction (sampler strata, filter, light samples).
     pub pixel_sampling: PixelSampling,
     /// Classic ray tracer: samples per extended light with soft shadows on
@@ -161,7 +165,7 @@ pub const FLAG_LIGHT_LISTED: u32 = 8;
 pub struct GpuMaterial {
     /// Diffuse albedo.
     pub base_color: [f32; 3],
-    /// Reserved feature bits.
+    /// `MATERIAL_*` bits: the seed's `checkers` and `flat` shading models.
     pub flags: u32,
     /// Emitted radiance (front face).
     pub emission: [f32; 3],
@@ -266,6 +270,39 @@ pub struct GpuMaterial {
     pub anisotropic_nv: f32,
 }
 
+/// [`GpuMaterial::flags`]: the albedo is a 3D checker pattern (`checkered` in
+/// `shaders/integrator/surface.wgsl`): cells of one world unit, numbered by truncation towards
+/// zero so the cells either side of each main axis plane form one band twice as wide.
+pub const MATERIAL_CHECKERS: u32 = 1;
+/// [`Frame::projection`]: a pinhole or thin-lens camera.
+pub const PROJECTION_PERSPECTIVE: u32 = 0;
+/// [`Frame::projection`]: parallel rays from the film rectangle.
+pub const PROJECTION_ORTHOGRAPHIC: u32 = 1;
+/// [`GpuMaterial::flags`]: cartoon shading: direct light's cosine through a two-step ramp
+/// (`toon_ramp`), in the classic ray tracer and in the path tracer's light samples.
+pub const MATERIAL_FLAT: u32 = 2;
+/// The albedo of a checker material's odd cells, as a fraction of its own.
+pub const CHECKER_DARK: f32 = 0.2;
+
+/// The checker pattern's cell parity at `p` (true: an odd cell, darkened by [`CHECKER_DARK`]),
+/// the CPU twin of `checkered`.
+pub fn checker_odd(p: glam::Vec3) -> bool {
+    let cell = p.to_array().map(|c| c.trunc().clamp(i32::MIN as f32, i32::MAX as f32) as i32);
+    cell.iter().fold(0i32, |a, &c| a.wrapping_add(c)) & 1 != 0
+}
+
+/// The cartoon ramp of a flat material: 1 where the light's cosine is at least 1/2, 1/2 where
+/// it is positive, else 0 (the CPU twin of `toon_ramp`).
+pub fn toon_ramp(cos: f32) -> f32 {
+    if cos >= 0.5 {
+        1.0
+    } else if cos > 0.0 {
+        0.5
+    } else {
+        0.0
+    }
+}
+
 /// [`GpuMaterial::alpha_mode`]: alpha ignored.
 pub const ALPHA_OPAQUE: u32 = 0;
 /// [`GpuMaterial::alpha_mode`]: opaque where alpha >= the cutoff, absent elsewhere.
@@ -326,7 +363,8 @@ pub struct GpuLight {
     pub samples: u32,
 }
 
-/// One pixel's running sample sum with Kahan compensation; `sum[3]` counts samples.
+/// One pixel's running sample sum with Kahan compensation; `sum[3]` sums the samples' filter
+/// weights (the sample count with the box filter).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
 pub struct AccumTexel {

@@ -1,12 +1,16 @@
 //! The constants Rust and WGSL share, declared once here and generated into every program as
 //! `generated/interface.wgsl`, so no WGSL file repeats a number the host also writes (light
-//! kinds, triangle flags, alpha modes, the shape bit of hit ids, the inspector's sentinel).
+//! kinds, triangle flags, material flags, alpha modes, projections, the shape bit of hit ids,
+//! the inspector's sentinel).
 //!
 //! The struct layouts and bindings are checked against the shaders by naga reflection in
 //! `crates/caustic-gpu/tests/gpu/wgsl_validation.rs`; the override constants (requirement bits,
 //! classic features) are set through the pipeline and checked where they are declared.
 
-use crate::gpu_types::{ALPHA_BLEND, ALPHA_MASK, ALPHA_OPAQUE, FLAG_ALPHA_TESTED, FLAG_LIGHT_LISTED, FLAG_QUAD_LIGHT, FLAG_VERTEX_NORMALS, INSPECT_MAX_BOUNCES, NO_PIXEL};
+use crate::gpu_types::{
+    ALPHA_BLEND, ALPHA_MASK, ALPHA_OPAQUE, CHECKER_DARK, FLAG_ALPHA_TESTED, FLAG_LIGHT_LISTED, FLAG_QUAD_LIGHT, FLAG_VERTEX_NORMALS, INSPECT_MAX_BOUNCES, MATERIAL_CHECKERS, MATERIAL_FLAT,
+    NO_PIXEL, PROJECTION_ORTHOGRAPHIC, PROJECTION_PERSPECTIVE,
+};
 use crate::scene_data::{
     LIGHT_DIRECTIONAL, LIGHT_DISK, LIGHT_ENVIRONMENT, LIGHT_FLAG_CLASSIC, LIGHT_POINT, LIGHT_QUAD, LIGHT_SEGMENT, LIGHT_SPHERE, LIGHT_SPOT, LIGHT_TRIANGLE,
 };
@@ -35,7 +39,14 @@ pub const SHARED_CONSTANTS: &[(&str, u32)] = &[
     ("NO_HIT", u32::MAX),
     ("NO_PIXEL", NO_PIXEL),
     ("INSPECT_MAX_BOUNCES", INSPECT_MAX_BOUNCES as u32),
+    ("MATERIAL_CHECKERS", MATERIAL_CHECKERS),
+    ("MATERIAL_FLAT", MATERIAL_FLAT),
+    ("PROJECTION_PERSPECTIVE", PROJECTION_PERSPECTIVE),
+    ("PROJECTION_ORTHOGRAPHIC", PROJECTION_ORTHOGRAPHIC),
 ];
+
+/// Every shared `f32` constant by its name on both sides.
+pub const SHARED_FLOATS: &[(&str, f32)] = &[("CHECKER_DARK", CHECKER_DARK)];
 
 /// Path under which the generated file appears in assembled programs and error messages.
 pub const INTERFACE_FILE: &str = "generated/interface.wgsl";
@@ -45,6 +56,10 @@ pub fn wgsl_constants() -> String {
     let mut text = String::from("// Generated from caustic_gpu::interface::SHARED_CONSTANTS: edit the Rust side.\n");
     for (name, value) in SHARED_CONSTANTS {
         text.push_str(&format!("const {name}: u32 = {value:#x}u;\n"));
+    }
+    for (name, value) in SHARED_FLOATS {
+        // `{:?}` prints the shortest decimal that reads back as the same f32.
+        text.push_str(&format!("const {name}: f32 = {value:?};\n"));
     }
     text
 }
@@ -58,7 +73,7 @@ mod tests {
 
     #[test]
     fn every_constant_is_declared_once() {
-        let mut names: Vec<&str> = SHARED_CONSTANTS.iter().map(|(name, _)| *name).collect();
+        let mut names: Vec<&str> = SHARED_CONSTANTS.iter().map(|(name, _)| *name).chain(SHARED_FLOATS.iter().map(|(name, _)| *name)).collect();
         names.sort_unstable();
         let count = names.len();
         names.dedup();

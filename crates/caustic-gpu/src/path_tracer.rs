@@ -1,7 +1,7 @@
 //! The accumulating path tracer: one bounded dispatch per tile and sample pass.
 
 use crate::bindings;
-use crate::gpu_types::{transport_flags, AccumTexel, Frame, InspectRecord, PixelSampling, NO_PIXEL};
+use crate::gpu_types::{PROJECTION_ORTHOGRAPHIC, PROJECTION_PERSPECTIVE, transport_flags, AccumTexel, Frame, InspectRecord, PixelSampling, NO_PIXEL};
 use crate::inspector::PathRecord;
 use crate::readback::read_buffer;
 use crate::kernel::Kernel;
@@ -9,7 +9,7 @@ use crate::render_settings::RenderSettings;
 use crate::wavefront::{KernelShape, Wavefront, WavefrontProfile};
 use crate::{GpuContext, GpuError, GpuScene};
 use caustic_image::Image;
-use caustic_scene::{Integrator, NextEvent, RenderPass, Scene};
+use caustic_scene::{Integrator, NextEvent, Projection, RenderPass, Scene};
 use std::time::{Duration, Instant};
 
 /// How a sample pass ended.
@@ -264,15 +264,14 @@ impl<'a> PathTracer<'a> {
 
     /// The per-pixel mean (as [`PathTracer::image`]) and the number of samples it is over:
     /// complete passes plus a stopped pass's finished tiles, less non-finite samples.
+    ///
+    /// Each pixel is its weighted sum divided by the sum of its signed filter weights whatever
+    /// that sum is (pbrt-v4's `RGBFilm`), 0 only where it is exactly 0 (no samples): with the
+    /// negative lobes of Mitchell-Netravali and Lanczos a few samples may sum to a negative or
+    /// small weight, and a flat region must stay flat.
     pub fn accumulated(&self) -> Result<(Image, Vec<u32>), GpuError> {
         let texels: Vec<AccumTexel> = read_buffer(self.ctx, &self.accumulation)?;
-        let rgba: Vec<[f32; 4]> = texels
-            .iter()
-            .map(|t| {
-                let n = t.sum[3].max(1.0);
-                [t.sum[0] / n, t.sum[1] / n, t.sum[2] / n, 1.0]
-            })
-            .collect();
+        let rgba: Vec<[f32; 4]> = texels.iter().map(|t| weighted_mean(t.sum)).collect();
         let counts = texels.iter().map(|t| t.sum[3] as u32).collect();
         Ok((Image::from_rgba(self.frame.width, self.frame.height, &rgba), counts))
     }
@@ -455,8 +454,7 @@ fn bind_group(device: &wgpu::Device, layout: &wgpu::BindGroupLayout, frame: &wgp
 fn frame_constants(scene: &Scene, gpu: &GpuScene, settings: &RenderSettings) -> Frame {
     let (width, height) = scene.resolution;
     let (right, up, forward) = scene.camera.frame();
-    let half_height = (scene.camera.fov_y * 0.5).tan();
-    let half_width = half_height * width as f32 / height as f32;
+    let (half_width, half_height) = scene.camera.half_extent(scene.resolution);
     Frame {
         eye: scene.camera.eye.to_array(),
         width,
@@ -479,6 +477,10 @@ fn frame_constants(scene: &Scene, gpu: &GpuScene, settings: &RenderSettings) -> 
         transport: transport_flags(next_event(scene, settings), scene.options.importance_sampling),
         lens_radius: scene.camera.aperture,
         focus_distance: scene.camera.focus(),
+        projection: match scene.camera.projection {
+            Projection::Perspective => PROJECTION_PERSPECTIVE,
+            Projection::Orthographic { .. } => PROJECTION_ORTHOGRAPHIC,
+        },
         pixel_sampling: settings.filter.gpu_table(PixelSampling {
             strata: settings.sampler.strata(),
             light_samples: scene.options.light_samples.max(1),
@@ -499,6 +501,15 @@ fn next_event(scene: &Scene, settings: &RenderSettings) -> NextEvent {
         (RenderPass::Image, Integrator::Direct) => NextEvent::On,
         _ => scene.options.next_event,
     }
+}
+
+/// A pixel's estimate from its weighted sums (`sum[3]` the sum of the filter weights): the sums
+/// over the weight sum, or 0 where the weight sum is 0.
+fn weighted_mean(sum: [f32; 4]) -> [f32; 4] {
+    if sum[3] == 0.0 {
+        return [0.0, 0.0, 0.0, 1.0];
+    }
+    [sum[0] / sum[3], sum[1] / sum[3], sum[2] / sum[3], 1.0]
 }
 
 /// Bindings of `shaders/integrator/bindings.wgsl` and `shaders/bvh/bindings.wgsl`, shared by

@@ -3,7 +3,7 @@
 //! per shape), materials (the scene's, then one emitter per quad light) and the light list
 //! with its power CDF.
 
-use crate::gpu_types::{ALPHA_BLEND, ALPHA_MASK, ALPHA_OPAQUE, FLAG_ALPHA_TESTED, FLAG_LIGHT_LISTED, FLAG_QUAD_LIGHT, FLAG_VERTEX_NORMALS, GpuLight, GpuMaterial, GpuTextureRef, TriangleShading};
+use crate::gpu_types::{ALPHA_BLEND, ALPHA_MASK, ALPHA_OPAQUE, FLAG_ALPHA_TESTED, FLAG_LIGHT_LISTED, FLAG_QUAD_LIGHT, FLAG_VERTEX_NORMALS, GpuLight, GpuMaterial, GpuTextureRef, MATERIAL_CHECKERS, MATERIAL_FLAT, TriangleShading};
 use caustic_bvh::ShapeInput;
 use caustic_bsdf::params::BsdfParams;
 use caustic_scene::{AlphaMode, ColorSpace, Light, MipFilter, Scene, Shape, ShadingModel, ShapeKind, Texture, TextureFilter, TextureSlot, WrapMode, luminance};
@@ -247,6 +247,11 @@ fn gpu_material(m: &caustic_scene::Material) -> GpuMaterial {
     };
     GpuMaterial {
         base_color: m.base_color.to_array(),
+        flags: match m.model {
+            ShadingModel::Checkers => MATERIAL_CHECKERS,
+            ShadingModel::Flat => MATERIAL_FLAT,
+            _ => 0,
+        },
         emission: m.emission.to_array(),
         shininess: m.shininess,
         ambient: m.ambient.to_array(),

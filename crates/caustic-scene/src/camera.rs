@@ -1,4 +1,5 @@
-//! The camera: a pinhole, or a thin lens when it has an aperture (depth of field).
+//! The camera: a pinhole, or a thin lens when it has an aperture (depth of field), with a
+//! perspective or an orthographic projection.
 
 use glam::Vec3;
 
@@ -21,6 +22,24 @@ pub struct Camera {
     /// Distance from `eye` to the plane of focus, along the view direction; `None` = focus on
     /// `target`.
     pub focus_distance: Option<f32>,
+    /// How film points become rays: through `eye` (perspective, `fov_y`) or parallel to the
+    /// view direction (orthographic).
+    pub projection: Projection,
+}
+
+/// A camera's projection.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum Projection {
+    /// Rays from `eye` through the film, whose height spans `fov_y`.
+    #[default]
+    Perspective,
+    /// Rays parallel to the view direction from a rectangle around `eye` (pbrt's
+    /// `OrthographicCamera`, glTF's orthographic camera): `half_height` world units above and
+    /// below the eye (glTF `ymag`), the half-width following the image's aspect ratio.
+    Orthographic {
+        /// Half the view's height in world units (> 0).
+        half_height: f32,
+    },
 }
 
 impl Default for Camera {
@@ -33,6 +52,7 @@ impl Default for Camera {
             fov_y: 40f32.to_radians(),
             aperture: 0.0,
             focus_distance: None,
+            projection: Projection::Perspective,
         }
     }
 }
@@ -63,6 +83,31 @@ impl Camera {
         let fov_y = 40f32.to_radians();
         let distance = 1.1 * half.x.max(half.y) / (fov_y * 0.5).tan() + half.z;
         Camera { eye: centre + Vec3::new(0.0, 0.0, distance), target: centre, up: Vec3::Y, fov_y, ..Camera::default() }
+    }
+
+    /// Half the film's width and height where it is scaled so that a ray's direction (or, for
+    /// an orthographic camera, its origin's offset from `eye`) is `forward + ndc.x x right x
+    /// half_width + ndc.y x up x half_height` (or without `forward`), ndc in [-1, 1]:
+    /// tan(fov_y / 2) for a perspective camera, world units for an orthographic one.
+    pub fn half_extent(&self, (width, height): (u32, u32)) -> (f32, f32) {
+        let half_height = match self.projection {
+            Projection::Perspective => (self.fov_y * 0.5).tan(),
+            Projection::Orthographic { half_height } => half_height,
+        };
+        (half_height * width as f32 / height as f32, half_height)
+    }
+
+    /// The pinhole camera ray (origin, unit direction) through the film point at normalised
+    /// device coordinates `ndc` (x right, y up, each in [-1, 1]) of an image of `size`, as
+    /// `shaders/integrator/camera.wgsl` makes it without a lens.
+    pub fn ray(&self, size: (u32, u32), ndc: (f32, f32)) -> (Vec3, Vec3) {
+        let (right, up, forward) = self.frame();
+        let (half_width, half_height) = self.half_extent(size);
+        let offset = ndc.0 * half_width * right + ndc.1 * half_height * up;
+        match self.projection {
+            Projection::Perspective => (self.eye, (forward + offset).normalize()),
+            Projection::Orthographic { .. } => (self.eye + offset, forward),
+        }
     }
 
     /// Distance to the plane of focus: `focus_distance`, else the distance to `target`.
@@ -103,7 +148,11 @@ impl Camera {
         let finite = self.eye.is_finite() && self.target.is_finite() && self.up.is_finite();
         let (right, _, forward) = self.frame();
         let lens = self.aperture.is_finite() && self.aperture >= 0.0 && self.focus() > 0.0 && self.focus().is_finite();
-        finite && lens && self.fov_y > 0.0 && self.fov_y < std::f32::consts::PI && right.is_finite() && forward.is_finite()
+        let projection = match self.projection {
+            Projection::Perspective => self.fov_y > 0.0 && self.fov_y < std::f32::consts::PI,
+            Projection::Orthographic { half_height } => half_height.is_finite() && half_height > 0.0,
+        };
+        finite && lens && projection && right.is_finite() && forward.is_finite()
     }
 }
 
@@ -122,6 +171,19 @@ pub struct SceneCamera {
 #[cfg(test)]
 mod tests {
     use super::Camera;
+
+    #[test]
+    fn orthographic_rays_are_parallel_and_start_on_the_film() {
+        let camera = Camera { projection: super::Projection::Orthographic { half_height: 2.0 }, ..Camera::default() };
+        assert!(camera.is_valid());
+        assert_eq!(camera.half_extent((200, 100)), (4.0, 2.0));
+        let (origin, direction) = camera.ray((200, 100), (1.0, -0.5));
+        assert_eq!((origin, direction), (glam::Vec3::new(4.0, -1.0, 5.0), glam::Vec3::NEG_Z));
+        let perspective = Camera::default().ray((100, 100), (0.0, 0.0));
+        assert_eq!(perspective, (glam::Vec3::new(0.0, 0.0, 5.0), glam::Vec3::NEG_Z));
+        let flat = Camera { projection: super::Projection::Orthographic { half_height: 0.0 }, ..Camera::default() };
+        assert!(!flat.is_valid());
+    }
 
     #[test]
     fn lens_from_gltf_extras() {

@@ -10,10 +10,11 @@
 //! primitive without a material gets the glTF default material (white, metallic 1,
 //! roughness 1), named "default".
 //!
-//! Every perspective camera met walking the scene's nodes is kept in [`Scene::cameras`]; the
-//! first one is rendered from unless another is selected, and its aspect ratio, if given,
-//! sets the image to 512 pixels high. Without one the camera frames the scene. Orthographic
-//! cameras are skipped with a warning. `KHR_lights_punctual` lights become [`Light`]s: point
+//! Every camera met walking the scene's nodes is kept in [`Scene::cameras`]; the first one is
+//! rendered from unless another is selected, and its aspect ratio, if given (a perspective
+//! camera's `aspectRatio`, an orthographic camera's `xmag / ymag`), sets the image to 512
+//! pixels high. An orthographic camera's view is `ymag` world units above and below its
+//! centre ([`Projection::Orthographic`]). Without a camera the camera frames the scene. `KHR_lights_punctual` lights become [`Light`]s: point
 //! and spot lights keep their intensity with inverse-square falloff, spot and directional
 //! lights shine along their node's -Z; `range` is ignored.
 //!
@@ -28,7 +29,7 @@ use crate::mesh_scene::{framing_camera, scene_name, warn, DEFAULT_RESOLUTION};
 use crate::gltf_material::{default_material, MaterialReader};
 use crate::gltf_animation::Animation;
 use crate::gltf_primitive::read_primitive;
-use crate::{Attenuation, Camera, Environment, InputLimits, Light, Material, Mesh, Motion, Scene, SceneCamera, SceneError};
+use crate::{Attenuation, Camera, Environment, InputLimits, Light, Material, Mesh, Motion, Projection, Scene, SceneCamera, SceneError};
 use glam::{Mat4, Vec3};
 use gltf::json::validation::Validate;
 use gltf::khr_lights_punctual::Kind;
@@ -260,19 +261,20 @@ impl Walk<'_> {
         Ok(out)
     }
 
-    /// Keeps the camera at `node` (perspective cameras only; others are skipped with a warning).
+    /// Keeps the camera at `node`; an orthographic camera whose `ymag` is 0 (or not a number)
+    /// is skipped with a warning.
     fn add_camera(&mut self, node: &gltf::Node, camera: &gltf::Camera, world: Mat4) {
         let name = camera.name().or(node.name()).map_or_else(|| format!("camera {}", camera.index()), str::to_string);
         // A thin lens may come in the camera's extras (`Camera::set_lens_from_extras`).
         let extras = camera.extras().as_ref().map(|e| e.get().to_string());
-        match perspective_camera(camera, world) {
-            Some((mut camera, resolution)) => {
+        match node_camera(camera, world) {
+            Ok((mut camera, resolution)) => {
                 if let Err(e) = extras.map_or(Ok(()), |json| camera.set_lens_from_extras(&json)) {
                     warn(self.path, &format!("{name}: {e}; using a pinhole"));
                 }
                 self.cameras.push(SceneCamera { name, camera, resolution })
             }
-            None => warn(self.path, &format!("skipping {name}: orthographic cameras are not supported")),
+            Err(why) => warn(self.path, &format!("skipping {name}: {why}")),
         }
     }
 
@@ -286,19 +288,28 @@ impl Walk<'_> {
 }
 
 /// The camera at a node with world transform `world`, and the image size its aspect ratio
-/// implies; `None` for orthographic cameras.
-fn perspective_camera(camera: &gltf::Camera, world: Mat4) -> Option<(Camera, Option<(u32, u32)>)> {
-    let gltf::camera::Projection::Perspective(perspective) = camera.projection() else {
-        return None;
-    };
+/// implies; or why it cannot be used.
+fn node_camera(camera: &gltf::Camera, world: Mat4) -> Result<(Camera, Option<(u32, u32)>), String> {
     let eye = world.transform_point3(Vec3::ZERO);
     let forward = world.transform_vector3(Vec3::NEG_Z).normalize();
     let up = world.transform_vector3(Vec3::Y).normalize();
     // Far enough along the view direction that rounding eye + forward keeps the direction.
     let target = eye + forward * eye.length().max(1.0);
+    let view = Camera { eye, target, up, ..Camera::default() };
     let height = DEFAULT_RESOLUTION.1;
-    let resolution = perspective.aspect_ratio().map(|aspect| (((height as f32 * aspect).round() as u32).max(1), height));
-    Some((Camera { eye, target, up, fov_y: perspective.yfov(), ..Camera::default() }, resolution))
+    let size = |aspect: f32| (aspect.is_finite() && aspect > 0.0).then(|| (((height as f32 * aspect).round() as u32).clamp(1, 16384), height));
+    match camera.projection() {
+        gltf::camera::Projection::Perspective(perspective) => {
+            Ok((Camera { fov_y: perspective.yfov(), ..view }, perspective.aspect_ratio().and_then(size)))
+        }
+        gltf::camera::Projection::Orthographic(orthographic) => {
+            let (xmag, ymag) = (orthographic.xmag().abs(), orthographic.ymag().abs());
+            if !(ymag.is_finite() && ymag > 0.0) {
+                return Err(format!("an orthographic camera's ymag must be a non-zero number, found {}", orthographic.ymag()));
+            }
+            Ok((Camera { projection: Projection::Orthographic { half_height: ymag }, ..view }, size(xmag / ymag)))
+        }
+    }
 }
 
 /// A `KHR_lights_punctual` light at a node with world transform `world` (see the module

@@ -30,7 +30,7 @@ mod scene;
 mod shape;
 mod texture;
 
-pub use camera::{Camera, SceneCamera};
+pub use camera::{Camera, Projection, SceneCamera};
 pub use cornell::cornell_box;
 pub use environment::{Environment, EnvironmentMap};
 pub use error::SceneError;

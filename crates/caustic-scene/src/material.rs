@@ -138,12 +138,14 @@ pub enum ShadingModel {
     BlinnPhong,
     /// GGX microfacet (CSE168 `brdf ggx`).
     Ggx,
-    /// Cartoon shading: lit colour without gradation.
+    /// Cartoon shading: direct light's cosine through a two-step ramp (1 from cos 1/2 up, 1/2
+    /// below), no highlight.
     Flat,
     /// Thin translucent surface that scatters light through: diffuse reflection with the base
     /// colour, diffuse transmission with the specular colour (path tracer).
     Translucent,
-    /// A 3D checker pattern for debugging.
+    /// A 3D checker albedo for debugging: one-unit world cells numbered by truncation towards
+    /// zero (a double-width band at each main axis plane), odd cells darker.
     Checkers,
 }
 

@@ -7,7 +7,10 @@
 //!
 //! Materials come from the `mtllib` files: `Kd` is the base colour (default 0.8 grey), `map_Kd`
 //! a base colour texture (sRGB, multiplied with `Kd`; a file that cannot be used becomes a
-//! magenta texture with a warning) and `Ke` the emitted radiance; every other MTL field is
+//! magenta texture with a warning), `Ke` the emitted radiance, and a non-black `Ks` with `Ns`
+//! the Phong highlight MTL's illumination model describes: the modified Phong lobe
+//! ([`ShadingModel::Phong`], ks (Ns + 2) / (2 pi) cos^Ns, Ns 0 when absent) beside the Lambertian
+//! `Kd` (the Cornell box's blocks are `Kd 0`, `Ks 0.725`, `Ns 200`); every other MTL field is
 //! ignored. Faces without a known material, or
 //! all faces when there is no MTL, use a diffuse 0.8 grey material named "default". A missing
 //! MTL file is a warning, a malformed one an error.
@@ -21,7 +24,7 @@
 
 use crate::mesh_scene::{assemble, default_material, warn};
 use crate::input_file::model_folder;
-use crate::{ColorSpace, InputLimits, Material, Mesh, Scene, SceneError, Texture, TextureSlot};
+use crate::{ColorSpace, InputLimits, Material, Mesh, Scene, SceneError, ShadingModel, Texture, TextureSlot};
 use glam::{Vec2, Vec3};
 use std::cell::RefCell;
 use std::io::{BufRead, BufReader, Read};
@@ -128,14 +131,21 @@ fn check_colours(path: &Path, text: &str) -> Result<(), SceneError> {
     Ok(())
 }
 
-/// An MTL material as a [`Material`]: `Kd` and `Ke`, the rest at their defaults.
+/// An MTL material as a [`Material`]: `Kd` and `Ke`, and with a non-black `Ks` the modified
+/// Phong model with specular colour `Ks` and exponent `Ns`; the rest at their defaults.
 fn material(m: &tobj::Material) -> Material {
-    Material {
+    let diffuse = Material {
         name: m.name.clone(),
         base_color: m.diffuse.map_or(Vec3::splat(0.8), Vec3::from),
         emission: m.emissive.map_or(Vec3::ZERO, Vec3::from),
         ..Material::default()
+    };
+    let specular = m.specular.map_or(Vec3::ZERO, Vec3::from);
+    if !specular.is_finite() || specular.max_element() <= 0.0 {
+        return diffuse;
     }
+    let shininess = m.shininess.filter(|n| n.is_finite()).unwrap_or(0.0).max(0.0);
+    Material { model: ShadingModel::Phong, specular_color: specular.clamp(Vec3::ZERO, Vec3::ONE), shininess, ..diffuse }
 }
 
 /// A tobj model as a [`Mesh`] with material `material`.

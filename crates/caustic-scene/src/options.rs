@@ -20,7 +20,9 @@ pub enum Integrator {
 /// Next-event estimation in the path tracer.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum NextEvent {
-    /// Only BSDF sampling finds lights.
+    /// BSDF sampling finds the lights it can hit (emitters, the environment); delta lights
+    /// (point, spot, segment and directional), which no BSDF sample can hit, are still
+    /// light-sampled, so a scene lit by them alone is not black.
     Off,
     /// Light sampling only (emitters hit by BSDF samples after the first bounce are ignored,
     /// except after a delta bounce, which light sampling cannot reach).

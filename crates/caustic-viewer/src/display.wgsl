@@ -3,8 +3,8 @@
 // caustic_image::to_srgb8 (exposure, tone map, sRGB curve, rounding to 8 bits) to within
 // one 8-bit step.
 
-// One pixel's running sum with Kahan compensation; sum.w counts samples
-// (caustic_gpu::gpu_types::AccumTexel).
+// One pixel's running sum with Kahan compensation; sum.w is the sum of the samples' filter
+// weights, the sample count with the box filter (caustic_gpu::gpu_types::AccumTexel).
 struct AccumTexel {
     sum: vec4<f32>,
     compensation: vec4<f32>,
@@ -50,8 +50,9 @@ fn display(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let texel = film[id.y * params.width + id.x];
     // A pixel without samples yet (just after a restart) keeps what the texture showed, so
-    // the previous view stays visible until the new one covers it.
-    if texel.sum.w < 0.5 {
+    // the previous view stays visible until the new one covers it. Any other weight sum, even
+    // a negative one (the negative lobes of a filter), divides the sum (pbrt-v4's film).
+    if texel.sum.w == 0.0 {
         return;
     }
     var rgb = texel.sum.xyz / texel.sum.w * params.scale;

@@ -76,6 +76,7 @@ fn mirrors() -> Vec<(&'static str, RustLayout)> {
                 transport,
                 lens_radius,
                 focus_distance,
+                projection,
                 _lens_pad,
                 pixel_sampling,
                 classic_light_samples,

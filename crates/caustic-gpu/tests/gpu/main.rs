@@ -45,6 +45,7 @@ mod restart;
 mod sampler;
 mod sampler_convergence;
 mod sampler_stratified;
+mod seeds_render;
 mod shapes;
 mod specialize;
 mod specialize_tables;

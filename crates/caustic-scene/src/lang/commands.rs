@@ -32,6 +32,7 @@ pub const COMMANDS: &[CommandInfo] = &[
     c("supersample", "n", "n x n jittered samples per pixel (spp = n^2 x resample)"),
     c("resample", "count", "samples per jittered sub-pixel (spp = supersample^2 x count)"),
     c("spp", "count", "samples per pixel"),
+    c("imagesamples", "count", "samples per pixel, the manual's name beside glosssamples/frostsamples (the same as spp)"),
     c("integrator", "raytracer|analyticdirect|direct|pathtracer", "light transport algorithm (default raytracer)"),
     c("lightsamples", "count", "light samples per shading point"),
     c("lightstratify", "on|off", "stratify light samples"),

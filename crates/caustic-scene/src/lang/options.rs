@@ -131,7 +131,7 @@ impl Interpreter {
         Ok(true)
     }
 
-    /// Executes the sampling and integrator settings (`spp`, `supersample`, `integrator`,
+    /// Executes the sampling and integrator settings (`spp`, `imagesamples`, `supersample`, `integrator`,
     /// `nexteventestimation`, `gamma`, ...). Returns whether `a` is one of them.
     pub(super) fn sampling_command(&mut self, a: &Args) -> Res<bool> {
         let w = &mut self.world;
@@ -146,7 +146,9 @@ impl Interpreter {
                 let n = a.int_in(0, 1, i64::from(u32::MAX))? as u32;
                 w.set_sampling(a, w.settings.supersample, n)?;
             }
-            "spp" => {
+            // The manual's `imagesamples` ("glosssamples or imagesamples can be used" to average
+            // gloss and frost jitter): the image's samples per pixel, each drawing its own jitter.
+            "spp" | "imagesamples" => {
                 a.expect(&[1])?;
                 w.scene.options.spp = Some(a.int_in(0, 1, i64::from(u32::MAX))? as u32);
             }

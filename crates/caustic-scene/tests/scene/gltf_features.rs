@@ -125,13 +125,15 @@ fn cameras_lights_and_instances() {
     println!("cameras {:?}\nlights {:?}", scene.cameras, scene.lights);
     assert_eq!(scene.meshes.len(), 2, "one mesh, two nodes");
     assert_eq!(scene.meshes[1].positions[1], Vec3::new(6.0, 0.0, 0.0));
-    assert_eq!(scene.cameras.len(), 2, "the orthographic camera is skipped");
+    assert_eq!(scene.cameras.len(), 3, "the orthographic camera is kept");
     assert_eq!((scene.camera.eye, scene.resolution), (Vec3::new(0.0, 0.0, 10.0), (1024, 512)));
-    scene.select_camera(1).unwrap_or_else(|e| panic!("{e}"));
-    assert_eq!((scene.camera.eye, scene.camera.fov_y, scene.cameras[1].name.as_str()), (Vec3::new(1.0, 2.0, 3.0), 1.0, "side"));
-    let error = scene.select_camera(2).expect_err("there is no camera 2").to_string();
+    assert_eq!(scene.cameras[1].camera.projection, caustic_scene::Projection::Orthographic { half_height: 1.0 });
+    assert_eq!(scene.cameras[1].resolution, Some((512, 512)), "xmag / ymag = 1");
+    scene.select_camera(2).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!((scene.camera.eye, scene.camera.fov_y, scene.cameras[2].name.as_str()), (Vec3::new(1.0, 2.0, 3.0), 1.0, "side"));
+    let error = scene.select_camera(3).expect_err("there is no camera 3").to_string();
     println!("{error}");
-    assert!(error.contains("camera 2 does not exist: the scene defines 2"), "{error}");
+    assert!(error.contains("camera 3 does not exist: the scene defines 3"), "{error}");
 
     let inverse_square = Attenuation { constant: 0.0, linear: 0.0, quadratic: 1.0 };
     assert_eq!(scene.lights[0], Light::Point { position: Vec3::new(0.0, 4.0, 0.0), color: Vec3::new(8.0, 4.0, 2.0), attenuation: inverse_square, spread: 0.0 });

@@ -17,4 +17,5 @@ mod lang_commands;
 mod lang_errors;
 mod lang_scenes;
 mod references;
+mod seeds_fidelity;
 mod textures;
