@@ -1,7 +1,7 @@
-# The two set-up commands of the README. Each first makes sure a Vulkan driver exists.
+# The set-up commands of the README. Each first makes sure what it needs exists.
 CARGO ?= cargo
 
-.PHONY: demo test vulkan xvfb
+.PHONY: demo test lint vulkan xvfb
 
 vulkan:
 	@scripts/ensure-vulkan.sh
@@ -14,7 +14,13 @@ xvfb:
 demo: vulkan
 	$(CARGO) run --release -p caustic-cli -- render cornell --spp 64 -o cornell.png
 
-## Run every unit and end-to-end test (renders on the Vulkan device, lavapipe on CPU machines;
-## the viewer's window runs under Xvfb).
-test: vulkan xvfb
+## Formatting and lints as CI checks them: rustfmt, and clippy with every warning an error.
+lint:
+	@$(CARGO) clippy --version >/dev/null 2>&1 && $(CARGO) fmt --version >/dev/null 2>&1 || rustup component add clippy rustfmt
+	$(CARGO) fmt --all -- --check
+	$(CARGO) clippy --workspace --all-targets --release -- -D warnings
+
+## Run the lints, then every unit and end-to-end test (renders on the Vulkan device, lavapipe
+## on CPU machines; the viewer's window runs under Xvfb).
+test: vulkan xvfb lint
 	$(CARGO) test --release --workspace

@@ -146,14 +146,8 @@ const HW2_SPP: u32 = 16;
 /// carry a bias of their own; the bounds leave about 1.5x room over what was measured. A
 /// wrong encoding is far outside them: gamma 2.2 instead of 1 turns 0.2 into 122 levels
 /// instead of 51.
-const HW2_TOLERANCES: [(&str, f64, f64); 6] = [
-    ("analytic", 3.0, 0.03),
-    ("direct3x3", 5.0, 0.03),
-    ("direct9", 5.0, 0.03),
-    ("sphere", 9.0, 0.10),
-    ("cornell", 3.5, 0.02),
-    ("dragon", 7.5, 0.03),
-];
+const HW2_TOLERANCES: [(&str, f64, f64); 6] =
+    [("analytic", 3.0, 0.03), ("direct3x3", 5.0, 0.03), ("direct9", 5.0, 0.03), ("sphere", 9.0, 0.10), ("cornell", 3.5, 0.02), ("dragon", 7.5, 0.03)];
 
 /// An 8-bit file's values as an image in [0, 1], without decoding any transfer curve.
 fn raw_levels(path: &Path) -> caustic_image::Image {

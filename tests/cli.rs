@@ -10,9 +10,11 @@ fn render_reports_json_and_writes_every_format() {
     for extension in ["png", "exr", "hdr", "bmp", "jpg"] {
         let out = dir.join(format!("cornell.{extension}"));
         let report = support::caustic_json(&["render", "--size", "32x32", "--spp", "2", "-o", out.to_str().unwrap(), "--json"]);
-        for key in ["adapter", "triangles", "bvh_build_ms", "spp", "seconds", "samples_per_second", "nonfinite_samples", "output"] {
+        for key in ["adapter", "triangles", "bvh_build_ms", "spp", "compile_seconds", "seconds", "samples_per_second", "nonfinite_samples", "output"] {
             assert!(!report[key].is_null(), "JSON report lacks '{key}': {report}");
         }
+        println!("{extension}: kernels created in {} s, rendered in {} s", report["compile_seconds"], report["seconds"]);
+        assert!(report["compile_seconds"].as_f64().unwrap() >= 0.0);
         assert_eq!(report["triangles"], 32);
         assert_eq!(report["spp"], 2);
         let image = caustic_image::Image::load(&out).expect("written image loads");

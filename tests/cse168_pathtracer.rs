@@ -110,10 +110,7 @@ fn cse168_switches_agree_in_expectation() {
             "hw4/cornellBRDF.test",
             vec![("cosine sampling", |o| o.importance_sampling = ImportanceSampling::Cosine), ("nee mis", |o| o.next_event = NextEvent::Mis)],
         ),
-        (
-            "hw4/ggx.test",
-            vec![("cosine sampling", |o| o.importance_sampling = ImportanceSampling::Cosine), ("nee mis", |o| o.next_event = NextEvent::Mis)],
-        ),
+        ("hw4/ggx.test", vec![("cosine sampling", |o| o.importance_sampling = ImportanceSampling::Cosine), ("nee mis", |o| o.next_event = NextEvent::Mis)]),
         ("hw4/mis.test", vec![("nee on", |o| o.next_event = NextEvent::On), ("nee off", |o| o.next_event = NextEvent::Off)]),
     ];
     let mut failures = Vec::new();

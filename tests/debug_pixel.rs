@@ -4,18 +4,7 @@
 
 use crate::support;
 fn debug_pixel(extra: &[&str]) -> serde_json::Value {
-    let mut args = vec![
-        "debug-pixel",
-        "cornell",
-        "40",
-        "22",
-        "--size",
-        "64x64",
-        "--seed",
-        "5",
-        "--sample",
-        "3",
-    ];
+    let mut args = vec!["debug-pixel", "cornell", "40", "22", "--size", "64x64", "--seed", "5", "--sample", "3"];
     args.extend_from_slice(extra);
     support::caustic_json(&args)
 }
@@ -33,11 +22,7 @@ fn debug_pixel_prints_the_path_a_render_sample_takes() {
     assert_eq!(path["sample"], 3);
     let bounces = path["bounces"].as_array().expect("bounces");
     assert_eq!(bounces.len() as u64, path["rays"].as_u64().unwrap());
-    assert_eq!(
-        vec3(&bounces[0]["ray"]["origin"]),
-        [278.0, 273.0, -800.0],
-        "the camera ray starts at the eye"
-    );
+    assert_eq!(vec3(&bounces[0]["ray"]["origin"]), [278.0, 273.0, -800.0], "the camera ray starts at the eye");
     for pair in bounces.windows(2) {
         let (hit, next) = (&pair[0]["hit"], &pair[1]["ray"]);
         let (point, origin) = (vec3(&hit["point"]), vec3(&next["origin"]));
@@ -45,10 +30,7 @@ fn debug_pixel_prints_the_path_a_render_sample_takes() {
         let size = point.iter().fold(1.0, |m: f64, c| m.max(c.abs()));
         // offset_ray_origin moves a point by 256 ulps per axis: about 3e-5 of its size.
         assert!(gap < 1e-4 * size, "the next ray starts {gap} from the hit point {point:?}");
-        assert_eq!(
-            next["direction"], pair[0]["bsdf"]["direction"],
-            "the next ray follows the BSDF sample"
-        );
+        assert_eq!(next["direction"], pair[0]["bsdf"]["direction"], "the next ray follows the BSDF sample");
     }
     let ending = path["termination"].as_str().unwrap();
     println!("{} rays, ended by {ending}, radiance {}", bounces.len(), path["radiance"]);
@@ -56,26 +38,11 @@ fn debug_pixel_prints_the_path_a_render_sample_takes() {
     assert_eq!(debug_pixel(&["--max-depth", "6"]), report, "the same arguments give the same path");
 
     let out = support::scratch("debug-pixel").join("sample3.exr");
-    let args = [
-        "render",
-        "--size",
-        "64x64",
-        "--seed",
-        "5",
-        "--max-depth",
-        "6",
-        "--samples",
-        "3..4",
-        "-o",
-        out.to_str().unwrap(),
-        "--json",
-    ];
+    let args = ["render", "--size", "64x64", "--seed", "5", "--max-depth", "6", "--samples", "3..4", "-o", out.to_str().unwrap(), "--json"];
     support::caustic_json(&args);
     let rendered = caustic_image::PartialImage::load(&out).expect("part").image.get(40, 22);
     let inspected = vec3(&path["radiance"]);
-    let error = (0..3)
-        .map(|i| (inspected[i] - f64::from(rendered[i])).abs() / f64::from(rendered[i]).abs().max(1e-6))
-        .fold(0.0, f64::max);
+    let error = (0..3).map(|i| (inspected[i] - f64::from(rendered[i])).abs() / f64::from(rendered[i]).abs().max(1e-6)).fold(0.0, f64::max);
     println!("rendered sample 3: {rendered:?}, inspected {inspected:?}, relative difference {error:.1e}");
     assert!(error < 1e-5);
 }
@@ -83,14 +50,8 @@ fn debug_pixel_prints_the_path_a_render_sample_takes() {
 #[test]
 fn debug_pixel_refuses_a_pixel_outside_the_image_and_other_integrators() {
     for (args, expect) in [
-        (
-            vec!["debug-pixel", "cornell", "64", "0", "--size", "64x64"],
-            "outside the 64x64 image",
-        ),
-        (
-            vec!["debug-pixel", "cornell", "1", "1", "--integrator", "raytracer"],
-            "--integrator pathtracer",
-        ),
+        (vec!["debug-pixel", "cornell", "64", "0", "--size", "64x64"], "outside the 64x64 image"),
+        (vec!["debug-pixel", "cornell", "1", "1", "--integrator", "raytracer"], "--integrator pathtracer"),
     ] {
         let output = support::caustic(&args);
         let stderr = String::from_utf8_lossy(&output.stderr);
@@ -101,39 +62,15 @@ fn debug_pixel_refuses_a_pixel_outside_the_image_and_other_integrators() {
 #[test]
 fn render_writes_every_debug_view_as_a_picture() {
     let dir = support::scratch("render-debug");
-    let views = [
-        "node-visits",
-        "primitive-tests",
-        "uv",
-        "albedo",
-        "material-id",
-        "bounces",
-        "nonfinite",
-        "bvh-level",
-    ];
+    let views = ["node-visits", "primitive-tests", "uv", "albedo", "material-id", "bounces", "nonfinite", "bvh-level"];
     for view in views {
         let out = dir.join(format!("{view}.png"));
-        support::caustic_json(&[
-            "render",
-            "--size",
-            "32x32",
-            "--spp",
-            "1",
-            "--debug",
-            view,
-            "-o",
-            out.to_str().unwrap(),
-            "--json",
-        ]);
+        support::caustic_json(&["render", "--size", "32x32", "--spp", "1", "--debug", view, "-o", out.to_str().unwrap(), "--json"]);
         let picture = caustic_image::Image::load(&out).expect("the picture loads");
         let heat_map = ["node-visits", "primitive-tests", "bounces", "bvh-level"].contains(&view);
         let lit = picture.pixels.iter().filter(|p| p.iter().any(|&c| c > 0.01)).count();
         println!("{view}: {}x{}, {lit} pixels not black", picture.width, picture.height);
-        assert_eq!(
-            (picture.width, picture.height),
-            (32, if heat_map { 42 } else { 32 }),
-            "heat maps carry a 10-row legend"
-        );
+        assert_eq!((picture.width, picture.height), (32, if heat_map { 42 } else { 32 }), "heat maps carry a 10-row legend");
         if view != "uv" {
             assert!(lit > 32 * 16, "{view}: the picture is mostly black");
         }

@@ -49,18 +49,14 @@ fn white_furnace_matches_the_analytic_answer() {
     let dir = shared.join("references/furnace");
     let out = support::scratch("furnace").join("furnace.exr");
     let scene = dir.join("scene.gltf");
-    let report = support::caustic_json(&[
-        "render", scene.to_str().unwrap(), "--environment", "1", "--spp", "16", "-o", out.to_str().unwrap(), "--json",
-    ]);
+    let report = support::caustic_json(&["render", scene.to_str().unwrap(), "--environment", "1", "--spp", "16", "-o", out.to_str().unwrap(), "--json"]);
     assert_eq!(report["nonfinite_samples"], 0);
     let image = Image::load(&out).expect("render");
     let analytic = Image::load(&dir.join("analytic.exr")).expect("analytic");
     let coverage = Image::load(&dir.join("coverage.exr")).expect("coverage");
     let region_mean = |img: &Image, keep: &dyn Fn(f32) -> bool| {
-        let values: Vec<f64> = (0..img.pixels.len())
-            .filter(|&i| keep(coverage.pixels[i][0]))
-            .map(|i| img.pixels[i].iter().map(|&c| f64::from(c)).sum::<f64>() / 3.0)
-            .collect();
+        let values: Vec<f64> =
+            (0..img.pixels.len()).filter(|&i| keep(coverage.pixels[i][0])).map(|i| img.pixels[i].iter().map(|&c| f64::from(c)).sum::<f64>() / 3.0).collect();
         values.iter().sum::<f64>() / values.len() as f64
     };
     let sphere = region_mean(&image, &|c| c >= 1.0);

@@ -213,19 +213,7 @@ fn scheduler_arrays_run_as_local_processes_and_merge() {
         let pattern = dir.join(format!("{variable}-part-{{index}}.exr"));
         let spp = spp_per_task.to_string();
         let count = tasks.to_string();
-        let args = [
-            "render",
-            "--size",
-            "64x64",
-            "--samples-from-env",
-            "--spp-per-task",
-            &spp,
-            "--tasks",
-            &count,
-            "-o",
-            path(&pattern),
-            "--json",
-        ];
+        let args = ["render", "--size", "64x64", "--samples-from-env", "--spp-per-task", &spp, "--tasks", &count, "-o", path(&pattern), "--json"];
         // All array elements at once, as the scheduler would start them.
         let children: Vec<_> = (0..tasks)
             .map(|i| {
@@ -267,9 +255,8 @@ fn animation_frames_run_as_array_elements() {
     let scene = dir.join("frame-{index:03}.obj");
     let output = dir.join("out-{index}.png");
     let args = ["render", path(&scene), "--frame-from-env", "--size", "32x32", "--spp", "4", "-o", path(&output)];
-    let children: Vec<_> = (0..2)
-        .map(|i| command(&args, &[("SLURM_ARRAY_TASK_ID", &i.to_string())]).stdout(std::process::Stdio::piped()).spawn().unwrap())
-        .collect();
+    let children: Vec<_> =
+        (0..2).map(|i| command(&args, &[("SLURM_ARRAY_TASK_ID", &i.to_string())]).stdout(std::process::Stdio::piped()).spawn().unwrap()).collect();
     for child in children {
         assert!(child.wait_with_output().unwrap().status.success());
     }

@@ -4,11 +4,11 @@
 //! radiance; no sample is ever non-finite.
 
 use crate::scenes;
+use crate::scenes::{box_mesh, camera, channels, quad, render, scene};
 use caustic_gpu::RenderSettings;
 use caustic_image::{Image, metrics};
 use caustic_scene::{Camera, Material, Mesh, NextEvent, Scene, cornell_box};
 use glam::{Mat4, Quat, Vec3};
-use crate::scenes::{box_mesh, camera, channels, quad, render, scene};
 
 /// Settings for zero-variance white furnaces: no Russian roulette, so with albedo 1 and a sky
 /// of 1 every path that escapes carries exactly 1 and a path that is lost carries 0.
@@ -98,7 +98,12 @@ fn touching_and_intersecting_boxes_leak_no_light() {
     let spp = 16;
     let result = render(&ctx, &furnace(meshes, materials, view, (96, 64), 1.0), &no_roulette(3), spp);
     let (worst, lost) = furnace_error(&result.image, 1.0, spp);
-    println!("furnace of touching/intersecting boxes: worst |L - 1| {worst:.3e}, {lost:.1} lost samples of {}, {} non-finite, {:.2} s", 96 * 64 * spp, result.nonfinite, result.seconds);
+    println!(
+        "furnace of touching/intersecting boxes: worst |L - 1| {worst:.3e}, {lost:.1} lost samples of {}, {} non-finite, {:.2} s",
+        96 * 64 * spp,
+        result.nonfinite,
+        result.seconds
+    );
     assert_eq!(result.nonfinite, 0, "non-finite samples");
     assert!(lost < 0.5, "{lost:.1} samples were lost through seams");
     assert!(worst < 1e-4, "a pixel is {worst:e} away from the analytic radiance 1");
@@ -167,7 +172,8 @@ fn sliver_cube(centre: Vec3, thin: f32) -> Mesh {
 #[test]
 fn sliver_and_zero_area_triangles_leak_nothing_and_stay_finite() {
     let ctx = scenes::device();
-    let meshes: Vec<Mesh> = [1e-3f32, 1e-5, 1e-6, 1e-7].iter().enumerate().map(|(i, &thin)| sliver_cube(Vec3::new(1.5 * i as f32 - 2.25, 0.0, 0.0), thin)).collect();
+    let meshes: Vec<Mesh> =
+        [1e-3f32, 1e-5, 1e-6, 1e-7].iter().enumerate().map(|(i, &thin)| sliver_cube(Vec3::new(1.5 * i as f32 - 2.25, 0.0, 0.0), thin)).collect();
     let triangles = meshes.iter().flat_map(|m| (0..m.triangle_count()).map(move |t| m.triangle(t)));
     let degenerate = triangles.filter(|[a, b, c]| (*b - *a).cross(*c - *a) == Vec3::ZERO).count();
     let view = camera(Vec3::new(0.7, 1.8, 4.0), Vec3::new(0.0, 0.0, 0.0), 55.0);
@@ -175,7 +181,11 @@ fn sliver_and_zero_area_triangles_leak_nothing_and_stay_finite() {
     let materials = vec![Material::diffuse("white", Vec3::ONE)];
     let result = render(&ctx, &furnace(meshes, materials, view, (128, 48), 1.0), &no_roulette(5), spp);
     let (worst, lost) = furnace_error(&result.image, 1.0, spp);
-    println!("sliver cubes ({degenerate} zero-area triangles): worst |L - 1| {worst:.3e}, {lost:.1} lost samples of {}, {} non-finite", 128 * 48 * spp, result.nonfinite);
+    println!(
+        "sliver cubes ({degenerate} zero-area triangles): worst |L - 1| {worst:.3e}, {lost:.1} lost samples of {}, {} non-finite",
+        128 * 48 * spp,
+        result.nonfinite
+    );
     assert_eq!(result.nonfinite, 0, "non-finite samples");
     assert_eq!(result.image.count_nonfinite(), 0, "non-finite pixels");
     // One path of 98,304 (seed 5: pixel (50, 18), sample 2) is lost: its camera ray grazes a

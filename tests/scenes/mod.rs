@@ -59,12 +59,18 @@ fn corners(min: Vec3, max: Vec3) -> Vec<Vec3> {
 
 /// Triangles of an axis-aligned box over [`corners`], counter-clockwise seen from outside.
 const BOX_TRIANGLES: [[u32; 3]; 12] = [
-    [0, 2, 3], [0, 3, 1], // -z
-    [4, 5, 7], [4, 7, 6], // +z
-    [0, 4, 6], [0, 6, 2], // -x
-    [1, 3, 7], [1, 7, 5], // +x
-    [0, 1, 5], [0, 5, 4], // -y
-    [2, 6, 7], [2, 7, 3], // +y
+    [0, 2, 3],
+    [0, 3, 1], // -z
+    [4, 5, 7],
+    [4, 7, 6], // +z
+    [0, 4, 6],
+    [0, 6, 2], // -x
+    [1, 3, 7],
+    [1, 7, 5], // +x
+    [0, 1, 5],
+    [0, 5, 4], // -y
+    [2, 6, 7],
+    [2, 7, 3], // +y
 ];
 
 /// A closed box mesh, front faces outwards (or inwards when `inward`), transformed by `matrix`.
@@ -82,15 +88,7 @@ pub fn quad(name: &str, corners: [Vec3; 4], material: u32) -> Mesh {
 
 /// A scene of `meshes` with `materials`, a camera, a size and a constant environment.
 pub fn scene(meshes: Vec<Mesh>, materials: Vec<Material>, camera: Camera, size: (u32, u32), sky: f32) -> Scene {
-    Scene {
-        name: "test".to_string(),
-        meshes,
-        materials,
-        camera,
-        resolution: size,
-        environment: Environment::Constant(Vec3::splat(sky)),
-        ..Scene::default()
-    }
+    Scene { name: "test".to_string(), meshes, materials, camera, resolution: size, environment: Environment::Constant(Vec3::splat(sky)), ..Scene::default() }
 }
 
 /// A look-at camera with `fov` degrees of vertical field of view and +y up.

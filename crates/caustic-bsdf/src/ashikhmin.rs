@@ -8,7 +8,7 @@
 //! sqrt((nu + 1)(nv + 1)) / (2 pi) (n.h)^e; the `max` in the denominator keeps the albedo
 //! below `rs`'s Fresnel reflectance.
 
-use crate::{fresnel_schlick, reflect, sample_at, BsdfSample, Bxdf};
+use crate::{BsdfSample, Bxdf, fresnel_schlick, reflect, sample_at};
 use glam::{Vec2, Vec3};
 use std::f32::consts::{FRAC_PI_2, PI};
 
@@ -44,11 +44,7 @@ impl AshikhminShirley {
     /// cos theta = (1 - u.y)^(1 / (e + 1)).
     fn sample_half_vector(&self, u: Vec2) -> Vec3 {
         let (quadrant, v) = ((u.x * 4.0).min(3.0) as u32, (u.x * 4.0).fract());
-        let base = if self.nu == self.nv {
-            FRAC_PI_2 * v
-        } else {
-            (((self.nu + 1.0) / (self.nv + 1.0)).sqrt() * (FRAC_PI_2 * v).tan()).atan()
-        };
+        let base = if self.nu == self.nv { FRAC_PI_2 * v } else { (((self.nu + 1.0) / (self.nv + 1.0)).sqrt() * (FRAC_PI_2 * v).tan()).atan() };
         let phi = match quadrant {
             0 => base,
             1 => PI - base,

@@ -85,11 +85,7 @@ impl Bxdf for RoughDielectric {
         }
         let h = Ggx::new(self.alpha).sample_visible(wo, u);
         let f = fresnel_dielectric(wo.dot(h), self.eta);
-        let (wi, eta) = if u_lobe < f {
-            (reflect(wo, h), 1.0)
-        } else {
-            (refract(wo, h, self.eta)?, self.eta)
-        };
+        let (wi, eta) = if u_lobe < f { (reflect(wo, h), 1.0) } else { (refract(wo, h, self.eta)?, self.eta) };
         if (eta == 1.0) != (wi.z > 0.0) {
             return None;
         }

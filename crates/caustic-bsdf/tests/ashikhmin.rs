@@ -6,9 +6,9 @@
 //! smaller exponent.
 
 use caustic_bsdf::ashikhmin::AshikhminShirley;
-use caustic_bsdf::catalog::{outgoing, ASHIKHMIN_EXPONENTS as EXPONENTS, TEST_ANGLES};
-use caustic_bsdf::chi_square::{corrected_level, ChiSquareTest};
-use caustic_bsdf::{luminance, Bxdf};
+use caustic_bsdf::catalog::{ASHIKHMIN_EXPONENTS as EXPONENTS, TEST_ANGLES, outgoing};
+use caustic_bsdf::chi_square::{ChiSquareTest, corrected_level};
+use caustic_bsdf::{Bxdf, luminance};
 use glam::{Vec2, Vec3};
 
 fn lobe(nu: f32, nv: f32) -> AshikhminShirley {
@@ -22,9 +22,8 @@ fn points(n: u32, seed: u32) -> impl Iterator<Item = Vec2> {
         let w = ((s >> ((s >> 28) + 4)) ^ s).wrapping_mul(277_803_737);
         ((w >> 22) ^ w) >> 8
     };
-    (0..n).map(move |i| {
-        Vec2::new(hash(i ^ seed.wrapping_mul(0x9e37_79b9)) as f32 / 16_777_216.0, hash(i.wrapping_add(0x68bc_21eb) ^ seed) as f32 / 16_777_216.0)
-    })
+    (0..n)
+        .map(move |i| Vec2::new(hash(i ^ seed.wrapping_mul(0x9e37_79b9)) as f32 / 16_777_216.0, hash(i.wrapping_add(0x68bc_21eb) ^ seed) as f32 / 16_777_216.0))
 }
 
 #[test]
@@ -41,7 +40,10 @@ fn sampler_matches_pdf_chi_square() {
             let observed = test.observed(samples);
             let expected = test.expected(&|wi| bsdf.pdf(wo, wi));
             let r = test.run(&observed, &expected, u64::from(n));
-            println!("AS nu={nu:6} nv={nv:6} theta={theta:4}: chi2 {:9.1} dof {:4} p {:.4} (pdf integral {:.4})", r.statistic, r.dof, r.p_value, r.pdf_integral);
+            println!(
+                "AS nu={nu:6} nv={nv:6} theta={theta:4}: chi2 {:9.1} dof {:4} p {:.4} (pdf integral {:.4})",
+                r.statistic, r.dof, r.p_value, r.pdf_integral
+            );
             assert!(r.pdf_integral <= 1.0 + 1e-3, "the pdf integrates to {}", r.pdf_integral);
             if !r.passes(level) {
                 failures.push(format!("nu={nu} nv={nv} theta={theta}: p = {:.2e}, impossible {}", r.p_value, r.impossible));

@@ -125,19 +125,17 @@ fn furnace_lossless_interfaces_conserve_energy() {
 /// less (refraction spreads less) but never gains.
 #[test]
 fn furnace_ggx_with_unit_fresnel_loses_only_multiple_scattering() {
-    let reference = [
-        (0.05, [0.9965, 0.9958, 0.9760]),
-        (0.2, [0.9477, 0.9244, 0.8578]),
-        (0.5, [0.6878, 0.6828, 0.7614]),
-        (1.0, [0.3069, 0.3768, 0.5906]),
-    ];
+    let reference = [(0.05, [0.9965, 0.9958, 0.9760]), (0.2, [0.9477, 0.9244, 0.8578]), (0.5, [0.6878, 0.6828, 0.7614]), (1.0, [0.3069, 0.3768, 0.5906])];
     for (alpha, albedos) in reference {
         for (theta, expected) in [0.0, 45.0, 75.0].into_iter().zip(albedos) {
             let metal = Bsdf::new(BsdfParams { mirror: 1.0, mirror_alpha: alpha, ..BsdfParams::default() }, 1.5);
             let (e, sigma) = sampled_albedo(&metal, wo_at(theta), 200_000, true);
             let glass = Bsdf::new(BsdfParams { dielectric: Vec3::ONE, dielectric_alpha: alpha, ..BsdfParams::default() }, 1.5);
             let (g, g_sigma) = sampled_albedo(&glass, wo_at(theta), 200_000, true);
-            println!("alpha {alpha} theta {theta}: GGX F=1 albedo {e:.4} +- {sigma:.4} (reference {expected}, loss {:.1}%), rough glass R+T {g:.4}", 100.0 * (1.0 - e));
+            println!(
+                "alpha {alpha} theta {theta}: GGX F=1 albedo {e:.4} +- {sigma:.4} (reference {expected}, loss {:.1}%), rough glass R+T {g:.4}",
+                100.0 * (1.0 - e)
+            );
             assert!((e - expected).abs() <= 4.0 * sigma + 0.002, "alpha {alpha} theta {theta}: albedo {e}, reference {expected}");
             assert!(g <= 1.0 + 4.0 * g_sigma && g >= expected - 4.0 * g_sigma, "rough glass alpha {alpha} theta {theta}: {g}");
         }
@@ -162,7 +160,10 @@ fn reflection_is_reciprocal() {
     for _ in 0..20_000 {
         let (a, b) = (rng.direction(), rng.direction());
         let (wo, wi) = (Vec3::new(a.x, a.y, a.z.abs()), Vec3::new(b.x, b.y, b.z.abs()));
-        let pairs = models.iter().map(|(_, m)| (m.eval(wo, wi) / wi.z, m.eval(wi, wo) / wo.z)).chain(mixtures.iter().map(|b| (b.eval(wo, wi) / wi.z, b.eval(wi, wo) / wo.z)));
+        let pairs = models
+            .iter()
+            .map(|(_, m)| (m.eval(wo, wi) / wi.z, m.eval(wi, wo) / wo.z))
+            .chain(mixtures.iter().map(|b| (b.eval(wo, wi) / wi.z, b.eval(wi, wo) / wo.z)));
         for (f, g) in pairs {
             let err = (f - g).abs().max_element() / f.abs().max_element().max(g.abs().max_element()).max(1e-3);
             worst = worst.max(err);

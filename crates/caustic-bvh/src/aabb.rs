@@ -29,19 +29,13 @@ impl Aabb {
     /// twin) always misses it. Finite values are used instead of infinities so that slab
     /// arithmetic never produces `inf - inf` or `0 * inf` NaNs.
     pub const fn empty() -> Self {
-        Self {
-            min: Vec3::splat(f32::MAX),
-            max: Vec3::splat(-f32::MAX),
-        }
+        Self { min: Vec3::splat(f32::MAX), max: Vec3::splat(-f32::MAX) }
     }
 
     /// The tight bounds of a triangle: the component-wise min and max of its vertices.
     pub fn from_triangle(triangle: &[Vec3; 3]) -> Self {
         let [a, b, c] = *triangle;
-        Self {
-            min: a.min(b).min(c),
-            max: a.max(b).max(c),
-        }
+        Self { min: a.min(b).min(c), max: a.max(b).max(c) }
     }
 
     /// Whether the box contains nothing (`min > max` on some axis).
@@ -57,10 +51,7 @@ impl Aabb {
 
     /// The smallest box containing both `self` and `other`.
     pub fn union(&self, other: &Aabb) -> Aabb {
-        Aabb {
-            min: self.min.min(other.min),
-            max: self.max.max(other.max),
-        }
+        Aabb { min: self.min.min(other.min), max: self.max.max(other.max) }
     }
 
     /// The size of the box along each axis; zero on every axis for an empty box.

@@ -63,13 +63,7 @@ pub struct BuildOptions {
 impl Default for BuildOptions {
     /// 16 bins, leaves of up to 4 triangles, parallel from 4096 triangles on.
     fn default() -> Self {
-        Self {
-            split: SplitMethod::BinnedSah,
-            bins: 16,
-            max_leaf_size: 4,
-            parallel_threshold: 4096,
-            sweep_below: 0,
-        }
+        Self { split: SplitMethod::BinnedSah, bins: 16, max_leaf_size: 4, parallel_threshold: 4096, sweep_below: 0 }
     }
 }
 
@@ -159,10 +153,7 @@ pub(crate) fn build_from_bounds(bounds: &[Aabb], options: &BuildOptions, start: 
     assert!(bounds.len() < u32::MAX as usize, "too many primitives for u32 ids");
     let centroids: Vec<Vec3> = bounds.par_iter().map(Aabb::centroid).collect();
     let builder = Builder {
-        prims: Prims {
-            bounds,
-            centroids: &centroids,
-        },
+        prims: Prims { bounds, centroids: &centroids },
         split: options.split,
         bins: options.bins.clamp(2, MAX_BINS),
         max_leaf_size: options.max_leaf_size.clamp(1, MAX_LEAF_SIZE),
@@ -172,11 +163,7 @@ pub(crate) fn build_from_bounds(bounds: &[Aabb], options: &BuildOptions, start: 
     let mut indices: Vec<u32> = (0..bounds.len() as u32).collect();
     let nodes = builder.subtree(&mut indices, 0, 0);
     let build_ms = start.elapsed().as_secs_f64() * 1000.0;
-    let mut bvh = Bvh {
-        nodes,
-        indices,
-        stats: BuildStats::default(),
-    };
+    let mut bvh = Bvh { nodes, indices, stats: BuildStats::default() };
     bvh.stats = measure(&bvh, build_ms);
     bvh
 }
@@ -196,11 +183,7 @@ pub fn sah_cost(bvh: &Bvh) -> f32 {
         .nodes
         .iter()
         .map(|node| {
-            let weight = if node.is_leaf() {
-                SAH_INTERSECTION_COST * node.count as f32
-            } else {
-                SAH_TRAVERSAL_COST
-            };
+            let weight = if node.is_leaf() { SAH_INTERSECTION_COST * node.count as f32 } else { SAH_TRAVERSAL_COST };
             weight * node.bounds.surface_area()
         })
         .sum();
@@ -221,13 +204,7 @@ fn measure(bvh: &Bvh, build_ms: f64) -> BuildStats {
             stack.push((node.first as usize + 1, depth + 1));
         }
     }
-    BuildStats {
-        nodes: bvh.nodes.len(),
-        leaves,
-        max_depth,
-        sah_cost: sah_cost(bvh),
-        build_ms,
-    }
+    BuildStats { nodes: bvh.nodes.len(), leaves, max_depth, sah_cost: sah_cost(bvh), build_ms }
 }
 
 /// `ceil(log2(n))` for `n >= 1`, and 0 for `n == 0`.
@@ -264,14 +241,7 @@ impl Builder<'_> {
     }
 
     /// Fills in `nodes[node]` for the triangles in `indices` and recurses into children.
-    fn subdivide(
-        &self,
-        nodes: &mut Vec<Node>,
-        node: usize,
-        indices: &mut [u32],
-        offset: usize,
-        depth: usize,
-    ) {
+    fn subdivide(&self, nodes: &mut Vec<Node>, node: usize, indices: &mut [u32], offset: usize, depth: usize) {
         let parallel = indices.len() >= self.parallel_threshold;
         let summary = split::summarize(self.prims, indices, parallel);
         nodes[node].bounds = summary.bounds;
@@ -290,10 +260,7 @@ impl Builder<'_> {
         let first = nodes.len();
         nodes[node].first = first as u32;
         if parallel {
-            let (l, r) = rayon::join(
-                || self.subtree(left, offset, depth + 1),
-                || self.subtree(right, offset + mid, depth + 1),
-            );
+            let (l, r) = rayon::join(|| self.subtree(left, offset, depth + 1), || self.subtree(right, offset + mid, depth + 1));
             append_pair(nodes, &l, &r);
         } else {
             nodes.extend([Node::default(); 2]);
@@ -313,11 +280,7 @@ impl Builder<'_> {
         // Depth guard: below this line every split halves the count, so leaf depth
         // stays <= MAX_DEPTH (the invariant depth + ceil_log2(count) <= MAX_DEPTH holds).
         if depth + ceil_log2(count) >= MAX_DEPTH {
-            return if must_split {
-                Decision::Median
-            } else {
-                Decision::Leaf
-            };
+            return if must_split { Decision::Median } else { Decision::Leaf };
         }
         if self.split == SplitMethod::Midpoint {
             return if must_split { Decision::Midpoint } else { Decision::Leaf };
@@ -328,11 +291,8 @@ impl Builder<'_> {
                 _ => Decision::Leaf,
             };
         }
-        match split::best_binned_split(self.prims, indices, &summary.centroids, self.bins, parallel)
-        {
-            Some(plane) if must_split || self.pays(plane.weighted_area, &summary.bounds, count) => {
-                Decision::Binned(plane)
-            }
+        match split::best_binned_split(self.prims, indices, &summary.centroids, self.bins, parallel) {
+            Some(plane) if must_split || self.pays(plane.weighted_area, &summary.bounds, count) => Decision::Binned(plane),
             Some(_) => Decision::Leaf,
             None if must_split => Decision::Median,
             None => Decision::Leaf,
@@ -387,20 +347,8 @@ mod tests {
     #[test]
     fn parallel_build_is_identical_to_sequential() {
         let tris = grid(90);
-        let seq = build(
-            &tris,
-            &BuildOptions {
-                parallel_threshold: usize::MAX,
-                ..Default::default()
-            },
-        );
-        let par = build(
-            &tris,
-            &BuildOptions {
-                parallel_threshold: 64,
-                ..Default::default()
-            },
-        );
+        let seq = build(&tris, &BuildOptions { parallel_threshold: usize::MAX, ..Default::default() });
+        let par = build(&tris, &BuildOptions { parallel_threshold: 64, ..Default::default() });
         assert_eq!(seq.nodes, par.nodes);
         assert_eq!(seq.indices, par.indices);
         assert_eq!(seq.stats.max_depth, par.stats.max_depth);
@@ -408,10 +356,7 @@ mod tests {
 
     #[test]
     fn ceil_log2_values() {
-        assert_eq!(
-            [0, 1, 2, 3, 4, 5, 8, 9].map(ceil_log2),
-            [0, 0, 1, 2, 2, 3, 3, 4]
-        );
+        assert_eq!([0, 1, 2, 3, 4, 5, 8, 9].map(ceil_log2), [0, 0, 1, 2, 2, 3, 3, 4]);
     }
 
     #[test]
@@ -420,25 +365,11 @@ mod tests {
         let tris: Vec<[Vec3; 3]> = (0..120)
             .map(|i| {
                 let x = 1.5f32.powi(i);
-                [
-                    Vec3::new(x, 0.0, 0.0),
-                    Vec3::new(x, 1.0, 0.0),
-                    Vec3::new(x, 0.0, 1.0),
-                ]
+                [Vec3::new(x, 0.0, 0.0), Vec3::new(x, 1.0, 0.0), Vec3::new(x, 0.0, 1.0)]
             })
             .collect();
-        let bvh = build(
-            &tris,
-            &BuildOptions {
-                max_leaf_size: 1,
-                ..Default::default()
-            },
-        );
-        assert!(
-            bvh.stats.max_depth <= MAX_DEPTH,
-            "depth {}",
-            bvh.stats.max_depth
-        );
+        let bvh = build(&tris, &BuildOptions { max_leaf_size: 1, ..Default::default() });
+        assert!(bvh.stats.max_depth <= MAX_DEPTH, "depth {}", bvh.stats.max_depth);
         assert_eq!(bvh.stats.leaves, 120);
     }
 }

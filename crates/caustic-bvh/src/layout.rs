@@ -100,14 +100,8 @@ pub struct GpuBvh {
 /// # Panics
 /// If `count` is not in `1..=16` or `first` does not fit in 27 bits.
 pub fn encode_leaf(first: u32, count: u32) -> u32 {
-    assert!(
-        (1..=MAX_LEAF_SIZE as u32).contains(&count),
-        "leaf count {count} not in 1..=16"
-    );
-    assert!(
-        first <= FIRST_MASK,
-        "leaf start {first} does not fit in 27 bits"
-    );
+    assert!((1..=MAX_LEAF_SIZE as u32).contains(&count), "leaf count {count} not in 1..=16");
+    assert!(first <= FIRST_MASK, "leaf start {first} does not fit in 27 bits");
     LEAF_BIT | ((count - 1) << COUNT_SHIFT) | first
 }
 
@@ -120,29 +114,14 @@ pub fn decode_leaf(child: u32) -> (u32, u32) {
 impl GpuNode {
     /// A node from its two children's boxes and links.
     fn new(bounds0: &Aabb, child0: u32, bounds1: &Aabb, child1: u32) -> GpuNode {
-        GpuNode {
-            min0: bounds0.min.into(),
-            child0,
-            max0: bounds0.max.into(),
-            child1,
-            min1: bounds1.min.into(),
-            _pad0: 0,
-            max1: bounds1.max.into(),
-            _pad1: 0,
-        }
+        GpuNode { min0: bounds0.min.into(), child0, max0: bounds0.max.into(), child1, min1: bounds1.min.into(), _pad0: 0, max1: bounds1.max.into(), _pad1: 0 }
     }
 
     /// The box of child 0 or 1.
     pub fn bounds(&self, child: usize) -> Aabb {
         match child {
-            0 => Aabb {
-                min: self.min0.into(),
-                max: self.max0.into(),
-            },
-            _ => Aabb {
-                min: self.min1.into(),
-                max: self.max1.into(),
-            },
+            0 => Aabb { min: self.min0.into(), max: self.max0.into() },
+            _ => Aabb { min: self.min1.into(), max: self.max1.into() },
         }
     }
 
@@ -172,24 +151,23 @@ pub fn flatten(bvh: &Bvh, triangles: &[[Vec3; 3]]) -> GpuBvh {
     flatten_with_shapes(bvh, triangles, &[])
 }
 
+/// Shapes with their index in the input.
+type Indexed<'a> = Vec<(usize, &'a ShapeInput)>;
+
 /// [`flatten`] for a tree from [`crate::build_with_shapes`] over the same `triangles` and
 /// `shapes`; shape `i` of `shapes` reports hits as `SHAPE_BIT | i`.
 ///
 /// # Panics
 /// As [`flatten`].
 pub fn flatten_with_shapes(bvh: &Bvh, triangles: &[[Vec3; 3]], shapes: &[ShapeInput]) -> GpuBvh {
-    assert!(
-        triangles.len() <= MAX_TRIANGLES,
-        "GpuBvh addresses at most 2^27 triangles"
-    );
-    let (bounded, planes): (Vec<(usize, &ShapeInput)>, Vec<(usize, &ShapeInput)>) =
-        shapes.iter().enumerate().partition(|(_, s)| s.kind != ShapeKind::Plane);
+    assert!(triangles.len() <= MAX_TRIANGLES, "GpuBvh addresses at most 2^27 triangles");
+    let (bounded, planes): (Indexed, Indexed) = shapes.iter().enumerate().partition(|(_, s)| s.kind != ShapeKind::Plane);
     let gathered = bvh
         .indices
         .iter()
         .map(|&id| match triangles.get(id as usize) {
             Some(triangle) => gather(triangle, id),
-            None => shape_record(&bounded[id as usize - triangles.len()].1, id - triangles.len() as u32),
+            None => shape_record(bounded[id as usize - triangles.len()].1, id - triangles.len() as u32),
         })
         .collect();
     let first_plane = bounded.len() as u32;
@@ -197,26 +175,12 @@ pub fn flatten_with_shapes(bvh: &Bvh, triangles: &[[Vec3; 3]], shapes: &[ShapeIn
     let root = &bvh.nodes[0];
     let mut nodes = Vec::with_capacity(bvh.nodes.len() / 2 + 1);
     if root.is_leaf() {
-        let link = if root.count > 0 {
-            encode_leaf(root.first, root.count)
-        } else {
-            EMPTY_CHILD
-        };
-        nodes.push(GpuNode::new(
-            &root.bounds,
-            link,
-            &Aabb::empty(),
-            EMPTY_CHILD,
-        ));
+        let link = if root.count > 0 { encode_leaf(root.first, root.count) } else { EMPTY_CHILD };
+        nodes.push(GpuNode::new(&root.bounds, link, &Aabb::empty(), EMPTY_CHILD));
     } else {
         emit(bvh, 0, &mut nodes);
     }
-    GpuBvh {
-        nodes,
-        triangles: gathered,
-        shapes: gpu_shapes,
-        first_plane,
-    }
+    GpuBvh { nodes, triangles: gathered, shapes: gpu_shapes, first_plane }
 }
 
 /// The gathered record standing for bounded shape `slot`: its box and the shape flag.
@@ -228,14 +192,7 @@ fn shape_record(shape: &ShapeInput, slot: u32) -> GpuTriangle {
 /// One input triangle in GPU form.
 fn gather(triangle: &[Vec3; 3], id: u32) -> GpuTriangle {
     let [v0, v1, v2] = *triangle;
-    GpuTriangle {
-        v0: v0.into(),
-        id,
-        v1: v1.into(),
-        motion: 0,
-        v2: v2.into(),
-        _pad1: 0,
-    }
+    GpuTriangle { v0: v0.into(), id, v1: v1.into(), motion: 0, v2: v2.into(), _pad1: 0 }
 }
 
 /// Emits the interior node `index` and its subtree; returns its `GpuNode` index.
@@ -245,23 +202,14 @@ fn emit(bvh: &Bvh, index: usize, out: &mut Vec<GpuNode>) -> u32 {
     let left = bvh.nodes[index].first as usize;
     let link0 = link(bvh, left, out);
     let link1 = link(bvh, left + 1, out);
-    out[slot] = GpuNode::new(
-        &bvh.nodes[left].bounds,
-        link0,
-        &bvh.nodes[left + 1].bounds,
-        link1,
-    );
+    out[slot] = GpuNode::new(&bvh.nodes[left].bounds, link0, &bvh.nodes[left + 1].bounds, link1);
     slot as u32
 }
 
 /// The child word for node `index`, emitting its subtree if it is interior.
 fn link(bvh: &Bvh, index: usize, out: &mut Vec<GpuNode>) -> u32 {
     let node = &bvh.nodes[index];
-    if node.is_leaf() {
-        encode_leaf(node.first, node.count)
-    } else {
-        emit(bvh, index, out)
-    }
+    if node.is_leaf() { encode_leaf(node.first, node.count) } else { emit(bvh, index, out) }
 }
 
 #[cfg(test)]
@@ -289,10 +237,7 @@ mod tests {
     fn small_roots_get_a_node_with_empty_children() {
         let empty = flatten(&build(&[], &BuildOptions::default()), &[]);
         assert_eq!(empty.nodes.len(), 1);
-        assert_eq!(
-            (empty.nodes[0].child0, empty.nodes[0].child1),
-            (EMPTY_CHILD, EMPTY_CHILD)
-        );
+        assert_eq!((empty.nodes[0].child0, empty.nodes[0].child1), (EMPTY_CHILD, EMPTY_CHILD));
         assert!(empty.nodes[0].bounds(1).is_empty());
 
         let tri = [[Vec3::ZERO, Vec3::X, Vec3::Y]];

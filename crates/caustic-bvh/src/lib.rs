@@ -38,16 +38,12 @@ mod wide;
 
 pub use aabb::Aabb;
 pub use build::{
-    BuildOptions, BuildStats, Bvh, MAX_DEPTH, MAX_LEAF_SIZE, Node, SAH_INTERSECTION_COST,
-    SAH_TRAVERSAL_COST, SplitMethod, build, build_with_shapes, sah_cost,
+    BuildOptions, BuildStats, Bvh, MAX_DEPTH, MAX_LEAF_SIZE, Node, SAH_INTERSECTION_COST, SAH_TRAVERSAL_COST, SplitMethod, build, build_with_shapes, sah_cost,
 };
-pub use layout::{
-    EMPTY_CHILD, GpuBvh, GpuNode, GpuTriangle, LEAF_BIT, MAX_TRIANGLES, decode_leaf, encode_leaf,
-    flatten, flatten_with_shapes,
-};
+pub use layout::{EMPTY_CHILD, GpuBvh, GpuNode, GpuTriangle, LEAF_BIT, MAX_TRIANGLES, decode_leaf, encode_leaf, flatten, flatten_with_shapes};
 pub use motion::{GpuMotion, MAX_SAMPLED_STEPS, MAX_SAMPLED_TURN, PrimitiveMotions, build_with_motion, flatten_with_motion, shapes_and_motions};
 pub use shape::{GpuShape, SHAPE_BIT, ShapeInput, ShapeKind, intersect_shape};
 pub use split::MAX_BINS;
 pub use traverse::{MIN_DIRECTION, ON_PLANE_EXIT, SLAB_EXIT_SCALE, STACK_SIZE};
-pub use wide::{GpuWideExactNode, GpuWideNode, WIDE_ARITY, WIDE_STACK_SIZE, WideError, WideNode, WideNodes};
 pub use triangle::{Hit, Ray, closest_hit_brute_force, intersect_triangle, intersect_triangle_facing, unit_cube_triangles};
+pub use wide::{GpuWideExactNode, GpuWideNode, WIDE_ARITY, WIDE_STACK_SIZE, WideError, WideNode, WideNodes};

@@ -133,11 +133,8 @@ impl PrimitiveMotions {
 /// ([`GpuMotion::swept_bounds`] of a triangle's corners, or of a shape box's eight corners).
 pub fn build_with_motion(triangles: &[[Vec3; 3]], shapes: &[ShapeInput], moving: &PrimitiveMotions, options: &BuildOptions) -> Bvh {
     let start = std::time::Instant::now();
-    let mut bounds: Vec<Aabb> = triangles
-        .par_iter()
-        .enumerate()
-        .map(|(i, tri)| moving.of_triangle(i).map_or_else(|| Aabb::from_triangle(tri), |m| m.swept_bounds(tri)))
-        .collect();
+    let mut bounds: Vec<Aabb> =
+        triangles.par_iter().enumerate().map(|(i, tri)| moving.of_triangle(i).map_or_else(|| Aabb::from_triangle(tri), |m| m.swept_bounds(tri))).collect();
     for (i, shape) in shapes.iter().enumerate() {
         let Some(rest) = shape.bounds() else { continue };
         bounds.push(moving.of_shape(i).map_or(rest, |m| m.swept_bounds(&corners(&rest))));
@@ -172,11 +169,9 @@ pub fn shapes_and_motions(gpu: &GpuBvh, moving: &PrimitiveMotions) -> Vec<GpuSha
 
 /// The eight corners of a box.
 fn corners(b: &Aabb) -> [Vec3; 8] {
-    std::array::from_fn(|i| Vec3::new(
-        if i & 1 == 0 { b.min.x } else { b.max.x },
-        if i & 2 == 0 { b.min.y } else { b.max.y },
-        if i & 4 == 0 { b.min.z } else { b.max.z },
-    ))
+    std::array::from_fn(|i| {
+        Vec3::new(if i & 1 == 0 { b.min.x } else { b.max.x }, if i & 2 == 0 { b.min.y } else { b.max.y }, if i & 4 == 0 { b.min.z } else { b.max.z })
+    })
 }
 
 #[cfg(test)]

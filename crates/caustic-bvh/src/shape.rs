@@ -50,11 +50,7 @@ impl ShapeInput {
         };
         let mut bounds = Aabb::empty();
         for i in 0..8 {
-            let corner = Vec3::new(
-                if i & 1 == 0 { lo.x } else { hi.x },
-                if i & 2 == 0 { lo.y } else { hi.y },
-                if i & 4 == 0 { lo.z } else { hi.z },
-            );
+            let corner = Vec3::new(if i & 1 == 0 { lo.x } else { hi.x }, if i & 2 == 0 { lo.y } else { hi.y }, if i & 4 == 0 { lo.z } else { hi.z });
             bounds.grow(self.object_to_world.transform_point3(corner));
         }
         Some(bounds)

@@ -30,16 +30,10 @@ pub(crate) struct Summary {
 }
 
 impl Summary {
-    const EMPTY: Summary = Summary {
-        bounds: Aabb::empty(),
-        centroids: Aabb::empty(),
-    };
+    const EMPTY: Summary = Summary { bounds: Aabb::empty(), centroids: Aabb::empty() };
 
     fn merge(self, other: Summary) -> Summary {
-        Summary {
-            bounds: self.bounds.union(&other.bounds),
-            centroids: self.centroids.union(&other.centroids),
-        }
+        Summary { bounds: self.bounds.union(&other.bounds), centroids: self.centroids.union(&other.centroids) }
     }
 }
 
@@ -52,14 +46,7 @@ pub(crate) fn summarize(prims: Prims, indices: &[u32], parallel: bool) -> Summar
             s
         })
     };
-    if parallel {
-        indices
-            .par_chunks(PARALLEL_CHUNK)
-            .map(sequential)
-            .reduce(|| Summary::EMPTY, Summary::merge)
-    } else {
-        sequential(indices)
-    }
+    if parallel { indices.par_chunks(PARALLEL_CHUNK).map(sequential).reduce(|| Summary::EMPTY, Summary::merge) } else { sequential(indices) }
 }
 
 /// Maps centroids to bin numbers along each axis of a node's centroid bounds.
@@ -75,11 +62,7 @@ impl Binning {
     fn new(centroids: &Aabb, bins: usize) -> Binning {
         let extent = centroids.extent();
         let scale = Vec3::select(extent.cmpgt(Vec3::ZERO), bins as f32 / extent, Vec3::ZERO);
-        Binning {
-            origin: centroids.min,
-            scale,
-            bins,
-        }
+        Binning { origin: centroids.min, scale, bins }
     }
 
     /// The bin of `centroid` on `axis`; the same formula is used for binning and partitioning,
@@ -102,12 +85,7 @@ struct Bin {
 struct BinGrid([[Bin; MAX_BINS]; 3]);
 
 impl BinGrid {
-    const EMPTY: BinGrid = BinGrid(
-        [[Bin {
-            bounds: Aabb::empty(),
-            count: 0,
-        }; MAX_BINS]; 3],
-    );
+    const EMPTY: BinGrid = BinGrid([[Bin { bounds: Aabb::empty(), count: 0 }; MAX_BINS]; 3]);
 
     fn fill(mut self, prims: Prims, indices: &[u32], binning: &Binning) -> BinGrid {
         for &i in indices {
@@ -144,19 +122,10 @@ pub(crate) struct BinnedSplit {
 
 /// The cheapest binned SAH split of `indices` over all axes with centroid extent,
 /// or `None` when every centroid coincides (nothing to separate).
-pub(crate) fn best_binned_split(
-    prims: Prims,
-    indices: &[u32],
-    centroids: &Aabb,
-    bins: usize,
-    parallel: bool,
-) -> Option<BinnedSplit> {
+pub(crate) fn best_binned_split(prims: Prims, indices: &[u32], centroids: &Aabb, bins: usize, parallel: bool) -> Option<BinnedSplit> {
     let binning = Binning::new(centroids, bins);
     let grid = if parallel {
-        indices
-            .par_chunks(PARALLEL_CHUNK)
-            .map(|chunk| BinGrid::EMPTY.fill(prims, chunk, &binning))
-            .reduce(|| BinGrid::EMPTY, BinGrid::merge)
+        indices.par_chunks(PARALLEL_CHUNK).map(|chunk| BinGrid::EMPTY.fill(prims, chunk, &binning)).reduce(|| BinGrid::EMPTY, BinGrid::merge)
     } else {
         BinGrid::EMPTY.fill(prims, indices, &binning)
     };
@@ -164,12 +133,7 @@ pub(crate) fn best_binned_split(
         .filter(|&axis| binning.scale[axis] > 0.0)
         .filter_map(|axis| {
             let (bin, weighted_area) = sweep(&grid.0[axis][..bins])?;
-            Some(BinnedSplit {
-                axis,
-                bin,
-                binning,
-                weighted_area,
-            })
+            Some(BinnedSplit { axis, bin, binning, weighted_area })
         })
         .min_by(|a, b| a.weighted_area.total_cmp(&b.weighted_area))
 }
@@ -197,8 +161,7 @@ fn sweep(bins: &[Bin]) -> Option<(usize, f32)> {
         if count == 0 || left_count[plane] == 0 {
             continue;
         }
-        let cost =
-            left_area[plane] * left_count[plane] as f32 + bounds.surface_area() * count as f32;
+        let cost = left_area[plane] * left_count[plane] as f32 + bounds.surface_area() * count as f32;
         if best.is_none_or(|(_, best_cost)| cost < best_cost) {
             best = Some((plane, cost));
         }
@@ -261,8 +224,7 @@ fn sort_by_centroid(prims: Prims, indices: &mut [u32], axis: usize) {
 
 /// Reorders `indices` so the left side of `split` comes first; returns the left size.
 pub(crate) fn partition_binned(prims: Prims, indices: &mut [u32], split: &BinnedSplit) -> usize {
-    let goes_left =
-        |i: u32| split.binning.bin(prims.centroids[i as usize], split.axis) <= split.bin;
+    let goes_left = |i: u32| split.binning.bin(prims.centroids[i as usize], split.axis) <= split.bin;
     let (mut left, mut right) = (0, indices.len());
     while left < right {
         if goes_left(indices[left]) {
@@ -311,9 +273,7 @@ fn widest_axis(bounds: &Aabb) -> usize {
 pub(crate) fn partition_median(prims: Prims, indices: &mut [u32], centroids: &Aabb) -> usize {
     let axis = widest_axis(centroids);
     let mid = indices.len() / 2;
-    indices.select_nth_unstable_by(mid, |&a, &b| {
-        prims.centroids[a as usize][axis].total_cmp(&prims.centroids[b as usize][axis])
-    });
+    indices.select_nth_unstable_by(mid, |&a, &b| prims.centroids[a as usize][axis].total_cmp(&prims.centroids[b as usize][axis]));
     mid
 }
 
@@ -322,12 +282,7 @@ mod tests {
     use super::*;
 
     fn line_of_boxes(n: usize) -> (Vec<Aabb>, Vec<Vec3>) {
-        let bounds: Vec<Aabb> = (0..n)
-            .map(|i| Aabb {
-                min: Vec3::new(i as f32, 0.0, 0.0),
-                max: Vec3::new(i as f32 + 0.5, 1.0, 1.0),
-            })
-            .collect();
+        let bounds: Vec<Aabb> = (0..n).map(|i| Aabb { min: Vec3::new(i as f32, 0.0, 0.0), max: Vec3::new(i as f32 + 0.5, 1.0, 1.0) }).collect();
         let centroids = bounds.iter().map(Aabb::centroid).collect();
         (bounds, centroids)
     }
@@ -340,10 +295,7 @@ mod tests {
             bounds[i].max.x += 100.0;
             centroids[i].x += 100.0;
         }
-        let prims = Prims {
-            bounds: &bounds,
-            centroids: &centroids,
-        };
+        let prims = Prims { bounds: &bounds, centroids: &centroids };
         let mut indices: Vec<u32> = (0..8).rev().collect();
         let summary = summarize(prims, &indices, false);
         let split = best_binned_split(prims, &indices, &summary.centroids, 16, false).unwrap();
@@ -356,20 +308,14 @@ mod tests {
     #[test]
     fn parallel_and_sequential_binning_agree() {
         let (bounds, centroids) = line_of_boxes(5000);
-        let prims = Prims {
-            bounds: &bounds,
-            centroids: &centroids,
-        };
+        let prims = Prims { bounds: &bounds, centroids: &centroids };
         let indices: Vec<u32> = (0..5000).collect();
         let a = summarize(prims, &indices, false);
         let b = summarize(prims, &indices, true);
         assert_eq!((a.bounds, a.centroids), (b.bounds, b.centroids));
         let sa = best_binned_split(prims, &indices, &a.centroids, 32, false).unwrap();
         let sb = best_binned_split(prims, &indices, &a.centroids, 32, true).unwrap();
-        assert_eq!(
-            (sa.axis, sa.bin, sa.weighted_area),
-            (sb.axis, sb.bin, sb.weighted_area)
-        );
+        assert_eq!((sa.axis, sa.bin, sa.weighted_area), (sb.axis, sb.bin, sb.weighted_area));
     }
 
     #[test]
@@ -418,18 +364,9 @@ mod tests {
 
     #[test]
     fn coincident_centroids_have_no_binned_split_but_split_by_median() {
-        let bounds = vec![
-            Aabb {
-                min: Vec3::ZERO,
-                max: Vec3::ONE
-            };
-            7
-        ];
+        let bounds = vec![Aabb { min: Vec3::ZERO, max: Vec3::ONE }; 7];
         let centroids = vec![Vec3::splat(0.5); 7];
-        let prims = Prims {
-            bounds: &bounds,
-            centroids: &centroids,
-        };
+        let prims = Prims { bounds: &bounds, centroids: &centroids };
         let mut indices: Vec<u32> = (0..7).collect();
         let summary = summarize(prims, &indices, false);
         assert!(best_binned_split(prims, &indices, &summary.centroids, 16, false).is_none());

@@ -57,11 +57,7 @@ impl SlabRay {
         let tiny = Vec3::splat(MIN_DIRECTION).copysign(d);
         let safe = Vec3::select(d.abs().cmplt(Vec3::splat(MIN_DIRECTION)), tiny, d);
         let inv_dir = safe.recip();
-        SlabRay {
-            origin: ray.origin,
-            inv_dir,
-            negative: inv_dir.cmplt(Vec3::ZERO),
-        }
+        SlabRay { origin: ray.origin, inv_dir, negative: inv_dir.cmplt(Vec3::ZERO) }
     }
 
     /// Entry distance into `bounds` if the ray overlaps it within `[0, t_limit]`,
@@ -243,18 +239,10 @@ impl GpuBvh {
 fn order_children(node: &GpuNode, slab: &SlabRay, t_limit: f32) -> Option<(u32, Option<u32>)> {
     let entry = |child: usize| {
         let bounds = node.bounds(child);
-        if node.child(child) == EMPTY_CHILD {
-            f32::INFINITY
-        } else {
-            slab.entry(bounds.min, bounds.max, t_limit)
-        }
+        if node.child(child) == EMPTY_CHILD { f32::INFINITY } else { slab.entry(bounds.min, bounds.max, t_limit) }
     };
     let (d0, d1) = (entry(0), entry(1));
-    let (near, d_near, far, d_far) = if d0 <= d1 {
-        (node.child0, d0, node.child1, d1)
-    } else {
-        (node.child1, d1, node.child0, d0)
-    };
+    let (near, d_near, far, d_far) = if d0 <= d1 { (node.child0, d0, node.child1, d1) } else { (node.child1, d1, node.child0, d0) };
     if d_near == f32::INFINITY {
         return None;
     }
@@ -268,16 +256,8 @@ mod tests {
 
     #[test]
     fn slab_constants() {
-        assert_eq!(
-            SLAB_EXIT_SCALE,
-            1.0 + 3.0 * f32::EPSILON,
-            "rounds to 1 + 3 ulp = 1.0000003576"
-        );
-        let ray = Ray {
-            origin: Vec3::ZERO,
-            direction: Vec3::new(1.0, 0.0, -0.0),
-            t_max: f32::INFINITY,
-        };
+        assert_eq!(SLAB_EXIT_SCALE, 1.0 + 3.0 * f32::EPSILON, "rounds to 1 + 3 ulp = 1.0000003576");
+        let ray = Ray { origin: Vec3::ZERO, direction: Vec3::new(1.0, 0.0, -0.0), t_max: f32::INFINITY };
         let slab = SlabRay::new(&ray);
         assert!(slab.inv_dir.is_finite());
         assert!(!slab.negative.x && !slab.negative.y && slab.negative.z);
@@ -285,40 +265,16 @@ mod tests {
 
     #[test]
     fn slab_entry_hits_boxes_and_misses_empty_ones() {
-        let ray = Ray {
-            origin: Vec3::new(-1.0, 0.5, 0.5),
-            direction: Vec3::X,
-            t_max: f32::INFINITY,
-        };
+        let ray = Ray { origin: Vec3::new(-1.0, 0.5, 0.5), direction: Vec3::X, t_max: f32::INFINITY };
         let slab = SlabRay::new(&ray);
         assert_eq!(slab.entry(Vec3::ZERO, Vec3::ONE, f32::INFINITY), 1.0);
         assert_eq!(slab.entry(Vec3::ZERO, Vec3::ONE, 0.5), f32::INFINITY);
         let empty = Aabb::empty();
-        assert_eq!(
-            slab.entry(empty.min, empty.max, f32::INFINITY),
-            f32::INFINITY
-        );
-        let down = SlabRay::new(&Ray {
-            origin: Vec3::new(0.5, 2.0, 0.5),
-            direction: Vec3::NEG_Y,
-            ..ray
-        });
-        assert_eq!(
-            down.entry(
-                Vec3::new(0.0, 0.5, 0.0),
-                Vec3::new(1.0, 0.5, 1.0),
-                f32::INFINITY
-            ),
-            1.5
-        );
-        let behind = Ray {
-            direction: Vec3::NEG_X,
-            ..ray
-        };
-        assert_eq!(
-            SlabRay::new(&behind).entry(Vec3::ZERO, Vec3::ONE, f32::INFINITY),
-            f32::INFINITY
-        );
+        assert_eq!(slab.entry(empty.min, empty.max, f32::INFINITY), f32::INFINITY);
+        let down = SlabRay::new(&Ray { origin: Vec3::new(0.5, 2.0, 0.5), direction: Vec3::NEG_Y, ..ray });
+        assert_eq!(down.entry(Vec3::new(0.0, 0.5, 0.0), Vec3::new(1.0, 0.5, 1.0), f32::INFINITY), 1.5);
+        let behind = Ray { direction: Vec3::NEG_X, ..ray };
+        assert_eq!(SlabRay::new(&behind).entry(Vec3::ZERO, Vec3::ONE, f32::INFINITY), f32::INFINITY);
     }
 
     /// [`crate::unit_cube_triangles`], in reverse order if `reversed`.
@@ -344,7 +300,9 @@ mod tests {
             let bvh = crate::flatten(&crate::build(&triangles, &crate::BuildOptions::default()), &triangles);
             let wide = bvh.to_wide().unwrap();
             let exact = bvh.to_wide_exact().unwrap();
-            for (walk, hit) in [("binary", bvh.closest_hit(&ray)), ("wide", bvh.closest_hit_wide(&wide, &ray)), ("wide-exact", bvh.closest_hit_wide(&exact, &ray))] {
+            for (walk, hit) in
+                [("binary", bvh.closest_hit(&ray)), ("wide", bvh.closest_hit_wide(&wide, &ray)), ("wide-exact", bvh.closest_hit_wide(&exact, &ray))]
+            {
                 let hit = hit.expect("the ray meets the edge");
                 let [a, b, c] = triangles[hit.triangle as usize];
                 let normal = (b - a).cross(c - a).normalize();
@@ -356,7 +314,9 @@ mod tests {
             // faces, so the lower index wins.
             let down = Ray { origin: Vec3::new(0.5, 2.0, 0.5), direction: Vec3::NEG_Y, t_max: f32::INFINITY };
             let top: Vec<u32> = (0..12).filter(|&i| triangles[i as usize].iter().all(|v| v.y == 1.0)).collect();
-            for (walk, hit) in [("binary", bvh.closest_hit(&down)), ("wide", bvh.closest_hit_wide(&wide, &down)), ("wide-exact", bvh.closest_hit_wide(&exact, &down))] {
+            for (walk, hit) in
+                [("binary", bvh.closest_hit(&down)), ("wide", bvh.closest_hit_wide(&wide, &down)), ("wide-exact", bvh.closest_hit_wide(&exact, &down))]
+            {
                 assert_eq!(hit.map(|h| (h.t, h.triangle)), Some((1.0, top[0])), "{walk} walk, reversed {reversed}: top triangles {top:?}");
             }
         }
@@ -394,11 +354,7 @@ mod tests {
         let levels = leaf_levels(&bvh);
         let (mut checked, mut deepest) = (0, 0);
         for i in 0..256 {
-            let ray = Ray {
-                origin: Vec3::new((i % 16) as f32 + 0.2, (i / 16) as f32 + 0.2, 5.0),
-                direction: Vec3::NEG_Z,
-                t_max: f32::INFINITY,
-            };
+            let ray = Ray { origin: Vec3::new((i % 16) as f32 + 0.2, (i / 16) as f32 + 0.2, 5.0), direction: Vec3::NEG_Z, t_max: f32::INFINITY };
             let (hit, level) = bvh.closest_hit_level(&ray).expect("every ray meets its triangle");
             let slot = bvh.triangles.iter().position(|t| t.id == hit.triangle).expect("gathered") as u32;
             assert_eq!(level, levels[&slot], "triangle {}", hit.triangle);

@@ -119,11 +119,7 @@ pub fn intersect_triangle_facing(ray: &Ray, v0: Vec3, v1: Vec3, v2: Vec3) -> Opt
     if !(t > 0.0 && t < ray.t_max) {
         return None;
     }
-    let sheared = [
-        Vec3::new(ax, bx, cx),
-        Vec3::new(ay, by, cy),
-        Vec3::new(az, bz, cz),
-    ];
+    let sheared = [Vec3::new(ax, bx, cx), Vec3::new(ay, by, cy), Vec3::new(az, bz, cz)];
     if t <= t_error_bound(sheared, Vec3::new(u, v, w), inv_det) {
         return None;
     }
@@ -192,12 +188,7 @@ pub fn closest_hit_brute_force(triangles: &[[Vec3; 3]], ray: &Ray) -> Option<Hit
     for (index, [v0, v1, v2]) in triangles.iter().enumerate() {
         if let Some((t, u, v)) = intersect_triangle(&clipped, *v0, *v1, *v2) {
             clipped.t_max = t;
-            best = Some(Hit {
-                t,
-                u,
-                v,
-                triangle: index as u32,
-            });
+            best = Some(Hit { t, u, v, triangle: index as u32 });
         }
     }
     best
@@ -208,11 +199,7 @@ mod tests {
     use super::*;
 
     fn ray(origin: Vec3, direction: Vec3) -> Ray {
-        Ray {
-            origin,
-            direction,
-            t_max: f32::INFINITY,
-        }
+        Ray { origin, direction, t_max: f32::INFINITY }
     }
 
     #[test]
@@ -260,9 +247,7 @@ mod tests {
         assert!(intersect_triangle(&outside, tri[0], tri[1], tri[2]).is_none());
         let degenerate = [Vec3::ZERO, Vec3::X, Vec3::X * 2.0];
         let at_line = ray(Vec3::new(0.5, 0.0, 1.0), Vec3::NEG_Z);
-        assert!(
-            intersect_triangle(&at_line, degenerate[0], degenerate[1], degenerate[2]).is_none()
-        );
+        assert!(intersect_triangle(&at_line, degenerate[0], degenerate[1], degenerate[2]).is_none());
     }
 
     /// Grazing rays leaving a floor triangle (y = 0, edges 5.5e6: the Cornell box scaled by
@@ -272,11 +257,7 @@ mod tests {
     #[test]
     fn grazing_rays_far_from_the_origin_do_not_hit_the_plane_they_leave() {
         let size = 5.5e6;
-        let tri = [
-            Vec3::ZERO,
-            Vec3::new(size, 0.0, 0.0),
-            Vec3::new(0.0, 0.0, size),
-        ];
+        let tri = [Vec3::ZERO, Vec3::new(size, 0.0, 0.0), Vec3::new(0.0, 0.0, size)];
         let mut state = 12345u32;
         let mut uniform = || {
             state = state.wrapping_mul(747_796_405).wrapping_add(2_891_336_453);
@@ -285,26 +266,12 @@ mod tests {
         let (rays, mut self_hits) = (20_000, 0);
         for _ in 0..rays {
             // Origins above the neighbour (x + z > size) or above `tri`, directions over it.
-            let origin = Vec3::new(
-                size * (0.6 + 0.4 * uniform()),
-                1.5e-5,
-                size * (0.6 + 0.4 * uniform()),
-            );
+            let origin = Vec3::new(size * (0.6 + 0.4 * uniform()), 1.5e-5, size * (0.6 + 0.4 * uniform()));
             let target = Vec3::new(size * 0.3 * uniform(), 0.0, size * 0.3 * uniform());
-            let origin = if uniform() < 0.5 {
-                origin
-            } else {
-                Vec3::new(
-                    target.x + size * 0.1 * uniform(),
-                    1.5e-5,
-                    target.z + size * 0.1 * uniform(),
-                )
-            };
+            let origin = if uniform() < 0.5 { origin } else { Vec3::new(target.x + size * 0.1 * uniform(), 1.5e-5, target.z + size * 0.1 * uniform()) };
             let along = (target - origin).normalize();
             let direction = (along + Vec3::Y * (1e-7 * 10f32.powf(4.0 * uniform()))).normalize();
-            self_hits += usize::from(
-                intersect_triangle(&ray(origin, direction), tri[0], tri[1], tri[2]).is_some(),
-            );
+            self_hits += usize::from(intersect_triangle(&ray(origin, direction), tri[0], tri[1], tri[2]).is_some());
         }
         println!("grazing rays at scale 1e4: {self_hits} of {rays} hit the plane behind them");
         assert_eq!(self_hits, 0);
@@ -312,11 +279,7 @@ mod tests {
 
     #[test]
     fn brute_force_picks_nearest_and_lowest_index_on_ties() {
-        let near = [
-            Vec3::new(-1.0, -1.0, 1.0),
-            Vec3::new(1.0, -1.0, 1.0),
-            Vec3::new(0.0, 1.0, 1.0),
-        ];
+        let near = [Vec3::new(-1.0, -1.0, 1.0), Vec3::new(1.0, -1.0, 1.0), Vec3::new(0.0, 1.0, 1.0)];
         let far = near.map(|p| p - Vec3::Z);
         let r = ray(Vec3::new(0.0, 0.0, 5.0), Vec3::NEG_Z);
         let hit = closest_hit_brute_force(&[far, near, near], &r).unwrap();

@@ -210,7 +210,10 @@ fn edge_on_slivers_miss_and_rays_through_vertices_hit() {
             for rotation in 0..3 {
                 let [v0, v1, v2] = [0, 1, 2].map(|i| corners[(i + rotation) % 3]);
                 let hit = caustic_bvh::intersect_triangle(&ray, v0, v1, v2);
-                assert!(hit.is_some_and(|(t, _, _)| (t - 2.0).abs() < 1e-6), "a ray through the fan's centre misses triangle {k} (rotation {rotation}): {hit:?}");
+                assert!(
+                    hit.is_some_and(|(t, _, _)| (t - 2.0).abs() < 1e-6),
+                    "a ray through the fan's centre misses triangle {k} (rotation {rotation}): {hit:?}"
+                );
             }
         }
     }

@@ -278,7 +278,9 @@ impl CameraArgs {
             camera.set_lens(self.aperture.unwrap_or(camera.aperture), focus).map_err(|e| anyhow::anyhow!("--aperture/--focus-distance: {e}"))?;
         }
         if !camera.is_valid() {
-            crate::failure::usage!("--eye/--target/--up/--fov give a degenerate camera: {camera} (the eye must differ from the target, up must not be parallel to the view, the field of view must lie in (0, 180) degrees)");
+            crate::failure::usage!(
+                "--eye/--target/--up/--fov give a degenerate camera: {camera} (the eye must differ from the target, up must not be parallel to the view, the field of view must lie in (0, 180) degrees)"
+            );
         }
         Ok(())
     }

@@ -188,15 +188,7 @@ fn print_ray_set_row(r: &RaySetReport, header: bool) {
     if header {
         println!("{:<40} {:>10} {:>10} {:>10} {:>12} {:>12}", "mesh", "triangles", "build ms", "rays", "Mrays/s", "hit");
     }
-    println!(
-        "{:<40} {:>10} {:>10.1} {:>10} {:>12.2} {:>11.1}%",
-        r.mesh,
-        r.triangles,
-        r.bvh_build_ms,
-        r.rays,
-        r.mrays_per_second,
-        r.hit_fraction * 100.0
-    );
+    println!("{:<40} {:>10} {:>10.1} {:>10} {:>12.2} {:>11.1}%", r.mesh, r.triangles, r.bvh_build_ms, r.rays, r.mrays_per_second, r.hit_fraction * 100.0);
 }
 
 /// The `--bvh-layout` name of `layout`.
@@ -265,12 +257,8 @@ struct SamplePassTimes {
 /// Times the path tracer's creation, its first sample pass over the whole image (which pays
 /// for what the driver compiles at first use) and the best of `repeats` passes after it.
 fn sample_pass_times(ctx: &GpuContext, scene: &caustic_scene::Scene, gpu: &GpuScene, args: &BenchArgs) -> anyhow::Result<SamplePassTimes> {
-    let settings = RenderSettings {
-        data_path: args.data_path,
-        paths_per_invocation: args.paths_per_invocation,
-        shape: args.kernel_shape,
-        ..RenderSettings::default()
-    };
+    let settings =
+        RenderSettings { data_path: args.data_path, paths_per_invocation: args.paths_per_invocation, shape: args.kernel_shape, ..RenderSettings::default() };
     let ms = |start: Instant| start.elapsed().as_secs_f64() * 1e3;
     let start = Instant::now();
     let mut tracer = PathTracer::new(ctx, scene, gpu, &settings)?;
@@ -311,7 +299,10 @@ fn print_row(r: &MeshReport, header: bool) {
             "{:<32} {:>9} {:>9} {:>8} {:>7} {:>8} {:>9} {:>10} {:>10} {:>8} {:>8} {:>8}",
             "mesh", "triangles", "build ms", "split", "levels", "leaves", "SAH cost", "primary", "incoherent", "1 spp", "kernel", "1st pass"
         );
-        println!("{:<32} {:>9} {:>9} {:>8} {:>7} {:>8} {:>9} {:>10} {:>10} {:>8} {:>8} {:>8}", "", "", "", "", "", "", "", "Mrays/s", "Mrays/s", "ms", "ms", "ms");
+        println!(
+            "{:<32} {:>9} {:>9} {:>8} {:>7} {:>8} {:>9} {:>10} {:>10} {:>8} {:>8} {:>8}",
+            "", "", "", "", "", "", "", "Mrays/s", "Mrays/s", "ms", "ms", "ms"
+        );
     }
     println!(
         "{:<32} {:>9} {:>9.1} {:>8} {:>7} {:>8} {:>9.2} {:>10.2} {:>10.2} {:>8.1} {:>8.1} {:>8.1}",

@@ -105,13 +105,7 @@ pub fn run(args: &ConvergeArgs) -> anyhow::Result<()> {
     scene.resolution = (reference.width, reference.height);
     let (integrator, max_depth) = args.overrides.apply(&mut scene)?;
     if scene.resolution != (reference.width, reference.height) {
-        bail!(
-            "--size {}x{} differs from the reference's {}x{}",
-            scene.resolution.0,
-            scene.resolution.1,
-            reference.width,
-            reference.height
-        );
+        bail!("--size {}x{} differs from the reference's {}x{}", scene.resolution.0, scene.resolution.1, reference.width, reference.height);
     }
     let spp = args.spp.or(args.overrides.preset.map(Preset::spp)).unwrap_or(1024);
     if spp == 0 {
@@ -196,10 +190,7 @@ fn measure(tracer: &mut PathTracer<'_>, reference: &Image, spp: u32, args: &Conv
 
 /// Sample counts to measure at: `per_doubling` per doubling from 1 up to `spp`, always ending at `spp`.
 fn checkpoints(spp: u32, per_doubling: u32) -> Vec<u32> {
-    let mut counts: Vec<u32> = (0..)
-        .map(|i| 2f64.powf(f64::from(i) / f64::from(per_doubling)).round() as u32)
-        .take_while(|&n| n < spp)
-        .collect();
+    let mut counts: Vec<u32> = (0..).map(|i| 2f64.powf(f64::from(i) / f64::from(per_doubling)).round() as u32).take_while(|&n| n < spp).collect();
     counts.push(spp);
     counts.dedup();
     counts

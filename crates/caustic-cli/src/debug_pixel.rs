@@ -5,9 +5,9 @@ use crate::args::DebugPixelArgs;
 use anyhow::bail;
 use caustic_gpu::inspector::{BounceRecord, BsdfRecord, LightRecord, PathRecord, Primitive, SurfaceRecord};
 use caustic_gpu::{GpuContext, GpuScene, PathTracer, RenderSettings};
-use caustic_scene::{load_scene_with, Integrator, Scene, SceneSource};
+use caustic_scene::{Integrator, Scene, SceneSource, load_scene_with};
 use glam::Vec3;
-use serde_json::{json, Value};
+use serde_json::{Value, json};
 
 /// Runs `caustic debug-pixel`.
 pub fn run(args: &DebugPixelArgs) -> anyhow::Result<()> {
@@ -18,19 +18,9 @@ pub fn run(args: &DebugPixelArgs) -> anyhow::Result<()> {
     }
     let (width, height) = scene.resolution;
     if args.x >= width || args.y >= height {
-        bail!(
-            "pixel ({}, {}) is outside the {width}x{height} image (x in 0..{width}, y in 0..{height})",
-            args.x,
-            args.y
-        );
+        bail!("pixel ({}, {}) is outside the {width}x{height} image (x in 0..{width}, y in 0..{height})", args.x, args.y);
     }
-    let settings = RenderSettings {
-        integrator,
-        max_depth,
-        seed: args.overrides.seed,
-        first_sample: args.sample,
-        ..RenderSettings::default()
-    };
+    let settings = RenderSettings { integrator, max_depth, seed: args.overrides.seed, first_sample: args.sample, ..RenderSettings::default() };
     let ctx = GpuContext::new(args.adapter.as_deref())?;
     eprintln!("adapter: {}", ctx.adapter);
     let gpu = GpuScene::upload(&ctx, &scene)?;

@@ -45,12 +45,7 @@ pub fn log_log_svg(title: &str, x_label: &str, y_label: &str, series: &[Series<'
         let _ = writeln!(svg, r#"<text x="{}" y="{:.1}" text-anchor="end">1e{decade}</text>"#, left - 6.0, y + 4.0);
     }
     let _ = writeln!(svg, r#"<text x="{}" y="{}" text-anchor="middle">{}</text>"#, WIDTH / 2.0, HEIGHT - 12.0, escape(x_label));
-    let _ = writeln!(
-        svg,
-        r#"<text x="16" y="{0}" text-anchor="middle" transform="rotate(-90 16 {0})">{1}</text>"#,
-        HEIGHT / 2.0,
-        escape(y_label)
-    );
+    let _ = writeln!(svg, r#"<text x="16" y="{0}" text-anchor="middle" transform="rotate(-90 16 {0})">{1}</text>"#, HEIGHT / 2.0, escape(y_label));
     for (i, s) in series.iter().enumerate() {
         let colour = COLOURS[i % COLOURS.len()];
         let path: Vec<String> = s.points.iter().filter(|p| valid(p)).map(|&(x, y)| format!("{:.1},{:.1}", to_x(x), to_y(y))).collect();

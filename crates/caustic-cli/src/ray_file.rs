@@ -19,7 +19,7 @@ pub fn read_rays(path: &Path) -> anyhow::Result<Vec<ExternalRay>> {
 
 /// Parses ray records from bytes (see [`read_rays`]).
 pub fn parse_rays(bytes: &[u8]) -> anyhow::Result<Vec<ExternalRay>> {
-    if bytes.is_empty() || bytes.len() % RAY_RECORD_BYTES != 0 {
+    if bytes.is_empty() || !bytes.len().is_multiple_of(RAY_RECORD_BYTES) {
         bail!("{} bytes is not a whole, non-zero number of {RAY_RECORD_BYTES}-byte ray records", bytes.len());
     }
     bytes

@@ -50,6 +50,9 @@ pub struct RenderReport {
     bvh_nodes: usize,
     bvh_build_ms: f64,
     spp: u32,
+    /// Seconds spent creating the kernels (compiling them where the driver's cache lacks them),
+    /// before the first sample; not part of `seconds`.
+    compile_seconds: f64,
     seconds: f64,
     samples_per_second: f64,
     nonfinite_samples: u64,
@@ -73,14 +76,7 @@ pub struct RenderReport {
 impl RenderReport {
     /// The report of `rendered`, a render of `scene` written to `output` (no task index; the
     /// sample range drawn).
-    pub fn new(
-        ctx: &GpuContext,
-        scene: &Scene,
-        rendered: &Accumulated,
-        interrupted: bool,
-        fingerprint: String,
-        output: PathBuf,
-    ) -> RenderReport {
+    pub fn new(ctx: &GpuContext, scene: &Scene, rendered: &Accumulated, interrupted: bool, fingerprint: String, output: PathBuf) -> RenderReport {
         let (width, height) = scene.resolution;
         RenderReport {
             device: AdapterReport::of(ctx),
@@ -92,6 +88,7 @@ impl RenderReport {
             bvh_nodes: rendered.bvh_nodes,
             bvh_build_ms: rendered.bvh_build_ms,
             spp: rendered.spp,
+            compile_seconds: rendered.compile_seconds,
             seconds: rendered.seconds,
             samples_per_second: f64::from(width) * f64::from(height) * f64::from(rendered.spp) / rendered.seconds.max(1e-9),
             nonfinite_samples: rendered.nonfinite.iter().map(|&c| u64::from(c)).sum(),
@@ -185,15 +182,17 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     caustic_image::check_output_path(&output)?;
     let partial = is_exr(&output);
     if partial && args.bloom.is_some() {
-        crate::failure::usage!("--bloom applies to finished images: -o {} is a partial image for `caustic merge`; write .hdr or .png instead", output.display());
+        crate::failure::usage!(
+            "--bloom applies to finished images: -o {} is a partial image for `caustic merge`; write .hdr or .png instead",
+            output.display()
+        );
     }
     if !partial && (args.samples_from_env || args.resume) {
         let option = if args.resume { "--resume" } else { "--samples-from-env" };
         crate::failure::usage!("{option} writes a partial image for `caustic merge`: -o {} must end in .exr", output.display());
     }
     let (integrator, max_depth) = args.overrides.apply(&mut scene)?;
-    let mut settings =
-        RenderSettings { integrator, pass: scene.options.pass, max_depth, seed: args.overrides.seed, ..RenderSettings::default() };
+    let mut settings = RenderSettings { integrator, pass: scene.options.pass, max_depth, seed: args.overrides.seed, ..RenderSettings::default() };
     settings.debug = args.debug;
     settings.features = args.overrides.classic_features();
     settings.sampler = args.sampler.for_samples(budget.end());
@@ -231,12 +230,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         let written = write_part(&output, &scene, &print, rendered, previous)?;
         report.samples = [written.start, written.end];
         if interrupted || written.end < budget.end().unwrap_or(written.end) {
-            eprintln!(
-                "{} holds samples {}..{}: re-run the same command with --resume to add the rest",
-                output.display(),
-                written.start,
-                written.end
-            );
+            eprintln!("{} holds samples {}..{}: re-run the same command with --resume to add the rest", output.display(), written.start, written.end);
         }
     } else if let Some(view) = args.debug {
         save_debug_picture(view, &rendered, &output)?;
@@ -285,6 +279,8 @@ pub struct Accumulated {
     pub spp: u32,
     /// Seconds spent accumulating.
     pub seconds: f64,
+    /// Seconds spent creating (compiling) the kernels before the first sample.
+    pub compile_seconds: f64,
     /// The global sample range drawn.
     pub drawn: Range<u32>,
     triangles: usize,
@@ -295,18 +291,19 @@ pub struct Accumulated {
 
 /// Uploads `scene`, accumulates samples with a progress bar until the budget is spent or
 /// `interrupted` is set, and reads the result back.
-pub fn accumulate(
-    ctx: &GpuContext,
-    scene: &Scene,
-    settings: &RenderSettings,
-    budget: &Budget,
-    interrupted: &AtomicBool,
-) -> anyhow::Result<Accumulated> {
+pub fn accumulate(ctx: &GpuContext, scene: &Scene, settings: &RenderSettings, budget: &Budget, interrupted: &AtomicBool) -> anyhow::Result<Accumulated> {
     let gpu_scene = GpuScene::upload(ctx, scene)?;
     if let Some(note) = gpu_scene.layout_note() {
         eprintln!("{note}");
     }
-    let mut tracer = PathTracer::new(ctx, scene, &gpu_scene, settings)?;
+    // Kernels compile for seconds on a CPU device when the driver's cache lacks them: say so.
+    let compiling = ProgressBar::new_spinner().with_message("compiling the kernels");
+    compiling.enable_steady_tick(std::time::Duration::from_millis(100));
+    let compile_start = Instant::now();
+    let tracer = PathTracer::new(ctx, scene, &gpu_scene, settings);
+    let compile_seconds = compile_start.elapsed().as_secs_f64();
+    compiling.finish_and_clear();
+    let mut tracer = tracer?;
     let progress = progress_bar(budget);
     let start = Instant::now();
     let stop = || interrupted.load(Ordering::SeqCst) || budget.time_spent(start.elapsed().as_secs_f64());
@@ -325,6 +322,7 @@ pub fn accumulate(
         nonfinite: tracer.nonfinite_counts()?,
         spp: tracer.samples_per_pixel(),
         seconds,
+        compile_seconds,
         drawn: tracer.drawn_range(),
         triangles: gpu_scene.triangle_count,
         lights: gpu_scene.light_count,
@@ -335,13 +333,7 @@ pub fn accumulate(
 
 /// Writes `rendered` as a partial image (merged with the `previous` part of a resumed render)
 /// and returns the sample range the file holds.
-fn write_part(
-    output: &Path,
-    scene: &Scene,
-    print: &Fingerprint,
-    rendered: Accumulated,
-    previous: Option<PartialImage>,
-) -> anyhow::Result<Range<u32>> {
+fn write_part(output: &Path, scene: &Scene, print: &Fingerprint, rendered: Accumulated, previous: Option<PartialImage>) -> anyhow::Result<Range<u32>> {
     let info = PartInfo {
         width: rendered.image.width,
         height: rendered.image.height,
@@ -435,13 +427,7 @@ fn previous_part(output: &Path, print: &Fingerprint, budget: &mut Budget) -> any
         );
     }
     if range.start != budget.first_sample {
-        bail!(
-            "--resume: {} holds samples {}..{}, which do not start at sample {} asked for",
-            output.display(),
-            range.start,
-            range.end,
-            budget.first_sample
-        );
+        bail!("--resume: {} holds samples {}..{}, which do not start at sample {} asked for", output.display(), range.start, range.end, budget.first_sample);
     }
     if let Some(end) = budget.end() {
         if range.end > end {
@@ -476,12 +462,7 @@ fn report_already_complete(output: &Path, part: &PartialImage, json: bool) -> an
 
 /// The pixels with the most non-finite samples, as (x, y, count), at most 16.
 fn worst_pixels(counts: &[u32], width: u32) -> Vec<(u32, u32, u32)> {
-    let mut pixels: Vec<(u32, u32, u32)> = counts
-        .iter()
-        .enumerate()
-        .filter(|(_, c)| **c > 0)
-        .map(|(i, &c)| (i as u32 % width, i as u32 / width, c))
-        .collect();
+    let mut pixels: Vec<(u32, u32, u32)> = counts.iter().enumerate().filter(|(_, c)| **c > 0).map(|(i, &c)| (i as u32 % width, i as u32 / width, c)).collect();
     pixels.sort_by_key(|p| std::cmp::Reverse(p.2));
     pixels.truncate(16);
     pixels

@@ -34,7 +34,9 @@ impl InputArgs {
 pub fn parse_environment(text: &str, limits: &caustic_scene::InputLimits) -> anyhow::Result<Environment> {
     let sky: Vec<&str> = text.split(':').collect();
     match sky.as_slice() {
-        ["sky", zenith, horizon] => return Ok(Environment::Map(EnvironmentMap::gradient_sky(environment_color(text, zenith)?, environment_color(text, horizon)?))),
+        ["sky", zenith, horizon] => {
+            return Ok(Environment::Map(EnvironmentMap::gradient_sky(environment_color(text, zenith)?, environment_color(text, horizon)?)));
+        }
         ["overcast", zenith] => return Ok(Environment::Map(EnvironmentMap::overcast_sky(environment_color(text, zenith)?))),
         ["sky" | "overcast", ..] => crate::failure::usage!("--environment {text}: expected sky:ZENITH:HORIZON or overcast:ZENITH (colours `1` or `r,g,b`)"),
         _ => {}

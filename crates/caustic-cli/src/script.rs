@@ -4,14 +4,14 @@
 //! stops. LDR files get the classic clamp + `gamma` encoding unless `--tone-map` is given.
 
 use crate::args::{DeviceArgs, DisplayArgs, RenderArgs, SceneOverrides};
-use crate::fingerprint::fingerprint;
 use crate::failure::interrupt_flag;
+use crate::fingerprint::fingerprint;
 use crate::render::{Budget, RenderReport, accumulate, check_limits, print_report};
 use anyhow::Context;
 use caustic_gpu::{GpuContext, RenderSettings};
 use caustic_image::Image;
-use caustic_scene::{RenderPass, Scene};
 use caustic_scene::lang::{self, Action, PostProcess};
+use caustic_scene::{RenderPass, Scene};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};

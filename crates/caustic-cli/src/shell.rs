@@ -26,11 +26,7 @@ enum Input {
 impl Input {
     /// The editor when stdin is a terminal, else plain reading.
     fn open() -> anyhow::Result<Input> {
-        if std::io::stdin().is_terminal() {
-            Ok(Input::Editor(Box::new(DefaultEditor::new()?)))
-        } else {
-            Ok(Input::Plain(std::io::stdin().lock()))
-        }
+        if std::io::stdin().is_terminal() { Ok(Input::Editor(Box::new(DefaultEditor::new()?))) } else { Ok(Input::Plain(std::io::stdin().lock())) }
     }
 
     /// The next line, or `None` at the end of input. Ctrl-C at the prompt drops the line.

@@ -29,9 +29,8 @@ impl TaskIndex {
         let mut found: Option<TaskIndex> = None;
         for variable in INDEX_VARIABLES {
             let Some(text) = lookup(variable) else { continue };
-            let index = text.trim().parse::<u32>().with_context(|| {
-                format!("{variable}='{text}' is not a task index (a whole number from 0 to {})", u32::MAX)
-            })?;
+            let index =
+                text.trim().parse::<u32>().with_context(|| format!("{variable}='{text}' is not a task index (a whole number from 0 to {})", u32::MAX))?;
             if let Some(first) = &found {
                 if first.index != index {
                     bail!("{}={} and {variable}={index} are both set and disagree: which task is this?", first.variable, first.index);
@@ -41,18 +40,11 @@ impl TaskIndex {
             }
         }
         let Some(task) = found else {
-            bail!(
-                "no task index: neither JOB_COMPLETION_INDEX (Kubernetes Indexed Job) nor SLURM_ARRAY_TASK_ID (Slurm job array) is set"
-            );
+            bail!("no task index: neither JOB_COMPLETION_INDEX (Kubernetes Indexed Job) nor SLURM_ARRAY_TASK_ID (Slurm job array) is set");
         };
         if let Some(tasks) = tasks {
             if task.index >= tasks {
-                bail!(
-                    "{}={} is out of range: --tasks {tasks} allows indices 0..={}",
-                    task.variable,
-                    task.index,
-                    tasks.saturating_sub(1)
-                );
+                bail!("{}={} is out of range: --tasks {tasks} allows indices 0..={}", task.variable, task.index, tasks.saturating_sub(1));
             }
         }
         Ok(task)

@@ -14,12 +14,7 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
     }
     let mut scene = load_scene_with(&SceneSource::parse(&args.scene), &args.overrides.load_options())?;
     let (integrator, max_depth) = args.overrides.apply(&mut scene)?;
-    let script = args.frames.map(|frames| Script {
-        frames,
-        wait_for_spp: args.spp.is_some(),
-        screenshot: args.screenshot.clone(),
-        save: args.save.clone(),
-    });
+    let script = args.frames.map(|frames| Script { frames, wait_for_spp: args.spp.is_some(), screenshot: args.screenshot.clone(), save: args.save.clone() });
     let options = ViewerOptions {
         integrator,
         spp: args.spp.or(scene.options.spp).unwrap_or(DEFAULT_SPP),

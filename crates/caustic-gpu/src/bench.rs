@@ -61,9 +61,7 @@ pub fn is_coherent(rays: &[ExternalRay], scene_extent: f32) -> bool {
         .filter(|group| {
             let lead = group[0];
             let axis = lead.direction.normalize_or_zero();
-            group.iter().all(|ray| {
-                ray.origin.distance(lead.origin) <= tolerance && ray.direction.normalize_or_zero().dot(axis) >= COHERENT_COSINE
-            })
+            group.iter().all(|ray| ray.origin.distance(lead.origin) <= tolerance && ray.direction.normalize_or_zero().dot(axis) >= COHERENT_COSINE)
         })
         .count();
     total > 0 && 2 * coherent >= total
@@ -173,12 +171,9 @@ impl<'a> RayBench<'a> {
     /// Compiles the kernels and uploads `rays` to be traced as they are
     /// ([`RayKind::External`]). Errors when the set exceeds the device's storage binding.
     pub fn with_rays(ctx: &'a GpuContext, gpu: &GpuScene, rays: &[ExternalRay]) -> Result<Self, GpuError> {
-        let count = u32::try_from(rays.len())
-            .map_err(|_| GpuError::Scene(format!("{} rays: a ray set holds at most {} rays", rays.len(), u32::MAX)))?;
-        let packed: Vec<[f32; 8]> = rays
-            .iter()
-            .map(|r| [r.origin.x, r.origin.y, r.origin.z, f32::INFINITY, r.direction.x, r.direction.y, r.direction.z, 0.0])
-            .collect();
+        let count = u32::try_from(rays.len()).map_err(|_| GpuError::Scene(format!("{} rays: a ray set holds at most {} rays", rays.len(), u32::MAX)))?;
+        let packed: Vec<[f32; 8]> =
+            rays.iter().map(|r| [r.origin.x, r.origin.y, r.origin.z, f32::INFINITY, r.direction.x, r.direction.y, r.direction.z, 0.0]).collect();
         let params = BenchParams { width: count, height: 1, ..scene_params(gpu) };
         let mut bench = Self::with_params(ctx, gpu, params, Some(bytemuck::cast_slice(&packed)))?;
         let extent = (gpu.bounds.1 - gpu.bounds.0).max_element();
@@ -362,21 +357,22 @@ fn scene_params(gpu: &GpuScene) -> BenchParams {
 }
 
 fn bind_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
-    let entry = |binding, ty| wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::COMPUTE,
-        ty,
-        count: None,
-    };
-    let storage = |read_only| wgpu::BindingType::Buffer {
-        ty: wgpu::BufferBindingType::Storage { read_only },
-        has_dynamic_offset: false,
-        min_binding_size: None,
-    };
+    let entry = |binding, ty| wgpu::BindGroupLayoutEntry { binding, visibility: wgpu::ShaderStages::COMPUTE, ty, count: None };
+    let storage =
+        |read_only| wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Storage { read_only }, has_dynamic_offset: false, min_binding_size: None };
     let uniform = wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Uniform, has_dynamic_offset: false, min_binding_size: None };
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some("ray bench"),
-        entries: &[entry(0, uniform), entry(1, storage(true)), entry(2, storage(true)), entry(3, storage(false)), entry(4, storage(false)), entry(9, storage(true)), entry(10, storage(true)), entry(11, storage(true))],
+        entries: &[
+            entry(0, uniform),
+            entry(1, storage(true)),
+            entry(2, storage(true)),
+            entry(3, storage(false)),
+            entry(4, storage(false)),
+            entry(9, storage(true)),
+            entry(10, storage(true)),
+            entry(11, storage(true)),
+        ],
     })
 }
 

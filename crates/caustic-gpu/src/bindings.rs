@@ -71,7 +71,8 @@ pub const INTEGRATOR_BINDINGS: [Binding; 12] =
 
 /// The layout entries of [`INTEGRATOR_BINDINGS`], visible to compute shaders.
 pub fn layout_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
-    let buffer = |read_only| wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Storage { read_only }, has_dynamic_offset: false, min_binding_size: None };
+    let buffer =
+        |read_only| wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Storage { read_only }, has_dynamic_offset: false, min_binding_size: None };
     INTEGRATOR_BINDINGS
         .iter()
         .map(|b| wgpu::BindGroupLayoutEntry {

@@ -153,14 +153,17 @@ impl Bloom {
     pub fn new(ctx: &GpuContext) -> Result<Bloom, GpuError> {
         let device = &ctx.device;
         let layout = bind_group_layout(device);
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("bloom"),
-            bind_group_layouts: &[Some(&layout)],
-            immediate_size: 0,
-        });
+        let pipeline_layout =
+            device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("bloom"), bind_group_layouts: &[Some(&layout)], immediate_size: 0 });
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("bloom"), source: wgpu::ShaderSource::Wgsl(BLOOM.source.into()) });
         let pipeline = |entry: &str| ctx.compute_pipeline(&pipeline_layout, &module, entry);
-        let bloom = Bloom { extract: pipeline("bloom_extract"), rows: pipeline("bloom_rows"), columns: pipeline("bloom_columns"), combine: pipeline("bloom_combine"), layout };
+        let bloom = Bloom {
+            extract: pipeline("bloom_extract"),
+            rows: pipeline("bloom_rows"),
+            columns: pipeline("bloom_columns"),
+            combine: pipeline("bloom_combine"),
+            layout,
+        };
         ctx.check()?;
         Ok(bloom)
     }
@@ -177,7 +180,14 @@ impl Bloom {
         }
         let storage = wgpu::BufferUsages::STORAGE;
         let input = ctx.buffer_with_data("bloom image", bytemuck::cast_slice(&image.pixels), storage);
-        let work = |label| ctx.device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size: bytes, usage: storage | wgpu::BufferUsages::COPY_SRC, mapped_at_creation: false });
+        let work = |label| {
+            ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: bytes,
+                usage: storage | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            })
+        };
         let (bright, scratch, halo, result) = (work("bloom bright"), work("bloom scratch"), work("bloom halo"), work("bloom result"));
         let kernels = settings.kernels();
         let weights = ctx.buffer_with_data("bloom weights", bytemuck::cast_slice(&kernels.concat()), storage);

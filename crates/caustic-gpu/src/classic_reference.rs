@@ -8,13 +8,13 @@
 
 use crate::classic::is_extended;
 use crate::features::{
-    ClassicFeatures, FeatureConstants, FEATURE_ENVIRONMENT_REFLECTIONS, FEATURE_FROSTED, FEATURE_GLOSSY, FEATURE_LIGHT_TRANSPARENCY, FEATURE_REFLECTION,
-    FEATURE_REFRACTION, FEATURE_SHADOWS, FEATURE_SMOOTH_NORMALS,
+    ClassicFeatures, FEATURE_ENVIRONMENT_REFLECTIONS, FEATURE_FROSTED, FEATURE_GLOSSY, FEATURE_LIGHT_TRANSPARENCY, FEATURE_REFLECTION, FEATURE_REFRACTION,
+    FEATURE_SHADOWS, FEATURE_SMOOTH_NORMALS, FeatureConstants,
 };
-use crate::gpu_types::{checker_odd, toon_ramp, GpuLight, GpuMaterial, CHECKER_DARK, FLAG_VERTEX_NORMALS, MATERIAL_CHECKERS, MATERIAL_FLAT};
-use crate::scene_data::{SceneData, LIGHT_DIRECTIONAL, LIGHT_FLAG_CLASSIC, LIGHT_POINT};
+use crate::gpu_types::{CHECKER_DARK, FLAG_VERTEX_NORMALS, GpuLight, GpuMaterial, MATERIAL_CHECKERS, MATERIAL_FLAT, checker_odd, toon_ramp};
+use crate::scene_data::{LIGHT_DIRECTIONAL, LIGHT_FLAG_CLASSIC, LIGHT_POINT, SceneData};
 use caustic_bsdf::{fresnel_dielectric, fresnel_schlick, reflect, refract};
-use caustic_bvh::{closest_hit_brute_force, Hit, Ray};
+use caustic_bvh::{Hit, Ray, closest_hit_brute_force};
 use caustic_scene::{Environment, Scene};
 use glam::Vec3;
 
@@ -263,11 +263,7 @@ pub fn classic_fresnel(cos_i: f32, eta: f32, mode: u32) -> f32 {
 
 /// c^s for a highlight cosine c, 0 where c <= 0.
 fn highlight_power(c: f32, shininess: f32) -> f32 {
-    if c <= 0.0 {
-        0.0
-    } else {
-        c.powf(shininess)
-    }
+    if c <= 0.0 { 0.0 } else { c.powf(shininess) }
 }
 
 /// Origin of a ray leaving `si` along `direction` (`spawn_ray`).

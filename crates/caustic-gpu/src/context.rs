@@ -43,10 +43,8 @@ impl GpuContext {
     /// Opens a device on the adapter whose name contains `wanted` (case-insensitive), or on the
     /// best adapter present (discrete, integrated, virtual, then CPU) when `wanted` is `None`.
     pub fn new(wanted: Option<&str>) -> Result<GpuContext, GpuError> {
-        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor {
-            backends: wgpu::Backends::VULKAN,
-            ..wgpu::InstanceDescriptor::new_without_display_handle()
-        });
+        let instance =
+            wgpu::Instance::new(wgpu::InstanceDescriptor { backends: wgpu::Backends::VULKAN, ..wgpu::InstanceDescriptor::new_without_display_handle() });
         let adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::VULKAN));
         let adapter = GpuContext::choose_adapter(adapters, wanted)?;
         let info = adapter.get_info();
@@ -113,9 +111,7 @@ impl GpuContext {
 
     /// Blocks until all submitted work is done, then reports any device error.
     pub fn wait(&self) -> Result<(), GpuError> {
-        self.device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .map_err(|e| GpuError::Runtime(format!("waiting for the device failed: {e}")))?;
+        self.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| GpuError::Runtime(format!("waiting for the device failed: {e}")))?;
         self.check()
     }
 
@@ -141,7 +137,13 @@ impl GpuContext {
     }
 
     /// [`GpuContext::compute_pipeline`] with values for the module's override constants.
-    pub fn compute_pipeline_with(&self, layout: &wgpu::PipelineLayout, module: &wgpu::ShaderModule, entry: &str, constants: &[(&str, f64)]) -> wgpu::ComputePipeline {
+    pub fn compute_pipeline_with(
+        &self,
+        layout: &wgpu::PipelineLayout,
+        module: &wgpu::ShaderModule,
+        entry: &str,
+        constants: &[(&str, f64)],
+    ) -> wgpu::ComputePipeline {
         self.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some(entry),
             layout: Some(layout),
@@ -161,7 +163,7 @@ impl GpuContext {
 
     /// Largest storage buffer binding the device allows, in bytes.
     pub fn max_storage_binding(&self) -> u64 {
-        u64::from(self.limits.max_storage_buffer_binding_size).min(self.limits.max_buffer_size)
+        self.limits.max_storage_buffer_binding_size.min(self.limits.max_buffer_size)
     }
 }
 

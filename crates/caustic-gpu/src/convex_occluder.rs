@@ -12,10 +12,10 @@
 //! `SHADOW_CONVEX_OCCLUDERS` override (`shaders/bvh/hit.wgsl`) is on; closest-hit rays still
 //! test every triangle.
 
+use crate::convex_solid::{SceneSolids, SolidPlane, light_corners, outward};
 use crate::gpu_types::GpuLight;
 use crate::requirements::REQUIRES_PLANES;
 use crate::scene_data::{LIGHT_DIRECTIONAL, LIGHT_ENVIRONMENT};
-use crate::convex_solid::{SceneSolids, SolidPlane, light_corners, outward};
 use caustic_bvh::{GpuBvh, SHAPE_BIT};
 use glam::{DVec3, Vec3};
 
@@ -56,10 +56,7 @@ impl ConvexOccluders {
                 let mut others = (0..scene.len()).filter(|slot| solid.slots.binary_search(&(*slot as u32)).is_err());
                 others.all(|slot| beyond_a_plane(&solid.planes, &scene[slot], tolerance) || beyond_own_plane(&bvh.triangles[slot], &corners, tolerance))
             })
-            .map(|solid| ConvexOccluder {
-                slots: solid.slots.clone(),
-                planes: solid.planes.iter().map(|p| (p.normal.as_vec3(), p.offset as f32)).collect(),
-            })
+            .map(|solid| ConvexOccluder { slots: solid.slots.clone(), planes: solid.planes.iter().map(|p| (p.normal.as_vec3(), p.offset as f32)).collect() })
             .collect();
         ConvexOccluders { occluders, tolerance }
     }
@@ -75,9 +72,7 @@ impl ConvexOccluders {
             return false;
         }
         let outside = |points: &[DVec3]| {
-            self.occluders.iter().all(|o| {
-                o.planes.iter().any(|&(n, c)| points.iter().all(|p| n.as_dvec3().dot(*p) - f64::from(c) > self.tolerance))
-            })
+            self.occluders.iter().all(|o| o.planes.iter().any(|&(n, c)| points.iter().all(|p| n.as_dvec3().dot(*p) - f64::from(c) > self.tolerance)))
         };
         lights.iter().all(|light| match light.kind {
             LIGHT_DIRECTIONAL | LIGHT_ENVIRONMENT => true,
@@ -144,7 +139,15 @@ mod tests {
         let triangles = room();
         let bvh = bvh_of(&triangles);
         let found = ConvexOccluders::new(&bvh);
-        let ids: Vec<Vec<u32>> = found.occluders.iter().map(|o| { let mut ids: Vec<u32> = o.slots.iter().map(|&s| bvh.triangles[s as usize].id).collect(); ids.sort(); ids }).collect();
+        let ids: Vec<Vec<u32>> = found
+            .occluders
+            .iter()
+            .map(|o| {
+                let mut ids: Vec<u32> = o.slots.iter().map(|&s| bvh.triangles[s as usize].id).collect();
+                ids.sort();
+                ids
+            })
+            .collect();
         assert_eq!(ids.len(), 2, "the cube and the open box: {ids:?}");
         assert!(ids.contains(&(12..24).collect()) && ids.contains(&(24..34).collect()), "{ids:?}");
         assert!(found.occluders.iter().all(|o| o.planes.len() == 6), "six planes each, the floor closing the open box");

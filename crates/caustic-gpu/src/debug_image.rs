@@ -6,13 +6,10 @@
 //! pixel where any sample was non-finite, over the dimmed image.
 
 use crate::DebugView;
-use caustic_image::{srgb_to_linear, Image, SaveOptions, ToneMap};
+use caustic_image::{Image, SaveOptions, ToneMap, srgb_to_linear};
 
 /// How a debug picture is saved: its colours are final, so no exposure and no tone curve.
-pub const DEBUG_SAVE_OPTIONS: SaveOptions = SaveOptions {
-    exposure: 0.0,
-    tone_map: ToneMap::Clamp,
-};
+pub const DEBUG_SAVE_OPTIONS: SaveOptions = SaveOptions { exposure: 0.0, tone_map: ToneMap::Clamp };
 
 /// Rows the legend adds under a heat map.
 pub const LEGEND_ROWS: u32 = 10;
@@ -35,38 +32,19 @@ pub fn debug_picture(view: DebugView, image: &Image, nonfinite: &[u32]) -> Debug
     match view {
         DebugView::NodeVisits | DebugView::PrimitiveTests | DebugView::Bounces => heat_map(image),
         DebugView::BvhLevel => level_map(image),
-        DebugView::MaterialId => DebugPicture {
-            image: map_pixels(image, |p| id_color(p[0])),
-            legend_range: None,
-            marked: None,
-        },
-        DebugView::Uv | DebugView::Albedo => DebugPicture {
-            image: image.clone(),
-            legend_range: None,
-            marked: None,
-        },
+        DebugView::MaterialId => DebugPicture { image: map_pixels(image, |p| id_color(p[0])), legend_range: None, marked: None },
+        DebugView::Uv | DebugView::Albedo => DebugPicture { image: image.clone(), legend_range: None, marked: None },
         DebugView::NonFinite => nonfinite_marks(image, nonfinite),
     }
 }
 
 fn map_pixels(image: &Image, f: impl Fn([f32; 3]) -> [f32; 3]) -> Image {
-    Image {
-        width: image.width,
-        height: image.height,
-        pixels: image.pixels.iter().map(|&p| f(p)).collect(),
-    }
+    Image { width: image.width, height: image.height, pixels: image.pixels.iter().map(|&p| f(p)).collect() }
 }
 
 /// Counts as colours from black (0) to light yellow (the image's largest count, rounded up).
 fn heat_map(image: &Image) -> DebugPicture {
-    let max = image
-        .pixels
-        .iter()
-        .map(|p| p[0])
-        .filter(|v| v.is_finite())
-        .fold(0.0f32, f32::max)
-        .ceil()
-        .max(1.0);
+    let max = image.pixels.iter().map(|p| p[0]).filter(|v| v.is_finite()).fold(0.0f32, f32::max).ceil().max(1.0);
     ramp_picture(image, 0.0, max, |v| heat_color(v / max))
 }
 
@@ -82,11 +60,7 @@ fn level_map(image: &Image) -> DebugPicture {
     let low = hit_levels().fold(f32::INFINITY, f32::min).floor();
     let (low, high) = if low.is_finite() { (low, hit_levels().fold(low, f32::max).ceil()) } else { (1.0, 1.0) };
     let color = move |v: f32| {
-        if v > 0.0 {
-            heat_color(LEVEL_RAMP_START + (1.0 - LEVEL_RAMP_START) * (v - low) / (high - low).max(1.0))
-        } else {
-            [0.0; 3]
-        }
+        if v > 0.0 { heat_color(LEVEL_RAMP_START + (1.0 - LEVEL_RAMP_START) * (v - low) / (high - low).max(1.0)) } else { [0.0; 3] }
     };
     ramp_picture(image, low, high, color)
 }
@@ -98,22 +72,12 @@ fn ramp_picture(image: &Image, low: f32, high: f32, color: impl Fn(f32) -> [f32;
     let legend = legend(image.width, low, high, &color);
     picture.height += LEGEND_ROWS;
     picture.pixels.extend(legend);
-    DebugPicture {
-        image: picture,
-        legend_range: Some((low, high)),
-        marked: None,
-    }
+    DebugPicture { image: picture, legend_range: Some((low, high)), marked: None }
 }
 
 /// The heat colour of `x` in [0, 1] (linear RGB), interpolated between sRGB stops.
 pub fn heat_color(x: f32) -> [f32; 3] {
-    const STOPS: [[f32; 3]; 5] = [
-        [0.0, 0.0, 0.0],
-        [0.25, 0.05, 0.55],
-        [0.85, 0.15, 0.25],
-        [1.0, 0.6, 0.0],
-        [1.0, 1.0, 0.7],
-    ];
+    const STOPS: [[f32; 3]; 5] = [[0.0, 0.0, 0.0], [0.25, 0.05, 0.55], [0.85, 0.15, 0.25], [1.0, 0.6, 0.0], [1.0, 1.0, 0.7]];
     let x = if x.is_finite() { x.clamp(0.0, 1.0) } else { 1.0 };
     let scaled = x * (STOPS.len() - 1) as f32;
     let i = (scaled as usize).min(STOPS.len() - 2);
@@ -155,11 +119,7 @@ fn nonfinite_marks(image: &Image, nonfinite: &[u32]) -> DebugPicture {
             marked += 1;
         }
     }
-    DebugPicture {
-        image: picture,
-        legend_range: None,
-        marked: Some(marked),
-    }
+    DebugPicture { image: picture, legend_range: None, marked: Some(marked) }
 }
 
 /// The legend rows: a black row, the colour bar of `color` from `low` to `high`, and `low`

@@ -64,6 +64,12 @@ fn byte_size(bytes: u64) -> String {
         value /= 1024.0;
         unit += 1;
     }
-    let decimals = if value.fract() == 0.0 || value >= 100.0 { 0 } else if value >= 10.0 { 1 } else { 2 };
+    let decimals = if value.fract() == 0.0 || value >= 100.0 {
+        0
+    } else if value >= 10.0 {
+        1
+    } else {
+        2
+    };
     format!("{value:.decimals$} {}", UNITS[unit])
 }

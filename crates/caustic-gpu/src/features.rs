@@ -80,22 +80,118 @@ const FROST_SAMPLES: usize = 15;
 
 /// Every feature, in `--feature` order.
 pub const FEATURES: [FeatureInfo; 16] = [
-    FeatureInfo { name: "shadows", kind: FeatureKind::Toggle(FEATURE_SHADOWS), what: "shadow rays towards every light sample", default: "on", cost: "one shadow ray per light sample" },
-    FeatureInfo { name: "soft-shadows", kind: FeatureKind::Toggle(FEATURE_SOFT_SHADOWS), what: "area, sphere, disk and spread lights sampled at `light-samples` random points per pass (off: one fixed point, hard shadows)", default: "on where the scene has such a light", cost: "`light-samples` light samples per extended light" },
-    FeatureInfo { name: "light-transparency", kind: FeatureKind::Toggle(FEATURE_LIGHT_TRANSPARENCY), what: "shadow rays pass transparent surfaces, tinted by each one's transmittance colour (off: blocked)", default: "on where a material is transparent", cost: "one closest-hit query per surface crossed (at most 8)" },
-    FeatureInfo { name: "reflection", kind: FeatureKind::Toggle(FEATURE_REFLECTION), what: "recursive mirror reflection weighted by specular colour + reflectance", default: "on where a material reflects", cost: "one ray per reflecting hit" },
-    FeatureInfo { name: "refraction", kind: FeatureKind::Toggle(FEATURE_REFRACTION), what: "recursive refraction (Snell), Fresnel split, total internal reflection", default: "on where a material is transparent", cost: "one more ray per transparent hit" },
-    FeatureInfo { name: "glossy", kind: FeatureKind::Toggle(FEATURE_GLOSSY), what: "reflections perturbed over a disk of radius `gloss` around the mirror direction", default: "on where a reflecting material has gloss", cost: "`gloss-samples` rays instead of one per glossy reflection" },
-    FeatureInfo { name: "smooth-normals", kind: FeatureKind::Toggle(FEATURE_SMOOTH_NORMALS), what: "barycentric interpolation of vertex normals (off: flat facets)", default: "on", cost: "none measurable" },
-    FeatureInfo { name: "environment-reflections", kind: FeatureKind::Toggle(FEATURE_ENVIRONMENT_REFLECTIONS), what: "reflected and refracted rays that leave the scene see the environment (off: black; camera rays always see it)", default: "on", cost: "one environment lookup per escaping ray" },
-    FeatureInfo { name: "shading", kind: FeatureKind::Choice { values: &["lambert", "phong", "blinn-phong"], on: 2, off: 0 }, what: "highlight model: none, Phong (R.V)^shininess or Blinn-Phong (N.H)^shininess, times the specular colour", default: "blinn-phong (the CSE167 model)", cost: "a few instructions per light sample" },
-    FeatureInfo { name: "fresnel", kind: FeatureKind::Choice { values: &["off", "schlick", "exact"], on: 2, off: 0 }, what: "share of a transparent surface's light reflected: none (total internal reflection only), Schlick's approximation, or the exact dielectric equations", default: "exact", cost: "a few instructions per transparent hit" },
-    FeatureInfo { name: "texture-filter", kind: FeatureKind::Choice { values: &["material", "nearest", "bilinear", "trilinear"], on: 0, off: 1 }, what: "texture lookups: each texture's own sampler, or nearest, bilinear, trilinear (mip-mapped) for all (also in the path tracer)", default: "material", cost: "trilinear reads 8 texels, bilinear 4, nearest 1" },
-    FeatureInfo { name: "light-samples", kind: FeatureKind::Count, what: "samples per extended light and pass with soft shadows on; chosen, it overrides every light's own count", default: "each light's `arealightsamples`, else the scene's `lightsamples` (1)", cost: "linear in the count" },
-    FeatureInfo { name: "gloss-samples", kind: FeatureKind::Count, what: "reflected directions per glossy reflection and pass (as many as the 16-ray stack holds)", default: "the scene language's `glosssamples` (1)", cost: "linear in the count" },
-    FeatureInfo { name: "motion-blur", kind: FeatureKind::Toggle(FEATURE_MOTION_BLUR), what: "objects given a motion move over the shutter and each path sees them at its own time, in every integrator (off: they stand still at shutter open)", default: "on where something moves", cost: "one ray transform per moving primitive tested, boxes swept over the shutter (the motion scene: 1.45x the still frame's time)" },
-    FeatureInfo { name: "frosted", kind: FeatureKind::Toggle(FEATURE_FROSTED), what: "refractions perturbed over a disk of radius `frost` around the refracted direction (off: sharp refraction)", default: "on where a transparent material has frost", cost: "`frost-samples` rays instead of one per frosted refraction" },
-    FeatureInfo { name: "frost-samples", kind: FeatureKind::Count, what: "refracted directions per frosted refraction and pass (as many as the 16-ray stack holds)", default: "the scene language's `frostsamples` (1)", cost: "linear in the count" },
+    FeatureInfo {
+        name: "shadows",
+        kind: FeatureKind::Toggle(FEATURE_SHADOWS),
+        what: "shadow rays towards every light sample",
+        default: "on",
+        cost: "one shadow ray per light sample",
+    },
+    FeatureInfo {
+        name: "soft-shadows",
+        kind: FeatureKind::Toggle(FEATURE_SOFT_SHADOWS),
+        what: "area, sphere, disk and spread lights sampled at `light-samples` random points per pass (off: one fixed point, hard shadows)",
+        default: "on where the scene has such a light",
+        cost: "`light-samples` light samples per extended light",
+    },
+    FeatureInfo {
+        name: "light-transparency",
+        kind: FeatureKind::Toggle(FEATURE_LIGHT_TRANSPARENCY),
+        what: "shadow rays pass transparent surfaces, tinted by each one's transmittance colour (off: blocked)",
+        default: "on where a material is transparent",
+        cost: "one closest-hit query per surface crossed (at most 8)",
+    },
+    FeatureInfo {
+        name: "reflection",
+        kind: FeatureKind::Toggle(FEATURE_REFLECTION),
+        what: "recursive mirror reflection weighted by specular colour + reflectance",
+        default: "on where a material reflects",
+        cost: "one ray per reflecting hit",
+    },
+    FeatureInfo {
+        name: "refraction",
+        kind: FeatureKind::Toggle(FEATURE_REFRACTION),
+        what: "recursive refraction (Snell), Fresnel split, total internal reflection",
+        default: "on where a material is transparent",
+        cost: "one more ray per transparent hit",
+    },
+    FeatureInfo {
+        name: "glossy",
+        kind: FeatureKind::Toggle(FEATURE_GLOSSY),
+        what: "reflections perturbed over a disk of radius `gloss` around the mirror direction",
+        default: "on where a reflecting material has gloss",
+        cost: "`gloss-samples` rays instead of one per glossy reflection",
+    },
+    FeatureInfo {
+        name: "smooth-normals",
+        kind: FeatureKind::Toggle(FEATURE_SMOOTH_NORMALS),
+        what: "barycentric interpolation of vertex normals (off: flat facets)",
+        default: "on",
+        cost: "none measurable",
+    },
+    FeatureInfo {
+        name: "environment-reflections",
+        kind: FeatureKind::Toggle(FEATURE_ENVIRONMENT_REFLECTIONS),
+        what: "reflected and refracted rays that leave the scene see the environment (off: black; camera rays always see it)",
+        default: "on",
+        cost: "one environment lookup per escaping ray",
+    },
+    FeatureInfo {
+        name: "shading",
+        kind: FeatureKind::Choice { values: &["lambert", "phong", "blinn-phong"], on: 2, off: 0 },
+        what: "highlight model: none, Phong (R.V)^shininess or Blinn-Phong (N.H)^shininess, times the specular colour",
+        default: "blinn-phong (the CSE167 model)",
+        cost: "a few instructions per light sample",
+    },
+    FeatureInfo {
+        name: "fresnel",
+        kind: FeatureKind::Choice { values: &["off", "schlick", "exact"], on: 2, off: 0 },
+        what: "share of a transparent surface's light reflected: none (total internal reflection only), Schlick's approximation, or the exact dielectric equations",
+        default: "exact",
+        cost: "a few instructions per transparent hit",
+    },
+    FeatureInfo {
+        name: "texture-filter",
+        kind: FeatureKind::Choice { values: &["material", "nearest", "bilinear", "trilinear"], on: 0, off: 1 },
+        what: "texture lookups: each texture's own sampler, or nearest, bilinear, trilinear (mip-mapped) for all (also in the path tracer)",
+        default: "material",
+        cost: "trilinear reads 8 texels, bilinear 4, nearest 1",
+    },
+    FeatureInfo {
+        name: "light-samples",
+        kind: FeatureKind::Count,
+        what: "samples per extended light and pass with soft shadows on; chosen, it overrides every light's own count",
+        default: "each light's `arealightsamples`, else the scene's `lightsamples` (1)",
+        cost: "linear in the count",
+    },
+    FeatureInfo {
+        name: "gloss-samples",
+        kind: FeatureKind::Count,
+        what: "reflected directions per glossy reflection and pass (as many as the 16-ray stack holds)",
+        default: "the scene language's `glosssamples` (1)",
+        cost: "linear in the count",
+    },
+    FeatureInfo {
+        name: "motion-blur",
+        kind: FeatureKind::Toggle(FEATURE_MOTION_BLUR),
+        what: "objects given a motion move over the shutter and each path sees them at its own time, in every integrator (off: they stand still at shutter open)",
+        default: "on where something moves",
+        cost: "one ray transform per moving primitive tested, boxes swept over the shutter (the motion scene: 1.45x the still frame's time)",
+    },
+    FeatureInfo {
+        name: "frosted",
+        kind: FeatureKind::Toggle(FEATURE_FROSTED),
+        what: "refractions perturbed over a disk of radius `frost` around the refracted direction (off: sharp refraction)",
+        default: "on where a transparent material has frost",
+        cost: "`frost-samples` rays instead of one per frosted refraction",
+    },
+    FeatureInfo {
+        name: "frost-samples",
+        kind: FeatureKind::Count,
+        what: "refracted directions per frosted refraction and pass (as many as the 16-ray stack holds)",
+        default: "the scene language's `frostsamples` (1)",
+        cost: "linear in the count",
+    },
 ];
 
 /// The switches a render asks for: each feature's chosen value, or the scene's default.
@@ -160,10 +256,12 @@ impl ClassicFeatures {
                 mask |= if on { bit } else { 0 };
             }
         }
-        let choice = |index: usize| u32::from(self.chosen[index].unwrap_or(match FEATURES[index].kind {
-            FeatureKind::Choice { on, .. } => on,
-            _ => 0,
-        }));
+        let choice = |index: usize| {
+            u32::from(self.chosen[index].unwrap_or(match FEATURES[index].kind {
+                FeatureKind::Choice { on, .. } => on,
+                _ => 0,
+            }))
+        };
         FeatureConstants { mask, shading: choice(SHADING), fresnel: choice(FRESNEL), texture_filter: choice(TEXTURE_FILTER) }
     }
 

@@ -121,7 +121,13 @@ impl PixelFilter {
                 let start = -f64::from(self.radius) + bin as f64 * width;
                 let (mut abs, mut signed) = (0.0, 0.0);
                 for k in 0..=steps {
-                    let coefficient = if k == 0 || k == steps { 1.0 } else if k % 2 == 1 { 4.0 } else { 2.0 };
+                    let coefficient = if k == 0 || k == steps {
+                        1.0
+                    } else if k % 2 == 1 {
+                        4.0
+                    } else {
+                        2.0
+                    };
                     let f = f64::from(self.eval((start + k as f64 * h) as f32));
                     abs += coefficient * f.abs();
                     signed += coefficient * f;
@@ -167,19 +173,11 @@ pub fn sample_filter_1d(table: &PixelSampling, filter: &PixelFilter, u: f32) -> 
 
 /// Mitchell-Netravali with B = C = 1/3 at |x| in [0, 2], factored as `mitchell_1d` in WGSL.
 fn mitchell_1d(x: f32) -> f32 {
-    if x > 1.0 {
-        (2.0 - x) * (2.0 - x) * (8.0 - 7.0 * x) / 18.0
-    } else {
-        (21.0 * x * x * x - 36.0 * x * x + 16.0) / 18.0
-    }
+    if x > 1.0 { (2.0 - x) * (2.0 - x) * (8.0 - 7.0 * x) / 18.0 } else { (21.0 * x * x * x - 36.0 * x * x + 16.0) / 18.0 }
 }
 
 fn sinc(x: f32) -> f32 {
-    if x < 1e-5 {
-        1.0
-    } else {
-        (std::f32::consts::PI * x).sin() / (std::f32::consts::PI * x)
-    }
+    if x < 1e-5 { 1.0 } else { (std::f32::consts::PI * x).sin() / (std::f32::consts::PI * x) }
 }
 
 #[cfg(test)]

@@ -5,8 +5,8 @@
 //! render, writing each ray, hit, BSDF sample, light sample and the path's throughput into a
 //! debug buffer ([`InspectRecord`]). This module decodes that buffer into a [`PathRecord`].
 
-use crate::gpu_types::{InspectBounce, InspectRecord, INSPECT_MAX_BOUNCES};
 use crate::GpuError;
+use crate::gpu_types::{INSPECT_MAX_BOUNCES, InspectBounce, InspectRecord};
 use glam::Vec3;
 
 const SHAPE_BIT: u32 = 0x8000_0000;
@@ -148,11 +148,7 @@ impl PathRecord {
             2 => Termination::MaxDepth,
             3 => Termination::RussianRoulette,
             4 => Termination::Absorbed,
-            other => {
-                return Err(GpuError::Runtime(format!(
-                    "the inspected path has no termination recorded (code {other})"
-                )))
-            }
+            other => return Err(GpuError::Runtime(format!("the inspected path has no termination recorded (code {other})"))),
         };
         let kept = (record.bounce_count as usize).min(INSPECT_MAX_BOUNCES);
         Ok(PathRecord {
@@ -172,11 +168,7 @@ impl BounceRecord {
         let hit = has(SURFACE).then(|| SurfaceRecord {
             t: b.t,
             point: Vec3::from(b.point),
-            primitive: if b.primitive & SHAPE_BIT != 0 {
-                Primitive::Shape(b.primitive & !SHAPE_BIT)
-            } else {
-                Primitive::Triangle(b.primitive)
-            },
+            primitive: if b.primitive & SHAPE_BIT != 0 { Primitive::Shape(b.primitive & !SHAPE_BIT) } else { Primitive::Triangle(b.primitive) },
             front_face: has(FRONT_FACE),
             shading_normal: Vec3::from(b.shading_normal),
             geometric_normal: Vec3::from(b.geometric_normal),
@@ -191,11 +183,7 @@ impl BounceRecord {
             mis_weight: b.light_mis_weight,
             contribution: Vec3::from(b.light_contribution),
         });
-        let bsdf = has(BSDF_SAMPLED).then(|| BsdfRecord {
-            wi: Vec3::from(b.bsdf_wi),
-            pdf: b.bsdf_pdf,
-            weight: Vec3::from(b.bsdf_weight),
-        });
+        let bsdf = has(BSDF_SAMPLED).then(|| BsdfRecord { wi: Vec3::from(b.bsdf_wi), pdf: b.bsdf_pdf, weight: Vec3::from(b.bsdf_weight) });
         BounceRecord {
             origin: Vec3::from(b.origin),
             direction: Vec3::from(b.direction),

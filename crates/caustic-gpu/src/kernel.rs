@@ -4,13 +4,13 @@
 //! [`Kernel`]s share one compiled pipeline; a change of any part recompiles.
 
 use crate::bake::BakedTables;
+use crate::features::FeatureConstants;
 use crate::path_tracer::depth_limit;
 use crate::render_settings::{DataPath, DebugView, RenderSettings};
 use crate::requirements::{REQUIRES_ALL, REQUIRES_INSPECTOR};
 use crate::shaders::Program;
 use crate::specialize::TRAVERSAL_FILE;
 use crate::{GpuContext, GpuScene};
-use crate::features::FeatureConstants;
 use caustic_scene::{Integrator, RenderPass};
 
 /// Everything that selects or specialises the compiled kernel.
@@ -117,22 +117,21 @@ impl Kernel {
             Some(tables) => tables.apply(&source),
             None => source,
         };
-        device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some(Program::PathTracer.label()),
-            source: wgpu::ShaderSource::Wgsl(source.into()),
-        })
+        device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some(Program::PathTracer.label()), source: wgpu::ShaderSource::Wgsl(source.into()) })
     }
 
     /// The pipeline of `entry_point` of `module` (made by [`Kernel::module`]) with the
     /// kernel's override constants, for bind groups of `layouts` (group 0 the integrators').
     pub fn pipeline(&self, device: &wgpu::Device, module: &wgpu::ShaderModule, layouts: &[&wgpu::BindGroupLayout], entry_point: &str) -> wgpu::ComputePipeline {
         let layouts: Vec<_> = layouts.iter().map(|l| Some(*l)).collect();
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("integrators"),
-            bind_group_layouts: &layouts,
-            immediate_size: 0,
-        });
-        let mut constants = vec![("SAMPLER", f64::from(self.sampler)), ("LOBE_MASK", f64::from(self.lobe_mask)), ("MOTION_BLUR", f64::from(u8::from(self.motion_blur))), ("ALPHA_TEST", f64::from(u8::from(self.alpha_test)))];
+        let pipeline_layout =
+            device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("integrators"), bind_group_layouts: &layouts, immediate_size: 0 });
+        let mut constants = vec![
+            ("SAMPLER", f64::from(self.sampler)),
+            ("LOBE_MASK", f64::from(self.lobe_mask)),
+            ("MOTION_BLUR", f64::from(u8::from(self.motion_blur))),
+            ("ALPHA_TEST", f64::from(u8::from(self.alpha_test))),
+        ];
         constants.extend(self.classic.overrides());
         constants.push(("BVH_LEVELS", f64::from(u8::from(self.bvh_levels))));
         constants.push(("SCENE_REQUIRES", f64::from(self.requirements)));
@@ -145,10 +144,7 @@ impl Kernel {
             layout: Some(&pipeline_layout),
             module,
             entry_point: Some(entry_point),
-            compilation_options: wgpu::PipelineCompilationOptions {
-                constants: &constants,
-                ..Default::default()
-            },
+            compilation_options: wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() },
             cache: None,
         })
     }

@@ -44,7 +44,8 @@ impl<'a> KernelTest<'a> {
         source.push_str("// ---- test kernel ----\n");
         source.push_str(test_source);
         source.push_str(ENTRY_POINT);
-        let module = ctx.device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("kernel test"), source: wgpu::ShaderSource::Wgsl(source.into()) });
+        let module =
+            ctx.device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("kernel test"), source: wgpu::ShaderSource::Wgsl(source.into()) });
         let pipeline = ctx.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some("kernel test"),
             layout: None,

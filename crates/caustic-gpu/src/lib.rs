@@ -8,15 +8,15 @@
 //! ([`inspector`]) and [`debug_image`] turns the debug views into pictures.
 
 pub mod bake;
-pub mod bindings;
 mod bench;
+pub mod bindings;
 pub mod bloom;
 pub mod classic;
 pub mod classic_reference;
 pub mod closest_solid;
+mod context;
 pub mod convex_occluder;
 pub mod convex_solid;
-mod context;
 pub mod debug_image;
 pub mod environment_sampling;
 mod error;
@@ -40,11 +40,11 @@ pub mod shadow_hull;
 pub mod specialize;
 pub mod wavefront;
 
-pub use bench::{is_coherent, BenchResult, ExternalRay, RayBench, RayKind, TracedRay, Walk};
+pub use bench::{BenchResult, ExternalRay, RayBench, RayKind, TracedRay, Walk, is_coherent};
 pub use context::{AdapterSummary, GpuContext};
 pub use error::GpuError;
 pub use path_tracer::{PassOutcome, PathTracer};
-pub use render_settings::{DataPath, DebugView, RenderSettings, Sampler, MAX_STRATA};
-pub use wavefront::KernelShape;
+pub use render_settings::{DataPath, DebugView, MAX_STRATA, RenderSettings, Sampler};
 pub use scene_buffers::{GpuScene, NodeLayout};
 pub use scene_data::{SceneData, bsdf_params, material_with_bsdf};
+pub use wavefront::KernelShape;

@@ -1,10 +1,10 @@
 //! The accumulating path tracer: one bounded dispatch per tile and sample pass.
 
 use crate::bindings;
-use crate::gpu_types::{PROJECTION_ORTHOGRAPHIC, PROJECTION_PERSPECTIVE, transport_flags, AccumTexel, Frame, InspectRecord, PixelSampling, NO_PIXEL};
+use crate::gpu_types::{AccumTexel, Frame, InspectRecord, NO_PIXEL, PROJECTION_ORTHOGRAPHIC, PROJECTION_PERSPECTIVE, PixelSampling, transport_flags};
 use crate::inspector::PathRecord;
-use crate::readback::read_buffer;
 use crate::kernel::Kernel;
+use crate::readback::read_buffer;
 use crate::render_settings::RenderSettings;
 use crate::wavefront::{KernelShape, Wavefront, WavefrontProfile};
 use crate::{GpuContext, GpuError, GpuScene};
@@ -408,11 +408,7 @@ fn accumulation_buffers(ctx: &GpuContext, (width, height): (u32, u32)) -> Result
     let pixels = u64::from(width) * u64::from(height);
     let accumulation_bytes = pixels * std::mem::size_of::<AccumTexel>() as u64;
     if accumulation_bytes > ctx.max_storage_binding() {
-        return Err(GpuError::Limit {
-            what: format!("the {width}x{height} accumulation buffer"),
-            need: accumulation_bytes,
-            limit: ctx.max_storage_binding(),
-        });
+        return Err(GpuError::Limit { what: format!("the {width}x{height} accumulation buffer"), need: accumulation_bytes, limit: ctx.max_storage_binding() });
     }
     let storage = |label, size| {
         ctx.device.create_buffer(&wgpu::BufferDescriptor {

@@ -23,9 +23,7 @@ pub fn read_buffer<T: bytemuck::Pod>(ctx: &GpuContext, buffer: &wgpu::Buffer) ->
         .recv()
         .map_err(|_| GpuError::Runtime("buffer mapping was never answered".into()))?
         .map_err(|e| GpuError::Runtime(format!("cannot map a buffer for reading: {e}")))?;
-    let view = staging
-        .get_mapped_range(..)
-        .map_err(|e| GpuError::Runtime(format!("cannot read a mapped buffer: {e}")))?;
+    let view = staging.get_mapped_range(..).map_err(|e| GpuError::Runtime(format!("cannot read a mapped buffer: {e}")))?;
     let data = bytemuck::cast_slice(&view).to_vec();
     drop(view);
     staging.unmap();

@@ -10,9 +10,7 @@
 
 use crate::SceneData;
 use crate::gpu_types::{FLAG_QUAD_LIGHT, FLAG_VERTEX_NORMALS, GpuLight, GpuMaterial};
-use crate::scene_data::{
-    LIGHT_DIRECTIONAL, LIGHT_DISK, LIGHT_ENVIRONMENT, LIGHT_POINT, LIGHT_SEGMENT, LIGHT_SPHERE, LIGHT_SPOT,
-};
+use crate::scene_data::{LIGHT_DIRECTIONAL, LIGHT_DISK, LIGHT_ENVIRONMENT, LIGHT_POINT, LIGHT_SEGMENT, LIGHT_SPHERE, LIGHT_SPOT};
 use caustic_bvh::ShapeKind;
 use caustic_scene::Environment;
 
@@ -78,9 +76,7 @@ pub fn geometry_requirements(data: &SceneData) -> u32 {
 /// The parts the materials, the light list and the environment need.
 pub fn shading_requirements(materials: &[GpuMaterial], lights: &[GpuLight], environment: &Environment) -> u32 {
     let mut bits = 0;
-    let textured = |m: &GpuMaterial| {
-        (m.base_color_texture | m.metallic_roughness_map.texture | m.normal_map.texture | m.emissive_map.texture) != 0
-    };
+    let textured = |m: &GpuMaterial| (m.base_color_texture | m.metallic_roughness_map.texture | m.normal_map.texture | m.emissive_map.texture) != 0;
     if materials.iter().any(textured) {
         bits |= REQUIRES_TEXTURES;
     }

@@ -1,9 +1,9 @@
 //! Building the BVH and uploading a scene into the buffers the kernels read.
 
-use crate::requirements::{GEOMETRY_REQUIREMENTS, scene_requirements, shading_requirements};
-use crate::scene_data::{SceneData, device_lights, device_materials};
 use crate::convex_occluder::ConvexOccluders;
 use crate::light_plane::LightPlanes;
+use crate::requirements::{GEOMETRY_REQUIREMENTS, scene_requirements, shading_requirements};
+use crate::scene_data::{SceneData, device_lights, device_materials};
 use crate::shadow_hull::ShadowHull;
 use crate::specialize;
 use crate::{GpuContext, GpuError};
@@ -127,7 +127,9 @@ impl GpuScene {
     /// A line for the user when the nodes fell back to the binary layout
     /// ([`GpuScene::layout_fallback`]): the walk is slower, the image the same.
     pub fn layout_note(&self) -> Option<String> {
-        self.layout_fallback.as_ref().map(|why| format!("note: BVH nodes kept in the binary layout ({why}); the four-wide walk is faster, the image is the same"))
+        self.layout_fallback
+            .as_ref()
+            .map(|why| format!("note: BVH nodes kept in the binary layout ({why}); the four-wide walk is faster, the image is the same"))
     }
 
     /// Builds the BVH on the CPU and uploads everything. Fails with a clear error when a buffer
@@ -147,16 +149,13 @@ impl GpuScene {
         let moving = crate::motion::primitive_motions(scene);
         let bvh = caustic_bvh::build_with_motion(&data.triangles, &data.shapes, &moving, options);
         if bvh.stats.max_depth >= MAX_BVH_DEPTH {
-            return Err(GpuError::Scene(format!(
-                "the BVH is {} levels deep; the traversal stack holds {MAX_BVH_DEPTH}",
-                bvh.stats.max_depth
-            )));
+            return Err(GpuError::Scene(format!("the BVH is {} levels deep; the traversal stack holds {MAX_BVH_DEPTH}", bvh.stats.max_depth)));
         }
         let gpu_bvh: GpuBvh = caustic_bvh::flatten_with_motion(&bvh, &data.triangles, &data.shapes, &moving);
         // The specialised traversal has no motion: moving scenes walk the BVH.
         let unrolled = if moving.any() { None } else { specialize::unrolled_traversal(&gpu_bvh, &data.lights) };
-        let (traversal, shadow_hull, shadow_occluders, shadow_light_planes) =
-            unrolled.map_or((None, ShadowHull::default(), ConvexOccluders::default(), LightPlanes::default()), |u| (Some(u.wgsl), u.hull, u.occluders, u.light_planes));
+        let (traversal, shadow_hull, shadow_occluders, shadow_light_planes) = unrolled
+            .map_or((None, ShadowHull::default(), ConvexOccluders::default(), LightPlanes::default()), |u| (Some(u.wgsl), u.hull, u.occluders, u.light_planes));
         let requirements = scene_requirements(&data, &scene.environment);
         let uploader = Uploader { ctx };
         let (environment_view, environment_color) = upload_environment(ctx, &scene.environment)?;
@@ -301,4 +300,3 @@ fn upload_environment(ctx: &GpuContext, environment: &Environment) -> Result<(wg
     );
     Ok((texture.create_view(&Default::default()), color))
 }
-

@@ -18,7 +18,8 @@ macro_rules! shader_file {
 }
 
 /// The generated `generated/interface.wgsl` ([`crate::interface::wgsl_constants`]).
-static INTERFACE: LazyLock<ShaderFile> = LazyLock::new(|| ShaderFile { name: crate::interface::INTERFACE_FILE, source: crate::interface::INTERFACE_SOURCE.as_str() });
+static INTERFACE: LazyLock<ShaderFile> =
+    LazyLock::new(|| ShaderFile { name: crate::interface::INTERFACE_FILE, source: crate::interface::INTERFACE_SOURCE.as_str() });
 
 /// The files every program starts with: the generated constants, then [`COMMON`].
 fn common() -> impl Iterator<Item = &'static ShaderFile> {
@@ -193,10 +194,7 @@ impl Program {
 
     /// Compiles the program into a shader module.
     pub fn module(self, device: &wgpu::Device) -> wgpu::ShaderModule {
-        device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some(self.label()),
-            source: wgpu::ShaderSource::Wgsl(self.source().into()),
-        })
+        device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some(self.label()), source: wgpu::ShaderSource::Wgsl(self.source().into()) })
     }
 
     /// Debug label.

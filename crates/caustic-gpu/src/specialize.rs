@@ -126,7 +126,8 @@ pub fn unrolled_traversal(bvh: &GpuBvh, lights: &[GpuLight]) -> Option<UnrolledT
 pub fn lobe_mask(materials: &[crate::gpu_types::GpuMaterial]) -> u32 {
     let used = |w: [f32; 3]| w.iter().any(|&c| c != 0.0);
     materials.iter().fold(1, |mask, m| {
-        let slots = [used(m.diffuse), used(m.translucent), used(m.phong), m.specular_weight != 0.0, m.mirror != 0.0, used(m.dielectric), m.anisotropic_weight != 0.0];
+        let slots =
+            [used(m.diffuse), used(m.translucent), used(m.phong), m.specular_weight != 0.0, m.mirror != 0.0, used(m.dielectric), m.anisotropic_weight != 0.0];
         (0..slots.len()).filter(|&slot| slots[slot]).fold(mask, |mask, slot| mask | 1 << slot)
     })
 }
@@ -156,12 +157,8 @@ mod tests {
     fn literals_round_trip_exactly() {
         let v = Vec3::new(0.1, -1e-7, 3.402_823_5e38);
         let text = vec3(v);
-        let parsed: Vec<f32> = text
-            .trim_start_matches("vec3<f32>(")
-            .trim_end_matches(')')
-            .split(", ")
-            .map(|s| s.trim_end_matches('f').parse().unwrap())
-            .collect();
+        let parsed: Vec<f32> =
+            text.trim_start_matches("vec3<f32>(").trim_end_matches(')').split(", ").map(|s| s.trim_end_matches('f').parse().unwrap()).collect();
         assert_eq!(parsed, [v.x, v.y, v.z]);
     }
 

@@ -177,7 +177,12 @@ impl Wavefront {
             }
             buffers.push(storage(device, label, size, wgpu::BufferUsages::empty()));
         }
-        let control = storage(device, "wavefront control", size_of::<WavefrontControl>() as u64, wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST);
+        let control = storage(
+            device,
+            "wavefront control",
+            size_of::<WavefrontControl>() as u64,
+            wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+        );
         buffers.push(control.clone());
         let dispatch_sizes = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("wavefront dispatch sizes"),
@@ -264,7 +269,14 @@ impl Wavefront {
 
     /// [`Wavefront::trace_tile`] one stage at a time, each submitted and waited for alone,
     /// adding the stages' times and the queues' counts to `profile`.
-    pub fn trace_tile_profiled(&self, ctx: &GpuContext, integrators: &wgpu::BindGroup, pixels: u32, max_bounces: u32, profile: &mut WavefrontProfile) -> Result<(), GpuError> {
+    pub fn trace_tile_profiled(
+        &self,
+        ctx: &GpuContext,
+        integrators: &wgpu::BindGroup,
+        pixels: u32,
+        max_bounces: u32,
+        profile: &mut WavefrontProfile,
+    ) -> Result<(), GpuError> {
         let groups = self.start_tile(ctx, pixels);
         let timed = |encode: &dyn Fn(&mut wgpu::CommandEncoder)| -> Result<f64, GpuError> {
             let began = std::time::Instant::now();
@@ -356,7 +368,12 @@ const DISPATCH_SIZES_BYTES: u64 = size_of::<WavefrontControl>() as u64 - DISPATC
 const SHADOW_GROUPS_OFFSET: u64 = std::mem::offset_of!(WavefrontControl, shadow_groups) as u64;
 
 fn storage(device: &wgpu::Device, label: &str, size: u64, extra: wgpu::BufferUsages) -> wgpu::Buffer {
-    device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size: size.max(4), usage: wgpu::BufferUsages::STORAGE | extra, mapped_at_creation: false })
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: size.max(4),
+        usage: wgpu::BufferUsages::STORAGE | extra,
+        mapped_at_creation: false,
+    })
 }
 
 /// Group 1 of the wavefront entry points: paths, hits, shadow rays, queues, control.

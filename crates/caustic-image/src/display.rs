@@ -20,10 +20,7 @@ pub struct SaveOptions {
 impl Default for SaveOptions {
     /// Exposure 0 and the ACES tone map.
     fn default() -> Self {
-        SaveOptions {
-            exposure: 0.0,
-            tone_map: ToneMap::Aces,
-        }
+        SaveOptions { exposure: 0.0, tone_map: ToneMap::Aces }
     }
 }
 
@@ -32,11 +29,7 @@ impl Default for SaveOptions {
 /// below 0 the linear one, so the function is invertible everywhere.
 pub fn linear_to_srgb(c: f32) -> f32 {
     let c = f64::from(c);
-    let encoded = if c <= 0.003_130_8 {
-        12.92 * c
-    } else {
-        1.055 * c.powf(1.0 / 2.4) - 0.055
-    };
+    let encoded = if c <= 0.003_130_8 { 12.92 * c } else { 1.055 * c.powf(1.0 / 2.4) - 0.055 };
     encoded as f32
 }
 
@@ -44,11 +37,7 @@ pub fn linear_to_srgb(c: f32) -> f32 {
 /// [`linear_to_srgb`]. Computed in f64 so a round trip loses under 1e-6.
 pub fn srgb_to_linear(c: f32) -> f32 {
     let c = f64::from(c);
-    let linear = if c <= 0.040_45 {
-        c / 12.92
-    } else {
-        ((c + 0.055) / 1.055).powf(2.4)
-    };
+    let linear = if c <= 0.040_45 { c / 12.92 } else { ((c + 0.055) / 1.055).powf(2.4) };
     linear as f32
 }
 
@@ -62,11 +51,7 @@ pub fn srgb_to_linear(c: f32) -> f32 {
 /// [`Image::count_nonfinite`]. Alpha is always 255.
 pub fn to_srgb8(image: &Image, options: &SaveOptions) -> Vec<[u8; 4]> {
     let scale = options.exposure.exp2();
-    image
-        .pixels
-        .iter()
-        .map(|&rgb| display_pixel(rgb, scale, options.tone_map))
-        .collect()
+    image.pixels.iter().map(|&rgb| display_pixel(rgb, scale, options.tone_map)).collect()
 }
 
 /// The display transform of one pixel; see [`to_srgb8`].

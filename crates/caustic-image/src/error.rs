@@ -107,9 +107,7 @@ pub enum ImageError {
         reason: String,
     },
     /// A downsampling factor that is zero or does not divide both sides.
-    #[error(
-        "cannot downsample {width}x{height} by {factor}: the factor must be at least 1 and divide both sides"
-    )]
+    #[error("cannot downsample {width}x{height} by {factor}: the factor must be at least 1 and divide both sides")]
     BadDownsampleFactor {
         /// Width of the image.
         width: u32,

@@ -20,11 +20,7 @@ pub struct Image {
 impl Image {
     /// A black image of the given size.
     pub fn new(width: u32, height: u32) -> Image {
-        Image {
-            width,
-            height,
-            pixels: vec![[0.0; 3]; pixel_count(width, height)],
-        }
+        Image { width, height, pixels: vec![[0.0; 3]; pixel_count(width, height)] }
     }
 
     /// Builds an image from RGBA values (e.g. a GPU read-back), dropping alpha.
@@ -34,18 +30,9 @@ impl Image {
     /// not a condition a user can cause or recover from.
     pub fn from_rgba(width: u32, height: u32, rgba: &[[f32; 4]]) -> Image {
         let expected = pixel_count(width, height);
-        assert_eq!(
-            rgba.len(),
-            expected,
-            "Image::from_rgba: {width}x{height} needs {expected} RGBA values, got {}",
-            rgba.len()
-        );
+        assert_eq!(rgba.len(), expected, "Image::from_rgba: {width}x{height} needs {expected} RGBA values, got {}", rgba.len());
         let pixels = rgba.iter().map(|&[r, g, b, _]| [r, g, b]).collect();
-        Image {
-            width,
-            height,
-            pixels,
-        }
+        Image { width, height, pixels }
     }
 
     /// The linear RGB value of pixel (x, y), with y = 0 the top row.
@@ -53,12 +40,7 @@ impl Image {
     /// # Panics
     /// If (x, y) lies outside the image.
     pub fn get(&self, x: u32, y: u32) -> [f32; 3] {
-        assert!(
-            x < self.width && y < self.height,
-            "Image::get: pixel ({x}, {y}) outside {}x{} image",
-            self.width,
-            self.height
-        );
+        assert!(x < self.width && y < self.height, "Image::get: pixel ({x}, {y}) outside {}x{} image", self.width, self.height);
         self.pixels[self.index(x, y)]
     }
 
@@ -69,24 +51,12 @@ impl Image {
     /// Fails with [`ImageError::BadDownsampleFactor`] if `factor` is 0 or does
     /// not divide both width and height.
     pub fn downsample(&self, factor: u32) -> Result<Image, ImageError> {
-        if factor == 0 || !self.width.is_multiple_of(factor) || !self.height.is_multiple_of(factor)
-        {
-            return Err(ImageError::BadDownsampleFactor {
-                width: self.width,
-                height: self.height,
-                factor,
-            });
+        if factor == 0 || !self.width.is_multiple_of(factor) || !self.height.is_multiple_of(factor) {
+            return Err(ImageError::BadDownsampleFactor { width: self.width, height: self.height, factor });
         }
         let (width, height) = (self.width / factor, self.height / factor);
-        let pixels = (0..height)
-            .flat_map(|y| (0..width).map(move |x| (x, y)))
-            .map(|(x, y)| self.block_mean(x * factor, y * factor, factor))
-            .collect();
-        Ok(Image {
-            width,
-            height,
-            pixels,
-        })
+        let pixels = (0..height).flat_map(|y| (0..width).map(move |x| (x, y))).map(|(x, y)| self.block_mean(x * factor, y * factor, factor)).collect();
+        Ok(Image { width, height, pixels })
     }
 
     /// Per-channel mean over all pixels, accumulated in f64. Zero for an image
@@ -102,10 +72,7 @@ impl Image {
     /// The number of pixels with at least one NaN or infinite channel: a
     /// health check for renders, since such pixels corrupt every mean.
     pub fn count_nonfinite(&self) -> usize {
-        self.pixels
-            .iter()
-            .filter(|p| !p.iter().all(|c| c.is_finite()))
-            .count()
+        self.pixels.iter().filter(|p| !p.iter().all(|c| c.is_finite())).count()
     }
 
     /// Index into `pixels` of (x, y).
@@ -133,9 +100,5 @@ fn pixel_count(width: u32, height: u32) -> usize {
 
 /// Adds an f32 colour to an f64 accumulator.
 fn add(acc: [f64; 3], p: [f32; 3]) -> [f64; 3] {
-    [
-        acc[0] + f64::from(p[0]),
-        acc[1] + f64::from(p[1]),
-        acc[2] + f64::from(p[2]),
-    ]
+    [acc[0] + f64::from(p[0]), acc[1] + f64::from(p[1]), acc[2] + f64::from(p[2])]
 }

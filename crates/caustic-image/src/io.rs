@@ -41,10 +41,7 @@ impl Format {
             Some("png") => Ok(Format::Png),
             Some("bmp") => Ok(Format::Bmp),
             Some("jpg" | "jpeg") => Ok(Format::Jpeg),
-            _ => Err(ImageError::UnsupportedExtension {
-                path: path.to_path_buf(),
-                extension,
-            }),
+            _ => Err(ImageError::UnsupportedExtension { path: path.to_path_buf(), extension }),
         }
     }
 }
@@ -74,10 +71,7 @@ fn output_format(path: &Path) -> Result<Format, ImageError> {
     let format = Format::from_path(path)?;
     let folder = parent_folder(path);
     if !folder.is_dir() {
-        return Err(ImageError::MissingFolder {
-            path: path.to_path_buf(),
-            folder,
-        });
+        return Err(ImageError::MissingFolder { path: path.to_path_buf(), folder });
     }
     Ok(format)
 }
@@ -95,15 +89,10 @@ impl Image {
     /// cannot claim gigabytes.
     pub fn load(path: &Path) -> Result<Image, ImageError> {
         Format::from_path(path)?;
-        let mut reader = ImageReader::open(path)
-            .map_err(|source| io_error(path, "open", source))?
-            .with_guessed_format()
-            .map_err(|source| io_error(path, "read", source))?;
+        let mut reader =
+            ImageReader::open(path).map_err(|source| io_error(path, "open", source))?.with_guessed_format().map_err(|source| io_error(path, "read", source))?;
         reader.limits(load_limits());
-        let decoded = reader.decode().map_err(|error| ImageError::Decode {
-            path: path.to_path_buf(),
-            error,
-        })?;
+        let decoded = reader.decode().map_err(|error| ImageError::Decode { path: path.to_path_buf(), error })?;
         Ok(from_decoded(decoded))
     }
 
@@ -140,31 +129,17 @@ impl Image {
     pub(crate) fn check_consistent(&self) -> Result<(), ImageError> {
         let expected = self.width as usize * self.height as usize;
         if self.pixels.len() != expected {
-            return Err(ImageError::PixelCount {
-                width: self.width,
-                height: self.height,
-                len: self.pixels.len(),
-            });
+            return Err(ImageError::PixelCount { width: self.width, height: self.height, len: self.pixels.len() });
         }
         Ok(())
     }
 
     /// Encodes the (consistent) image in `format` into `writer`; `ldr` gives the 8-bit
     /// values of the LDR formats.
-    fn encode(
-        &self,
-        format: Format,
-        ldr: impl FnOnce() -> RgbImage,
-        writer: &mut BufWriter<File>,
-    ) -> image::ImageResult<()> {
+    fn encode(&self, format: Format, ldr: impl FnOnce() -> RgbImage, writer: &mut BufWriter<File>) -> image::ImageResult<()> {
         match format {
-            Format::Exr => self
-                .linear_buffer()
-                .write_with_encoder(OpenExrEncoder::new(writer)),
-            Format::Hdr => self
-                .rgbe_safe()
-                .linear_buffer()
-                .write_with_encoder(HdrEncoder::new(writer)),
+            Format::Exr => self.linear_buffer().write_with_encoder(OpenExrEncoder::new(writer)),
+            Format::Hdr => self.rgbe_safe().linear_buffer().write_with_encoder(HdrEncoder::new(writer)),
             Format::Png => ldr().write_with_encoder(PngEncoder::new(writer)),
             Format::Bmp => ldr().write_with_encoder(BmpEncoder::new(writer)),
             Format::Jpeg => ldr().write_with_encoder(JpegEncoder::new_with_quality(writer, JPEG_QUALITY)),
@@ -188,22 +163,14 @@ impl Image {
     fn gamma8_buffer(&self, gamma: f32) -> RgbImage {
         let exponent = 1.0 / f64::from(gamma);
         let encode = |c: f32| (f64::from(c).clamp(0.0, 1.0).powf(exponent) * 255.0).round() as u8;
-        let data = self
-            .pixels
-            .iter()
-            .flat_map(|p| if p.iter().all(|c| c.is_finite()) { p.map(encode) } else { [0; 3] })
-            .collect();
+        let data = self.pixels.iter().flat_map(|p| if p.iter().all(|c| c.is_finite()) { p.map(encode) } else { [0; 3] }).collect();
         ImageBuffer::from_raw(self.width, self.height, data).expect("checked pixel count")
     }
 
     /// A copy holding only values RGBE can represent (see [`Image::save`]).
     fn rgbe_safe(&self) -> Image {
         let pixels = self.pixels.iter().map(|&p| rgbe_safe_pixel(p)).collect();
-        Image {
-            width: self.width,
-            height: self.height,
-            pixels,
-        }
+        Image { width: self.width, height: self.height, pixels }
     }
 }
 
@@ -236,18 +203,11 @@ fn load_limits() -> image::Limits {
 /// Converts a decoded file to linear RGB: float data is already linear,
 /// integer data is sRGB-encoded.
 fn from_decoded(decoded: DynamicImage) -> Image {
-    let is_float = matches!(
-        decoded,
-        DynamicImage::ImageRgb32F(_) | DynamicImage::ImageRgba32F(_)
-    );
+    let is_float = matches!(decoded, DynamicImage::ImageRgb32F(_) | DynamicImage::ImageRgba32F(_));
     let rgb = decoded.into_rgb32f();
     let decode = |Rgb(p): &Rgb<f32>| if is_float { *p } else { p.map(srgb_to_linear) };
     let pixels = rgb.pixels().map(decode).collect();
-    Image {
-        width: rgb.width(),
-        height: rgb.height(),
-        pixels,
-    }
+    Image { width: rgb.width(), height: rgb.height(), pixels }
 }
 
 /// The folder `path` lives in; the current folder for a bare file name.
@@ -260,39 +220,24 @@ fn parent_folder(path: &Path) -> PathBuf {
 
 /// Wraps an OS error with the path and action it concerns.
 fn io_error(path: &Path, action: &'static str, error: std::io::Error) -> ImageError {
-    ImageError::Io {
-        path: path.to_path_buf(),
-        action,
-        error,
-    }
+    ImageError::Io { path: path.to_path_buf(), action, error }
 }
 
 /// Writes `bytes` to `target` atomically, like image saves (a temporary beside it, synced,
 /// then renamed), so an interrupted run never leaves a half-written file: for the other
 /// outputs (CSV tables, SVG plots, ray-hit files).
 pub fn write_file_atomically(target: &Path, bytes: &[u8]) -> Result<(), ImageError> {
-    write_atomically(target, |writer| {
-        std::io::Write::write_all(writer, bytes).map_err(image::ImageError::IoError)
-    })
+    write_atomically(target, |writer| std::io::Write::write_all(writer, bytes).map_err(image::ImageError::IoError))
 }
 
 /// Runs `encode` into a fresh temporary file next to `target`, syncs it and
 /// renames it over `target`. The temporary never outlives this call.
-pub(crate) fn write_atomically(
-    target: &Path,
-    encode: impl FnOnce(&mut BufWriter<File>) -> image::ImageResult<()>,
-) -> Result<(), ImageError> {
+pub(crate) fn write_atomically(target: &Path, encode: impl FnOnce(&mut BufWriter<File>) -> image::ImageResult<()>) -> Result<(), ImageError> {
     let (temp, file) = TempFile::create(target)?;
     let mut writer = BufWriter::new(file);
-    encode(&mut writer).map_err(|error| ImageError::Encode {
-        path: target.to_path_buf(),
-        error,
-    })?;
-    let file = writer
-        .into_inner()
-        .map_err(|e| io_error(&temp.path, "write", e.into_error()))?;
-    file.sync_all()
-        .map_err(|source| io_error(&temp.path, "sync", source))?;
+    encode(&mut writer).map_err(|error| ImageError::Encode { path: target.to_path_buf(), error })?;
+    let file = writer.into_inner().map_err(|e| io_error(&temp.path, "write", e.into_error()))?;
+    file.sync_all().map_err(|source| io_error(&temp.path, "sync", source))?;
     drop(file);
     temp.rename_onto(target)
 }
@@ -310,26 +255,14 @@ impl TempFile {
     /// Creates the hidden file `.NAME.tmp-PID-N` in `target`'s folder. It
     /// must not exist yet, so a stranger's file is never clobbered or removed.
     fn create(target: &Path) -> Result<(TempFile, File), ImageError> {
-        let name = target
-            .file_name()
-            .expect("a supported extension implies a file name");
+        let name = target.file_name().expect("a supported extension implies a file name");
         let mut temp_name = OsString::from(".");
         temp_name.push(name);
         let serial = TEMP_COUNTER.fetch_add(1, Ordering::Relaxed);
         temp_name.push(format!(".tmp-{}-{serial}", std::process::id()));
         let path = parent_folder(target).join(temp_name);
-        let file = OpenOptions::new()
-            .write(true)
-            .create_new(true)
-            .open(&path)
-            .map_err(|source| io_error(&path, "create", source))?;
-        Ok((
-            TempFile {
-                path,
-                renamed: false,
-            },
-            file,
-        ))
+        let file = OpenOptions::new().write(true).create_new(true).open(&path).map_err(|source| io_error(&path, "create", source))?;
+        Ok((TempFile { path, renamed: false }, file))
     }
 
     /// Atomically replaces `target` with this file.

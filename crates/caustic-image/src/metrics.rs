@@ -44,19 +44,9 @@ pub fn mean_ratio(image: &Image, reference: &Image) -> Result<[f64; 3], ImageErr
 }
 
 /// The mean of `error(x, r)` over all corresponding channel values.
-fn mean_over_channels(
-    image: &Image,
-    reference: &Image,
-    error: impl Fn(f64, f64) -> f64,
-) -> Result<f64, ImageError> {
+fn mean_over_channels(image: &Image, reference: &Image, error: impl Fn(f64, f64) -> f64) -> Result<f64, ImageError> {
     check_comparable(image, reference)?;
-    let sum: f64 = image
-        .pixels
-        .iter()
-        .flatten()
-        .zip(reference.pixels.iter().flatten())
-        .map(|(&x, &r)| error(f64::from(x), f64::from(r)))
-        .sum();
+    let sum: f64 = image.pixels.iter().flatten().zip(reference.pixels.iter().flatten()).map(|(&x, &r)| error(f64::from(x), f64::from(r))).sum();
     Ok(sum / (image.pixels.len() * 3) as f64)
 }
 
@@ -65,16 +55,10 @@ pub(crate) fn check_comparable(image: &Image, reference: &Image) -> Result<(), I
     image.check_consistent()?;
     reference.check_consistent()?;
     if (image.width, image.height) != (reference.width, reference.height) {
-        return Err(ImageError::SizeMismatch {
-            image: (image.width, image.height),
-            reference: (reference.width, reference.height),
-        });
+        return Err(ImageError::SizeMismatch { image: (image.width, image.height), reference: (reference.width, reference.height) });
     }
     if image.pixels.is_empty() {
-        return Err(ImageError::Empty {
-            width: image.width,
-            height: image.height,
-        });
+        return Err(ImageError::Empty { width: image.width, height: image.height });
     }
     Ok(())
 }

@@ -27,8 +27,8 @@ use std::ops::Range;
 use std::path::{Path, PathBuf};
 
 use exr::prelude::{
-    AnyChannel, AnyChannels, AttributeValue, Encoding, FlatSamples, Image as ExrImage,
-    LayerAttributes, MetaData, ReadChannels, ReadLayers, SmallVec, Text, WritableImage,
+    AnyChannel, AnyChannels, AttributeValue, Encoding, FlatSamples, Image as ExrImage, LayerAttributes, MetaData, ReadChannels, ReadLayers, SmallVec, Text,
+    WritableImage,
 };
 
 use crate::error::ImageError;
@@ -103,12 +103,7 @@ impl PartInfo {
         self.range.end - self.range.start
     }
 
-    fn from_attributes(
-        path: &Path,
-        width: usize,
-        height: usize,
-        attributes: &HashMap<Text, AttributeValue>,
-    ) -> Result<PartInfo, ImageError> {
+    fn from_attributes(path: &Path, width: usize, height: usize, attributes: &HashMap<Text, AttributeValue>) -> Result<PartInfo, ImageError> {
         let text = |name: &str| -> Result<String, ImageError> {
             match attributes.get(&Text::from(name)) {
                 Some(AttributeValue::Text(value)) => Ok(value.to_string()),
@@ -119,9 +114,7 @@ impl PartInfo {
         let samples = text(ATTR_SAMPLES)?;
         let range = parse_range(&samples).map_err(|e| not_a_part(path, format!("{ATTR_SAMPLES} '{samples}': {e}")))?;
         let nonfinite = text(ATTR_NONFINITE)?;
-        let nonfinite = nonfinite
-            .parse::<u64>()
-            .map_err(|_| not_a_part(path, format!("{ATTR_NONFINITE} '{nonfinite}' is not a count")))?;
+        let nonfinite = nonfinite.parse::<u64>().map_err(|_| not_a_part(path, format!("{ATTR_NONFINITE} '{nonfinite}' is not a count")))?;
         let fingerprint = text(ATTR_FINGERPRINT)?;
         if fingerprint.is_empty() {
             return Err(not_a_part(path, format!("empty {ATTR_FINGERPRINT}")));
@@ -130,16 +123,7 @@ impl PartInfo {
             (Ok(w), Ok(h)) if w > 0 && h > 0 => (w, h),
             _ => return Err(not_a_part(path, format!("unusable size {width}x{height}"))),
         };
-        Ok(PartInfo {
-            width,
-            height,
-            range,
-            fingerprint,
-            settings: text(ATTR_SETTINGS)?,
-            scene: text(ATTR_SCENE)?,
-            version: text(ATTR_VERSION)?,
-            nonfinite,
-        })
+        Ok(PartInfo { width, height, range, fingerprint, settings: text(ATTR_SETTINGS)?, scene: text(ATTR_SCENE)?, version: text(ATTR_VERSION)?, nonfinite })
     }
 
     fn to_attributes(&self) -> HashMap<Text, AttributeValue> {
@@ -151,10 +135,7 @@ impl PartInfo {
             (ATTR_VERSION, self.version.clone()),
             (ATTR_NONFINITE, self.nonfinite.to_string()),
         ];
-        entries
-            .into_iter()
-            .map(|(name, value)| (Text::from(name), AttributeValue::Text(latin1_text(&value))))
-            .collect()
+        entries.into_iter().map(|(name, value)| (Text::from(name), AttributeValue::Text(latin1_text(&value)))).collect()
     }
 }
 
@@ -182,12 +163,7 @@ impl PartialImage {
         }
         let pixels = width * height;
         let channel = |name: &str| -> Result<&FlatSamples, ImageError> {
-            let channel = layer
-                .channel_data
-                .list
-                .iter()
-                .find(|c| c.name == *name)
-                .ok_or_else(|| not_a_part(path, format!("no '{name}' channel")))?;
+            let channel = layer.channel_data.list.iter().find(|c| c.name == *name).ok_or_else(|| not_a_part(path, format!("no '{name}' channel")))?;
             if channel.sample_data.len() != pixels {
                 return Err(not_a_part(path, format!("channel '{name}' holds the wrong number of pixels")));
             }
@@ -331,11 +307,7 @@ fn merge_parts<'a>(
     if let Some(i) = too_many {
         return Err(ImageError::Part { path: first_path.clone(), reason: format!("pixel {i} would hold more than 2^32 samples") });
     }
-    let mean = sums
-        .iter()
-        .zip(&counts)
-        .map(|(sum, &n)| if n == 0 { [0.0; 3] } else { sum.map(|s| (s / n as f64) as f32) })
-        .collect();
+    let mean = sums.iter().zip(&counts).map(|(sum, &n)| if n == 0 { [0.0; 3] } else { sum.map(|s| (s / n as f64) as f32) }).collect();
     Ok(PartialImage {
         info: PartInfo { range, nonfinite, ..first.clone() },
         image: Image { width: first.width, height: first.height, pixels: mean },

@@ -89,11 +89,6 @@ impl FromStr for ToneMap {
 
     /// Parses a name case-insensitively, so `--tone-map ACES` works too.
     fn from_str(s: &str) -> Result<Self, Self::Err> {
-        ToneMap::ALL
-            .into_iter()
-            .find(|t| t.name().eq_ignore_ascii_case(s.trim()))
-            .ok_or_else(|| ParseToneMapError {
-                input: s.to_string(),
-            })
+        ToneMap::ALL.into_iter().find(|t| t.name().eq_ignore_ascii_case(s.trim())).ok_or_else(|| ParseToneMapError { input: s.to_string() })
     }
 }

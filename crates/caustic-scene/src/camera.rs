@@ -192,7 +192,9 @@ mod tests {
         assert_eq!((camera.aperture, camera.focus_distance), (0.05, Some(3.5)));
         camera.set_lens_from_extras("{}").unwrap();
         assert_eq!((camera.aperture, camera.focus_distance), (0.05, None), "no focus distance: focus on the target");
-        for (extras, needle) in [(r#"{"aperture": -1}"#, "-1"), (r#"{"focusDistance": 0}"#, "found 0"), (r#"{"aperture": "wide"}"#, "\"wide\""), ("[", "not JSON")] {
+        for (extras, needle) in
+            [(r#"{"aperture": -1}"#, "-1"), (r#"{"focusDistance": 0}"#, "found 0"), (r#"{"aperture": "wide"}"#, "\"wide\""), ("[", "not JSON")]
+        {
             let error = camera.set_lens_from_extras(extras).unwrap_err();
             assert!(error.contains(needle), "{error}");
         }

@@ -22,31 +22,11 @@ const RED: u32 = 2;
 const LIGHT: u32 = 3;
 
 const OBJECTS: [Object; 8] = [
-    Object {
-        name: "floor",
-        material: WHITE,
-        quads: &[[[552.8, 0.0, 0.0], [0.0, 0.0, 0.0], [0.0, 0.0, 559.2], [549.6, 0.0, 559.2]]],
-    },
-    Object {
-        name: "ceiling",
-        material: WHITE,
-        quads: &[[[556.0, 548.8, 0.0], [556.0, 548.8, 559.2], [0.0, 548.8, 559.2], [0.0, 548.8, 0.0]]],
-    },
-    Object {
-        name: "back_wall",
-        material: WHITE,
-        quads: &[[[549.6, 0.0, 559.2], [0.0, 0.0, 559.2], [0.0, 548.8, 559.2], [556.0, 548.8, 559.2]]],
-    },
-    Object {
-        name: "right_wall_green",
-        material: GREEN,
-        quads: &[[[0.0, 0.0, 559.2], [0.0, 0.0, 0.0], [0.0, 548.8, 0.0], [0.0, 548.8, 559.2]]],
-    },
-    Object {
-        name: "left_wall_red",
-        material: RED,
-        quads: &[[[552.8, 0.0, 0.0], [549.6, 0.0, 559.2], [556.0, 548.8, 559.2], [556.0, 548.8, 0.0]]],
-    },
+    Object { name: "floor", material: WHITE, quads: &[[[552.8, 0.0, 0.0], [0.0, 0.0, 0.0], [0.0, 0.0, 559.2], [549.6, 0.0, 559.2]]] },
+    Object { name: "ceiling", material: WHITE, quads: &[[[556.0, 548.8, 0.0], [556.0, 548.8, 559.2], [0.0, 548.8, 559.2], [0.0, 548.8, 0.0]]] },
+    Object { name: "back_wall", material: WHITE, quads: &[[[549.6, 0.0, 559.2], [0.0, 0.0, 559.2], [0.0, 548.8, 559.2], [556.0, 548.8, 559.2]]] },
+    Object { name: "right_wall_green", material: GREEN, quads: &[[[0.0, 0.0, 559.2], [0.0, 0.0, 0.0], [0.0, 548.8, 0.0], [0.0, 548.8, 559.2]]] },
+    Object { name: "left_wall_red", material: RED, quads: &[[[552.8, 0.0, 0.0], [549.6, 0.0, 559.2], [556.0, 548.8, 559.2], [556.0, 548.8, 0.0]]] },
     Object {
         name: "short_block",
         material: WHITE,
@@ -70,11 +50,7 @@ const OBJECTS: [Object; 8] = [
         ],
     },
     // Counter-clockwise seen from below: the one-sided emitter faces down into the box.
-    Object {
-        name: "light",
-        material: LIGHT,
-        quads: &[[[343.0, 548.3, 227.0], [343.0, 548.3, 332.0], [213.0, 548.3, 332.0], [213.0, 548.3, 227.0]]],
-    },
+    Object { name: "light", material: LIGHT, quads: &[[[343.0, 548.3, 227.0], [343.0, 548.3, 332.0], [213.0, 548.3, 332.0], [213.0, 548.3, 227.0]]] },
 ];
 
 /// Full vertical field of view of the reference camera, in degrees.

@@ -105,7 +105,10 @@ impl EnvironmentMap {
         let size = faces[0].width();
         if let Some(i) = faces.iter().position(|face| face.dimensions() != (size, size)) {
             let (w, h) = faces[i].dimensions();
-            return Err(crate::SceneError::file(dir, format!("cubemap face {} is {w}x{h}; every face must be square and {size}x{size} like posx", CUBE_FACES[i])));
+            return Err(crate::SceneError::file(
+                dir,
+                format!("cubemap face {} is {w}x{h}; every face must be square and {size}x{size} like posx", CUBE_FACES[i]),
+            ));
         }
         let width = (4 * size).min(CUBEMAP_MAX_WIDTH);
         let height = (width / 2).max(1);

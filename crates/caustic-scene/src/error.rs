@@ -59,9 +59,7 @@ impl SceneError {
     /// The same error, attributed to `path` when it does not name a file yet.
     pub fn in_file(self, path: &Path) -> SceneError {
         match self {
-            SceneError::Invalid { object, message } => {
-                SceneError::file(path, format!("{object}: {message}"))
-            }
+            SceneError::Invalid { object, message } => SceneError::file(path, format!("{object}: {message}")),
             other => other,
         }
     }

@@ -5,11 +5,11 @@
 //! Scale and morph-weight channels are ignored with a warning: motion blur moves objects
 //! rigidly.
 
-use crate::mesh_scene::warn;
 use crate::SceneError;
+use crate::mesh_scene::warn;
 use glam::{Mat4, Quat, Vec3};
-use gltf::animation::util::ReadOutputs;
 use gltf::animation::Interpolation;
+use gltf::animation::util::ReadOutputs;
 use std::collections::HashMap;
 use std::path::Path;
 

@@ -14,7 +14,12 @@ use std::path::{Path, PathBuf};
 /// The data of every buffer of `document` (loaded from `path`, `blob` its GLB binary chunk),
 /// each padded to a multiple of 4 bytes as the crate's importer does; a buffer shorter than
 /// its declared length is an error naming it.
-pub(crate) fn load_buffers(path: &Path, document: &gltf::Document, mut blob: Option<Vec<u8>>, limits: &InputLimits) -> Result<Vec<gltf::buffer::Data>, SceneError> {
+pub(crate) fn load_buffers(
+    path: &Path,
+    document: &gltf::Document,
+    mut blob: Option<Vec<u8>>,
+    limits: &InputLimits,
+) -> Result<Vec<gltf::buffer::Data>, SceneError> {
     let mut buffers = Vec::new();
     for buffer in document.buffers() {
         let index = buffer.index();

@@ -25,10 +25,10 @@
 //! A file that requires an extension not listed in [`SUPPORTED_EXTENSIONS`] is refused; other
 //! unsupported extensions it merely uses are named in a warning on stderr.
 
-use crate::mesh_scene::{framing_camera, scene_name, warn, DEFAULT_RESOLUTION};
-use crate::gltf_material::{default_material, MaterialReader};
 use crate::gltf_animation::Animation;
+use crate::gltf_material::{MaterialReader, default_material};
 use crate::gltf_primitive::read_primitive;
+use crate::mesh_scene::{DEFAULT_RESOLUTION, framing_camera, scene_name, warn};
 use crate::{Attenuation, Camera, Environment, InputLimits, Light, Material, Mesh, Motion, Projection, Scene, SceneCamera, SceneError};
 use glam::{Mat4, Vec3};
 use gltf::json::validation::Validate;
@@ -62,7 +62,17 @@ pub(crate) fn load(path: &Path, shutter: Option<(f32, f32)>, limits: &InputLimit
         Some(times) => Animation::read(path, &document, &buffers)?.map(|a| (a, times)),
         None => None,
     };
-    let mut walk = Walk { path, buffers: &buffers, materials, default_material: None, meshes: Vec::new(), read: HashMap::new(), cameras: Vec::new(), lights: Vec::new(), animation };
+    let mut walk = Walk {
+        path,
+        buffers: &buffers,
+        materials,
+        default_material: None,
+        meshes: Vec::new(),
+        read: HashMap::new(),
+        cameras: Vec::new(),
+        lights: Vec::new(),
+        animation,
+    };
     walk.walk(scene.nodes().collect())?;
     let (camera, resolution) = match walk.cameras.first() {
         Some(first) => (first.camera.clone(), first.resolution.unwrap_or(DEFAULT_RESOLUTION)),
@@ -87,8 +97,8 @@ pub(crate) fn load(path: &Path, shutter: Option<(f32, f32)>, limits: &InputLimit
 /// own, so that a broken image only costs its texture.
 fn read_document(path: &Path, limits: &InputLimits) -> Result<(gltf::Document, Vec<gltf::buffer::Data>), SceneError> {
     let bytes = limits.read(path)?;
-    let gltf::Gltf { document, blob } = gltf::Gltf::from_slice_without_validation(&bytes)
-        .map_err(|e| SceneError::file(path, format!("not a valid glTF file: {e}")))?;
+    let gltf::Gltf { document, blob } =
+        gltf::Gltf::from_slice_without_validation(&bytes).map_err(|e| SceneError::file(path, format!("not a valid glTF file: {e}")))?;
     check_extensions(path, document.as_json())?;
     validate(path, document.as_json())?;
     let buffers = crate::gltf_buffers::load_buffers(path, &document, blob, limits)?;
@@ -97,9 +107,7 @@ fn read_document(path: &Path, limits: &InputLimits) -> Result<(gltf::Document, V
 
 /// Refuses required extensions this loader does not support; warns about used ones.
 fn check_extensions(path: &Path, root: &gltf::json::Root) -> Result<(), SceneError> {
-    let unsupported = |names: &[String]| -> Vec<String> {
-        names.iter().filter(|n| !SUPPORTED_EXTENSIONS.contains(&n.as_str())).cloned().collect()
-    };
+    let unsupported = |names: &[String]| -> Vec<String> { names.iter().filter(|n| !SUPPORTED_EXTENSIONS.contains(&n.as_str())).cloned().collect() };
     let required = unsupported(&root.extensions_required);
     if !required.is_empty() {
         return Err(SceneError::file(path, format!("requires unsupported glTF extensions: {}", required.join(", "))));
@@ -299,9 +307,7 @@ fn node_camera(camera: &gltf::Camera, world: Mat4) -> Result<(Camera, Option<(u3
     let height = DEFAULT_RESOLUTION.1;
     let size = |aspect: f32| (aspect.is_finite() && aspect > 0.0).then(|| (((height as f32 * aspect).round() as u32).clamp(1, 16384), height));
     match camera.projection() {
-        gltf::camera::Projection::Perspective(perspective) => {
-            Ok((Camera { fov_y: perspective.yfov(), ..view }, perspective.aspect_ratio().and_then(size)))
-        }
+        gltf::camera::Projection::Perspective(perspective) => Ok((Camera { fov_y: perspective.yfov(), ..view }, perspective.aspect_ratio().and_then(size))),
         gltf::camera::Projection::Orthographic(orthographic) => {
             let (xmag, ymag) = (orthographic.xmag().abs(), orthographic.ymag().abs());
             if !(ymag.is_finite() && ymag > 0.0) {
@@ -341,9 +347,7 @@ fn sidecar_environment(path: &Path, limits: &InputLimits) -> Result<Environment,
     }
     let radiance: Option<Vec<f64>> = json["radiance"].as_array().and_then(|a| a.iter().map(serde_json::Value::as_f64).collect());
     match radiance.as_deref() {
-        Some(&[r, g, b]) if [r, g, b].iter().all(|c| c.is_finite() && *c >= 0.0) => {
-            Ok(Environment::Constant(Vec3::new(r as f32, g as f32, b as f32)))
-        }
+        Some(&[r, g, b]) if [r, g, b].iter().all(|c| c.is_finite() && *c >= 0.0) => Ok(Environment::Constant(Vec3::new(r as f32, g as f32, b as f32))),
         _ => Err(SceneError::file(&sidecar, "\"radiance\" must be three finite, non-negative numbers")),
     }
 }

@@ -66,9 +66,7 @@ impl<'a> MaterialReader<'a> {
     fn slot(&mut self, info: &gltf::texture::Info, color_space: ColorSpace) -> TextureSlot {
         let transform = info.texture_transform();
         let tex_coord = self.tex_coord(transform.as_ref().and_then(|t| t.tex_coord()).unwrap_or(info.tex_coord()));
-        let transform = transform.map_or(glam::Affine2::IDENTITY, |t| {
-            crate::texture_transform(Vec2::from(t.offset()), t.rotation(), Vec2::from(t.scale()))
-        });
+        let transform = transform.map_or(glam::Affine2::IDENTITY, |t| crate::texture_transform(Vec2::from(t.offset()), t.rotation(), Vec2::from(t.scale())));
         TextureSlot { tex_coord, transform, ..self.texture(&info.texture(), color_space) }
     }
 
@@ -87,9 +85,7 @@ impl<'a> MaterialReader<'a> {
             None => None,
         };
         let tex_coord = self.tex_coord(transform.as_ref().and_then(|t| t.tex_coord).unwrap_or(normal.tex_coord()));
-        let transform = transform.map_or(glam::Affine2::IDENTITY, |t| {
-            crate::texture_transform(Vec2::from(t.offset.0), t.rotation.0, Vec2::from(t.scale.0))
-        });
+        let transform = transform.map_or(glam::Affine2::IDENTITY, |t| crate::texture_transform(Vec2::from(t.offset.0), t.rotation.0, Vec2::from(t.scale.0)));
         TextureSlot { tex_coord, transform, ..self.texture(&normal.texture(), ColorSpace::Linear) }
     }
 
@@ -145,15 +141,7 @@ impl<'a> MaterialReader<'a> {
 
 /// The glTF default material, for primitives that name none.
 pub(crate) fn default_material() -> Material {
-    Material {
-        name: "default".to_string(),
-        base_color: Vec3::ONE,
-        metallic: 1.0,
-        roughness: 1.0,
-        specular: 1.0,
-        double_sided: false,
-        ..Material::default()
-    }
+    Material { name: "default".to_string(), base_color: Vec3::ONE, metallic: 1.0, roughness: 1.0, specular: 1.0, double_sided: false, ..Material::default() }
 }
 
 /// The material's `alphaMode` and `alphaCutoff`.

@@ -7,9 +7,9 @@
 //! coordinates ([`generate_tangents`]).
 
 use crate::Mesh;
-use gltf::accessor::{DataType, Dimensions};
-use gltf::Semantic;
 use glam::{Vec2, Vec3, Vec4};
+use gltf::Semantic;
+use gltf::accessor::{DataType, Dimensions};
 
 /// The most elements one accessor may have: three vertices for each of the renderer's
 /// 2^27 triangles. Larger counts are refused before anything is allocated for them.

@@ -86,7 +86,10 @@ impl InputLimits {
         let mut bytes = Vec::with_capacity(usize::try_from(expected).unwrap_or(0));
         reader.read_to_end(&mut bytes).map_err(|e| InputError::new(path, format!("cannot read: {e}")))?;
         if bytes.len() as u64 > self.max_file_size {
-            return Err(InputError::new(path, format!("grew past the input size limit of {} bytes while being read (raise it with {MAX_FILE_SIZE_OPTION})", self.max_file_size)));
+            return Err(InputError::new(
+                path,
+                format!("grew past the input size limit of {} bytes while being read (raise it with {MAX_FILE_SIZE_OPTION})", self.max_file_size),
+            ));
         }
         Ok(bytes)
     }
@@ -102,7 +105,8 @@ impl InputLimits {
             return Err(InputError::new(path, format!("is not a regular file ({}): refused", file_kind(metadata))));
         }
         if metadata.len() > self.max_file_size {
-            let message = format!("is {} bytes, over the input size limit of {} bytes (raise it with {MAX_FILE_SIZE_OPTION})", metadata.len(), self.max_file_size);
+            let message =
+                format!("is {} bytes, over the input size limit of {} bytes (raise it with {MAX_FILE_SIZE_OPTION})", metadata.len(), self.max_file_size);
             return Err(InputError::new(path, message));
         }
         Ok(())
@@ -118,7 +122,8 @@ impl InputLimits {
             return Ok(joined);
         }
         if name.has_root() || name.is_absolute() {
-            let message = format!("is an absolute path: files a model refers to must lie inside its folder {} (allow any path with {ANY_PATH_OPTION})", root.display());
+            let message =
+                format!("is an absolute path: files a model refers to must lie inside its folder {} (allow any path with {ANY_PATH_OPTION})", root.display());
             return Err(InputError::new(&joined, message));
         }
         if !real_path(&joined).starts_with(real_path(root)) {
@@ -137,7 +142,10 @@ impl InputLimits {
             return Ok(());
         }
         if name.has_root() || name.is_absolute() {
-            let message = format!("a scene's output is an absolute path: it must lie inside the output folder {} (allow any path with {ANY_PATH_OPTION})", folder.display());
+            let message = format!(
+                "a scene's output is an absolute path: it must lie inside the output folder {} (allow any path with {ANY_PATH_OPTION})",
+                folder.display()
+            );
             return Err(InputError::new(name, message));
         }
         if !real_path(&folder.join(name)).starts_with(real_path(folder)) {

@@ -35,13 +35,16 @@ pub use cornell::cornell_box;
 pub use environment::{Environment, EnvironmentMap};
 pub use error::SceneError;
 pub use input_file::{InputError, InputLimits};
-pub use load::{load_scene, load_scene_with, LoadOptions, SceneSource};
-pub use mesh_scene::DEFAULT_SKY;
-pub use light::{spot_cone, spot_scale_offset, Attenuation, Light};
-pub use material::{normal_mapped, AlphaMode, Anisotropy, Material, ShadingModel};
+pub use light::{Attenuation, Light, spot_cone, spot_scale_offset};
+pub use load::{LoadOptions, SceneSource, load_scene, load_scene_with};
+pub use material::{AlphaMode, Anisotropy, Material, ShadingModel, normal_mapped};
 pub use mesh::Mesh;
+pub use mesh_scene::DEFAULT_SKY;
 pub use motion::Motion;
 pub use options::{ImportanceSampling, Integrator, NextEvent, RenderOptions, RenderPass};
 pub use scene::{EmissiveTriangle, Scene, luminance};
 pub use shape::{Shape, ShapeKind};
-pub use texture::{linear_to_srgb, sample_mipmapped, srgb_to_linear, texture_lod, texture_transform, ColorSpace, MipFilter, Texture, TextureFilter, TextureSlot, WrapMode, MAX_TEXTURE_SIZE};
+pub use texture::{
+    ColorSpace, MAX_TEXTURE_SIZE, MipFilter, Texture, TextureFilter, TextureSlot, WrapMode, linear_to_srgb, sample_mipmapped, srgb_to_linear, texture_lod,
+    texture_transform,
+};

@@ -118,7 +118,9 @@ impl Light {
             Light::Point { position, color, .. } => ("point light", vec![*position], *color),
             Light::Spot { position, direction, color, .. } => ("spot light", vec![*position, *direction], *color),
             Light::Directional { direction, color, .. } => ("directional light", vec![*direction], *color),
-            Light::Quad { corner, edge_a, edge_b, radiance: r } => ("quad light", vec![*corner, *edge_a, *edge_b, r[1], r[2], r[3]], r[0].min(r[1]).min(r[2]).min(r[3])),
+            Light::Quad { corner, edge_a, edge_b, radiance: r } => {
+                ("quad light", vec![*corner, *edge_a, *edge_b, r[1], r[2], r[3]], r[0].min(r[1]).min(r[2]).min(r[3]))
+            }
             Light::Segment { start, end, color_start, color_end, .. } => ("segment light", vec![*start, *end, *color_end], *color_start),
             Light::Shape { .. } => ("shape light", vec![], Vec3::ZERO),
         };

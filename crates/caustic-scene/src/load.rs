@@ -83,7 +83,9 @@ fn load_file(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {
         Some("ply") => crate::ply_loader::load(path, limits)?,
         // Scene-language files keep their own lighting (the classic ambient term included).
         Some("test" | "scene" | "txt") => return crate::lang::load_with(path, limits),
-        Some(other) => return Err(SceneError::file(path, format!("unsupported scene format '.{other}' (supported: .gltf, .glb, .obj, .ply, .test, .scene, .txt)"))),
+        Some(other) => {
+            return Err(SceneError::file(path, format!("unsupported scene format '.{other}' (supported: .gltf, .glb, .obj, .ply, .test, .scene, .txt)")));
+        }
         None => return Err(SceneError::file(path, "no file extension: cannot tell the format (supported: .gltf, .glb, .obj, .ply, .test, .scene, .txt)")),
     };
     if !options.keep_unlit {

@@ -58,12 +58,7 @@ impl Motion {
     pub fn over_shutter(&self, open: f32, close: f32) -> (Mat4, Option<Motion>) {
         let placement = self.at(open);
         let span = close - open;
-        let motion = Motion {
-            translation: self.translation * span,
-            axis: self.axis,
-            angle: self.angle * span,
-            pivot: placement.transform_point3(self.pivot),
-        };
+        let motion = Motion { translation: self.translation * span, axis: self.axis, angle: self.angle * span, pivot: placement.transform_point3(self.pivot) };
         (placement, (!motion.is_static()).then_some(motion))
     }
 
@@ -76,7 +71,10 @@ impl Motion {
     pub fn validate(&self, object: &str) -> Result<(), crate::SceneError> {
         let finite = self.translation.is_finite() && self.axis.is_finite() && self.angle.is_finite() && self.pivot.is_finite();
         if !finite {
-            return Err(crate::SceneError::invalid(object, format!("motion is not finite (translation {}, axis {}, angle {}, pivot {})", self.translation, self.axis, self.angle, self.pivot)));
+            return Err(crate::SceneError::invalid(
+                object,
+                format!("motion is not finite (translation {}, axis {}, angle {}, pivot {})", self.translation, self.axis, self.angle, self.pivot),
+            ));
         }
         if (self.axis.length() - 1.0).abs() > 1e-3 {
             return Err(crate::SceneError::invalid(object, format!("motion axis {} is not a unit vector", self.axis)));

@@ -22,8 +22,8 @@
 //! syntax errors name their line; an out-of-range index is noticed, and named, at the line
 //! that ends its object or group.
 
-use crate::mesh_scene::{assemble, default_material, warn};
 use crate::input_file::model_folder;
+use crate::mesh_scene::{assemble, default_material, warn};
 use crate::{ColorSpace, InputLimits, Material, Mesh, Scene, SceneError, ShadingModel, Texture, TextureSlot};
 use glam::{Vec2, Vec3};
 use std::cell::RefCell;

@@ -20,20 +20,8 @@ use std::io::{BufRead, BufReader};
 use std::path::Path;
 
 /// Vertex properties read, and where [`PlyVertex::values`] keeps them.
-const VERTEX_SLOTS: [(&str, usize); 12] = [
-    ("x", 0),
-    ("y", 1),
-    ("z", 2),
-    ("nx", 3),
-    ("ny", 4),
-    ("nz", 5),
-    ("u", 6),
-    ("v", 7),
-    ("s", 6),
-    ("t", 7),
-    ("texture_u", 6),
-    ("texture_v", 7),
-];
+const VERTEX_SLOTS: [(&str, usize); 12] =
+    [("x", 0), ("y", 1), ("z", 2), ("nx", 3), ("ny", 4), ("nz", 5), ("u", 6), ("v", 7), ("s", 6), ("t", 7), ("texture_u", 6), ("texture_v", 7)];
 
 /// Names the face element's index list may have.
 const INDEX_LISTS: [&str; 2] = ["vertex_indices", "vertex_index"];
@@ -60,12 +48,7 @@ pub(crate) fn load(path: &Path, limits: &crate::InputLimits) -> Result<Scene, Sc
 }
 
 /// Reads every instance of `element` as `E`.
-fn read_element<E: PropertyAccess, R: BufRead>(
-    path: &Path,
-    reader: &mut Reader<R>,
-    element: &ElementDef,
-    header: &Header,
-) -> Result<Vec<E>, SceneError> {
+fn read_element<E: PropertyAccess, R: BufRead>(path: &Path, reader: &mut Reader<R>, element: &ElementDef, header: &Header) -> Result<Vec<E>, SceneError> {
     let text = header.encoding == Encoding::Ascii;
     Parser::<E>::new().read_payload_for_element(reader, element, header).map_err(|e| parse_error(path, e, text))
 }
@@ -111,10 +94,7 @@ impl Layout {
             None => return Err(SceneError::file(path, "the face element has no 'vertex_indices' or 'vertex_index' list")),
         }
         let uv_pairs = [("u", "v"), ("s", "t"), ("texture_u", "texture_v")];
-        Ok(Layout {
-            normals: ["nx", "ny", "nz"].into_iter().all(scalar),
-            uvs: uv_pairs.into_iter().any(|(u, v)| scalar(u) && scalar(v)),
-        })
+        Ok(Layout { normals: ["nx", "ny", "nz"].into_iter().all(scalar), uvs: uv_pairs.into_iter().any(|(u, v)| scalar(u) && scalar(v)) })
     }
 }
 

@@ -132,9 +132,7 @@ impl Scene {
 
     /// Bytes held by the meshes' vertex and index arrays and the textures' texels.
     pub fn memory_bytes(&self) -> usize {
-        let mesh = |m: &Mesh| {
-            12 * (m.positions.len() + m.normals.len() + m.indices.len()) + 8 * (m.uvs.len() + m.uvs1.len()) + 16 * m.tangents.len()
-        };
+        let mesh = |m: &Mesh| 12 * (m.positions.len() + m.normals.len() + m.indices.len()) + 8 * (m.uvs.len() + m.uvs1.len()) + 16 * m.tangents.len();
         self.meshes.iter().map(mesh).sum::<usize>() + self.textures.iter().map(Texture::memory_bytes).sum::<usize>()
     }
 
@@ -160,7 +158,13 @@ impl Scene {
             light.validate(index)?;
         }
         if !self.camera.is_valid() {
-            return Err(SceneError::invalid("camera", format!("degenerate camera: {} (the eye must differ from the target, up must not be parallel to the view, the field of view must lie in (0, 180) degrees)", self.camera)));
+            return Err(SceneError::invalid(
+                "camera",
+                format!(
+                    "degenerate camera: {} (the eye must differ from the target, up must not be parallel to the view, the field of view must lie in (0, 180) degrees)",
+                    self.camera
+                ),
+            ));
         }
         let (w, h) = self.resolution;
         if w == 0 || h == 0 || w > 16384 || h > 16384 {

@@ -205,9 +205,7 @@ pub fn srgb_to_linear(c: f32) -> f32 {
 fn check_size(width: u32, height: u32) -> Result<(), String> {
     match (width, height) {
         (0, _) | (_, 0) => Err(format!("is {width}x{height}: a texture needs at least one texel")),
-        _ if width > MAX_TEXTURE_SIZE || height > MAX_TEXTURE_SIZE => {
-            Err(format!("is {width}x{height}: larger than {MAX_TEXTURE_SIZE} texels a side"))
-        }
+        _ if width > MAX_TEXTURE_SIZE || height > MAX_TEXTURE_SIZE => Err(format!("is {width}x{height}: larger than {MAX_TEXTURE_SIZE} texels a side")),
         _ => Ok(()),
     }
 }
@@ -244,7 +242,14 @@ pub struct TextureSlot {
 impl TextureSlot {
     /// A slot reading `texture` through set 0, untransformed, repeating, trilinear.
     pub fn new(texture: u32) -> TextureSlot {
-        TextureSlot { texture, tex_coord: 0, transform: Affine2::IDENTITY, wrap: [WrapMode::Repeat; 2], filter: TextureFilter::Bilinear, mip: MipFilter::Linear }
+        TextureSlot {
+            texture,
+            tex_coord: 0,
+            transform: Affine2::IDENTITY,
+            wrap: [WrapMode::Repeat; 2],
+            filter: TextureFilter::Bilinear,
+            mip: MipFilter::Linear,
+        }
     }
 
     /// Where `uv` reads the image: transformed, then wrapped into [0, 1].

@@ -13,10 +13,10 @@ use caustic_gpu::{DebugView, GpuContext, RenderSettings};
 use caustic_image::ToneMap;
 use caustic_scene::{Camera, Environment, Integrator};
 use eframe::egui_wgpu;
+use egui::mutex::RwLock;
 use egui::{Color32, ColorImage, PointerButton, Rect, Sense, Vec2};
 use glam::Vec3;
 use std::path::Path;
-use egui::mutex::RwLock;
 use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
@@ -122,11 +122,7 @@ pub(crate) struct ViewerApp {
 
 impl ViewerApp {
     /// Wraps eframe's device, uploads the scene and compiles the kernel.
-    pub fn new(
-        cc: &eframe::CreationContext<'_>,
-        options: ViewerOptions,
-        outcome: Arc<Mutex<Option<anyhow::Error>>>,
-    ) -> anyhow::Result<ViewerApp> {
+    pub fn new(cc: &eframe::CreationContext<'_>, options: ViewerOptions, outcome: Arc<Mutex<Option<anyhow::Error>>>) -> anyhow::Result<ViewerApp> {
         let state = cc.wgpu_render_state.as_ref().context("eframe started without its wgpu renderer")?;
         // The render state lives as long as the window, which is the rest of the process.
         let shared = GpuContext::from_parts(state.device.clone(), state.queue.clone(), &state.adapter.get_info());

@@ -122,10 +122,7 @@ impl Reproduction {
         let mut text = format!("{}\n", self.command_line(output));
         if !self.edited_materials.is_empty() {
             let names: Vec<String> = self.edited_materials.iter().map(|n| format!("'{n}'")).collect();
-            text += &format!(
-                "# Not reproduced: materials {} were edited in the viewer; the command renders the scene file's.\n",
-                names.join(", ")
-            );
+            text += &format!("# Not reproduced: materials {} were edited in the viewer; the command renders the scene file's.\n", names.join(", "));
         }
         text
     }

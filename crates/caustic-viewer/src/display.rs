@@ -4,8 +4,8 @@
 //! image never leaves the device.
 
 use bytemuck::{Pod, Zeroable};
-use caustic_gpu::{GpuContext, GpuError};
 use caustic_gpu::debug_image::DEBUG_SAVE_OPTIONS;
+use caustic_gpu::{GpuContext, GpuError};
 use caustic_image::{Image, ToneMap, to_srgb8};
 use wgpu::util::DeviceExt;
 
@@ -72,14 +72,7 @@ impl Display {
     /// [`caustic_gpu::PathTracer::accumulation_buffer`]) into the texture: pixels with samples
     /// are replaced; pixels without keep what they showed. Returns `true` when the texture
     /// was re-created for a new size (and must be registered with egui again).
-    pub fn run(
-        &mut self,
-        ctx: &GpuContext,
-        film: &wgpu::Buffer,
-        (width, height): (u32, u32),
-        exposure: f32,
-        tone_map: ToneMap,
-    ) -> Result<bool, GpuError> {
+    pub fn run(&mut self, ctx: &GpuContext, film: &wgpu::Buffer, (width, height): (u32, u32), exposure: f32, tone_map: ToneMap) -> Result<bool, GpuError> {
         let resized = self.texture.width() != width || self.texture.height() != height;
         if resized {
             (self.texture, self.view) = target(&ctx.device, width, height);
@@ -146,10 +139,7 @@ fn target(device: &wgpu::Device, width: u32, height: u32) -> (wgpu::Texture, wgp
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
         format: DISPLAY_FORMAT,
-        usage: wgpu::TextureUsages::STORAGE_BINDING
-            | wgpu::TextureUsages::TEXTURE_BINDING
-            | wgpu::TextureUsages::COPY_SRC
-            | wgpu::TextureUsages::COPY_DST,
+        usage: wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC | wgpu::TextureUsages::COPY_DST,
         view_formats: &[],
     });
     let view = texture.create_view(&Default::default());

@@ -5,7 +5,7 @@
 //! which turns into the [`ClassicFeatures`] a render is compiled with and into `--feature`
 //! arguments.
 
-use caustic_gpu::features::{parse_feature, ClassicFeatures, FeatureInfo, FeatureKind, FEATURES, MAX_SAMPLES};
+use caustic_gpu::features::{ClassicFeatures, FEATURES, FeatureInfo, FeatureKind, MAX_SAMPLES, parse_feature};
 use egui::{ComboBox, DragValue, Ui};
 
 /// One feature's control.

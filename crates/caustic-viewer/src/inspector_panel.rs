@@ -45,10 +45,7 @@ pub fn project(camera: &Camera, (width, height): (u32, u32), p: Vec3) -> Option<
 fn segments(path: &PathRecord, escape_length: f32) -> Vec<(Vec3, Vec3, Color32)> {
     let mut lines = Vec::new();
     for bounce in &path.bounces {
-        let end = bounce
-            .hit
-            .as_ref()
-            .map_or(bounce.origin + bounce.direction * escape_length, |h| h.point);
+        let end = bounce.hit.as_ref().map_or(bounce.origin + bounce.direction * escape_length, |h| h.point);
         lines.push((bounce.origin, end, RAY));
         if let (Some(hit), Some(light)) = (&bounce.hit, &bounce.light) {
             let color = if light.occluded { BLOCKED } else { LIGHT };
@@ -98,25 +95,11 @@ impl ViewerApp {
             ui.label(format!("pixel ({x}, {y})"));
             ui.add(egui::DragValue::new(&mut sample).prefix("sample "));
         });
-        ui.label(format!(
-            "{} rays, ended: {}; radiance {}",
-            path.ray_count,
-            path.termination.name(),
-            v3(path.radiance)
-        ));
+        ui.label(format!("{} rays, ended: {}; radiance {}", path.ray_count, path.termination.name(), v3(path.radiance)));
         let scene = self.view.scene();
         egui::ScrollArea::horizontal().show(ui, |ui| {
             egui::Grid::new("path").striped(true).show(ui, |ui| {
-                for heading in [
-                    "#",
-                    "hit",
-                    "t",
-                    "material",
-                    "light (pdf, MIS w)",
-                    "BSDF pdf",
-                    "throughput",
-                    "radiance before",
-                ] {
+                for heading in ["#", "hit", "t", "material", "light (pdf, MIS w)", "BSDF pdf", "throughput", "radiance before"] {
                     ui.label(RichText::new(heading).strong());
                 }
                 ui.end_row();
@@ -147,11 +130,7 @@ fn row(index: usize, bounce: &BounceRecord, scene: &Scene) -> [String; 8] {
             };
             let side = if h.front_face { "" } else { " (back)" };
             let name = scene.materials.get(h.material as usize).map_or("?", |m| m.name.as_str());
-            (
-                format!("{primitive}{side}"),
-                format!("{:.4}", h.t),
-                format!("{} {name}", h.material),
-            )
+            (format!("{primitive}{side}"), format!("{:.4}", h.t), format!("{} {name}", h.material))
         }
     };
     let light = bounce.light.as_ref().map_or("-".to_string(), |l| {
@@ -163,16 +142,7 @@ fn row(index: usize, bounce: &BounceRecord, scene: &Scene) -> [String; 8] {
         format!("#{} {:.3} {:.3} {state}", l.light, l.pdf, l.mis_weight)
     });
     let bsdf = bounce.bsdf.as_ref().map_or("-".to_string(), |b| format!("{:.3}", b.pdf));
-    [
-        index.to_string(),
-        hit,
-        t,
-        material,
-        light,
-        bsdf,
-        v3(bounce.throughput),
-        v3(bounce.radiance),
-    ]
+    [index.to_string(), hit, t, material, light, bsdf, v3(bounce.throughput), v3(bounce.radiance)]
 }
 
 fn v3(v: Vec3) -> String {

@@ -15,11 +15,11 @@
 //! [`display`], [`command`] (saving an image with the command line that reproduces it).
 
 mod app;
-mod inspector_panel;
 pub mod camera;
 pub mod command;
 pub mod display;
 pub mod features_panel;
+mod inspector_panel;
 mod panel;
 pub mod picking;
 pub mod progressive;

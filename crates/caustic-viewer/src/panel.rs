@@ -89,7 +89,8 @@ impl ViewerApp {
         if let Some((low, high)) = self.view.legend_range() {
             ui.label(RichText::new(format!("heat map: {low} … light yellow {high} (legend under the image)")).small());
         }
-        let restart = (c.integrator, c.max_depth, c.seed, c.divisor, c.debug) != (before.integrator, before.max_depth, before.seed, before.divisor, before.debug);
+        let restart =
+            (c.integrator, c.max_depth, c.seed, c.divisor, c.debug) != (before.integrator, before.max_depth, before.seed, before.divisor, before.debug);
         self.pending.restart |= restart;
         self.budget.target = std::time::Duration::from_secs_f32(c.frame_ms / 1e3);
         self.pending.redisplay |= (c.exposure, c.tone_map) != (before.exposure, before.tone_map);

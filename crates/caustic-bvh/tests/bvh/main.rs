@@ -43,20 +43,12 @@ impl Rng {
     }
 
     pub fn in_box(&mut self, b: &Aabb) -> Vec3 {
-        Vec3::new(
-            self.range(b.min.x, b.max.x),
-            self.range(b.min.y, b.max.y),
-            self.range(b.min.z, b.max.z),
-        )
+        Vec3::new(self.range(b.min.x, b.max.x), self.range(b.min.y, b.max.y), self.range(b.min.z, b.max.z))
     }
 
     pub fn direction(&mut self) -> Vec3 {
         loop {
-            let v = Vec3::new(
-                self.range(-1.0, 1.0),
-                self.range(-1.0, 1.0),
-                self.range(-1.0, 1.0),
-            );
+            let v = Vec3::new(self.range(-1.0, 1.0), self.range(-1.0, 1.0), self.range(-1.0, 1.0));
             if v.length_squared() > 1e-4 && v.length_squared() <= 1.0 {
                 return v.normalize();
             }
@@ -76,10 +68,7 @@ impl Rng {
 /// Random triangles in a 20-unit cube: mostly ordinary, 5% zero-area (repeated or
 /// collinear vertices), 5% slivers (very thin, some long).
 pub fn random_soup(rng: &mut Rng, count: usize) -> Vec<[Vec3; 3]> {
-    let world = Aabb {
-        min: Vec3::splat(-10.0),
-        max: Vec3::splat(10.0),
-    };
+    let world = Aabb { min: Vec3::splat(-10.0), max: Vec3::splat(10.0) };
     (0..count)
         .map(|_| {
             let p = rng.in_box(&world);
@@ -108,12 +97,7 @@ pub fn heightfield(n: usize, height: impl Fn(usize, usize) -> f32) -> Vec<[Vec3;
     let mut triangles = Vec::with_capacity(2 * n * n);
     for j in 0..n {
         for i in 0..n {
-            let (a, b, c, d) = (
-                vertex(i, j),
-                vertex(i + 1, j),
-                vertex(i + 1, j + 1),
-                vertex(i, j + 1),
-            );
+            let (a, b, c, d) = (vertex(i, j), vertex(i + 1, j), vertex(i + 1, j + 1), vertex(i, j + 1));
             triangles.push([a, b, c]);
             triangles.push([a, c, d]);
         }
@@ -132,10 +116,7 @@ pub fn load_mesh(name: &str) -> Option<Vec<[Vec3; 3]>> {
     let path = shared_meshes().join(name);
     let Ok(text) = std::fs::read_to_string(&path) else {
         assert!(std::env::var("CI").as_deref() != Ok("true"), "{} is missing, and CI=true needs it", path.display());
-        println!(
-            "skipping {name}: ../shared not found ({} unreadable)",
-            path.display()
-        );
+        println!("skipping {name}: ../shared not found ({} unreadable)", path.display());
         return None;
     };
     let mut vertices = Vec::new();
@@ -144,19 +125,12 @@ pub fn load_mesh(name: &str) -> Option<Vec<[Vec3; 3]>> {
         let mut fields = line.split_whitespace();
         match fields.next() {
             Some("v") => {
-                let xyz: Vec<f32> = fields
-                    .take(3)
-                    .map(|f| f.parse().expect("vertex coordinate"))
-                    .collect();
+                let xyz: Vec<f32> = fields.take(3).map(|f| f.parse().expect("vertex coordinate")).collect();
                 vertices.push(Vec3::new(xyz[0], xyz[1], xyz[2]));
             }
             Some("f") => {
-                let corners: Vec<Vec3> = fields
-                    .map(|f| vertices[obj_index(f, vertices.len())])
-                    .collect();
-                triangles.extend(
-                    (1..corners.len() - 1).map(|k| [corners[0], corners[k], corners[k + 1]]),
-                );
+                let corners: Vec<Vec3> = fields.map(|f| vertices[obj_index(f, vertices.len())]).collect();
+                triangles.extend((1..corners.len() - 1).map(|k| [corners[0], corners[k], corners[k + 1]]));
             }
             _ => {}
         }
@@ -166,35 +140,18 @@ pub fn load_mesh(name: &str) -> Option<Vec<[Vec3; 3]>> {
 
 /// The vertex an OBJ face corner (`a`, `a/b`, `a//c`, `a/b/c`, negative = from the end) uses.
 fn obj_index(corner: &str, vertex_count: usize) -> usize {
-    let index: i64 = corner
-        .split('/')
-        .next()
-        .unwrap()
-        .parse()
-        .expect("face index");
-    if index < 0 {
-        (vertex_count as i64 + index) as usize
-    } else {
-        index as usize - 1
-    }
+    let index: i64 = corner.split('/').next().unwrap().parse().expect("face index");
+    if index < 0 { (vertex_count as i64 + index) as usize } else { index as usize - 1 }
 }
 
 /// The bounds of a triangle set, grown by half its size (or a unit box if it is empty).
 pub fn padded_bounds(triangles: &[[Vec3; 3]]) -> Aabb {
-    let bounds = triangles
-        .iter()
-        .fold(Aabb::empty(), |b, t| b.union(&Aabb::from_triangle(t)));
+    let bounds = triangles.iter().fold(Aabb::empty(), |b, t| b.union(&Aabb::from_triangle(t)));
     if bounds.is_empty() {
-        return Aabb {
-            min: -Vec3::ONE,
-            max: Vec3::ONE,
-        };
+        return Aabb { min: -Vec3::ONE, max: Vec3::ONE };
     }
     let pad = Vec3::splat(bounds.extent().max_element().max(1.0) * 0.5);
-    Aabb {
-        min: bounds.min - pad,
-        max: bounds.max + pad,
-    }
+    Aabb { min: bounds.min - pad, max: bounds.max + pad }
 }
 
 /// A mix of random rays: random directions from inside the padded bounds, rays aimed
@@ -205,37 +162,17 @@ pub fn random_rays(rng: &mut Rng, triangles: &[[Vec3; 3]], count: usize) -> Vec<
         .map(|_| {
             let origin = rng.in_box(&bounds);
             if triangles.is_empty() {
-                return Ray {
-                    origin,
-                    direction: rng.direction(),
-                    t_max: f32::INFINITY,
-                };
+                return Ray { origin, direction: rng.direction(), t_max: f32::INFINITY };
             }
             let aimed_at = rng.index(triangles.len());
             let target = rng.on_triangle(&triangles[aimed_at]);
             match rng.index(10) {
-                0..=3 => Ray {
-                    origin,
-                    direction: rng.direction(),
-                    t_max: f32::INFINITY,
-                },
-                4..=7 => Ray {
-                    origin,
-                    direction: target - origin,
-                    t_max: f32::INFINITY,
-                },
-                8 => Ray {
-                    origin,
-                    direction: target - origin,
-                    t_max: rng.range(0.2, 1.2),
-                },
+                0..=3 => Ray { origin, direction: rng.direction(), t_max: f32::INFINITY },
+                4..=7 => Ray { origin, direction: target - origin, t_max: f32::INFINITY },
+                8 => Ray { origin, direction: target - origin, t_max: rng.range(0.2, 1.2) },
                 _ => {
                     let axis = Vec3::AXES[rng.index(3)] * if rng.unit() < 0.5 { 1.0 } else { -1.0 };
-                    Ray {
-                        origin,
-                        direction: axis,
-                        t_max: f32::INFINITY,
-                    }
+                    Ray { origin, direction: axis, t_max: f32::INFINITY }
                 }
             }
         })
@@ -246,11 +183,7 @@ pub fn random_rays(rng: &mut Rng, triangles: &[[Vec3; 3]], count: usize) -> Vec<
 /// the teapot from `../shared` when it is there.
 pub fn test_sets() -> Vec<(&'static str, Vec<[Vec3; 3]>)> {
     let mut rng = Rng::new(7);
-    let tri = [
-        Vec3::new(0.0, 0.0, 0.0),
-        Vec3::new(1.0, 0.2, 0.1),
-        Vec3::new(0.3, 1.0, -0.2),
-    ];
+    let tri = [Vec3::new(0.0, 0.0, 0.0), Vec3::new(1.0, 0.2, 0.1), Vec3::new(0.3, 1.0, -0.2)];
     let mut sets = vec![
         ("soup", random_soup(&mut rng, 2000)),
         ("empty", Vec::new()),

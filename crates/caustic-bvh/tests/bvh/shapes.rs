@@ -3,8 +3,7 @@
 
 use crate::Rng;
 use caustic_bvh::{
-    BuildOptions, GpuShape, Ray, SHAPE_BIT, ShapeInput, ShapeKind, build_with_shapes, closest_hit_brute_force,
-    flatten_with_shapes, intersect_shape,
+    BuildOptions, GpuShape, Ray, SHAPE_BIT, ShapeInput, ShapeKind, build_with_shapes, closest_hit_brute_force, flatten_with_shapes, intersect_shape,
 };
 use glam::{Mat4, Quat, Vec3};
 
@@ -52,7 +51,8 @@ fn mixed_trees_match_brute_force() {
     assert_eq!(gpu.first_plane as usize, shapes.len() - 1);
     let (mut hits, mut shape_hits, mut mismatches) = (0, 0, 0);
     for _ in 0..20_000 {
-        let ray = Ray { origin: Vec3::new(rng.range(-15.0, 15.0), rng.range(-15.0, 15.0), rng.range(-15.0, 15.0)), direction: rng.direction(), t_max: f32::INFINITY };
+        let ray =
+            Ray { origin: Vec3::new(rng.range(-15.0, 15.0), rng.range(-15.0, 15.0), rng.range(-15.0, 15.0)), direction: rng.direction(), t_max: f32::INFINITY };
         let tree = gpu.closest_hit(&ray).map(|h| (h.t, h.triangle));
         let brute = brute_force(&triangles, &shapes, &ray);
         hits += usize::from(brute.is_some());

@@ -28,18 +28,11 @@ fn compare_ray(name: &str, triangles: &[[Vec3; 3]], gpu: &GpuBvh, ray: &Ray, tal
     let start = Instant::now();
     let truth = closest_hit_brute_force(triangles, ray);
     tally.brute_ms += start.elapsed().as_secs_f64() * 1000.0;
-    assert_eq!(
-        any,
-        truth.is_some(),
-        "{name}: any_hit disagrees for {ray:?}"
-    );
+    assert_eq!(any, truth.is_some(), "{name}: any_hit disagrees for {ray:?}");
     match (fast, truth) {
         (None, None) => {}
         (Some(Hit { t, triangle, .. }), Some(expected)) if triangle != expected.triangle => {
-            assert_eq!(
-                t, expected.t,
-                "{name}: BVH hit {triangle} != brute force {expected:?} for {ray:?}"
-            );
+            assert_eq!(t, expected.t, "{name}: BVH hit {triangle} != brute force {expected:?} for {ray:?}");
             tally.ties += 1;
             tally.hits += 1;
         }
@@ -91,29 +84,11 @@ fn closest_hit_matches_brute_force_on_a_large_mesh() {
 fn clipped_and_axis_parallel_rays_respect_t_max() {
     let triangles = plane_grid(8);
     let gpu = flatten(&build(&triangles, &BuildOptions::default()), &triangles);
-    let down = |t_max| Ray {
-        origin: Vec3::new(2.5, 3.25, 2.0),
-        direction: Vec3::NEG_Z,
-        t_max,
-    };
-    assert_eq!(
-        gpu.closest_hit(&down(f32::INFINITY)).map(|h| h.t),
-        Some(2.0)
-    );
+    let down = |t_max| Ray { origin: Vec3::new(2.5, 3.25, 2.0), direction: Vec3::NEG_Z, t_max };
+    assert_eq!(gpu.closest_hit(&down(f32::INFINITY)).map(|h| h.t), Some(2.0));
     assert!(gpu.closest_hit(&down(2.0)).is_none() && !gpu.any_hit(&down(2.0)));
     assert!(gpu.any_hit(&down(2.0001)));
-    let along = Ray {
-        origin: Vec3::new(-1.0, 3.25, 0.0),
-        direction: Vec3::X,
-        t_max: f32::INFINITY,
-    };
-    assert_eq!(
-        gpu.closest_hit(&along),
-        None,
-        "rays in the plane of a triangle miss it"
-    );
-    println!(
-        "t_max is exclusive; in-plane rays miss; visit counts for the down ray: {:?}",
-        gpu.visit_counts(&down(f32::INFINITY))
-    );
+    let along = Ray { origin: Vec3::new(-1.0, 3.25, 0.0), direction: Vec3::X, t_max: f32::INFINITY };
+    assert_eq!(gpu.closest_hit(&along), None, "rays in the plane of a triangle miss it");
+    println!("t_max is exclusive; in-plane rays miss; visit counts for the down ray: {:?}", gpu.visit_counts(&down(f32::INFINITY)));
 }

@@ -7,14 +7,13 @@
 //! `bsdf_gpu.rs`, through `caustic_bsdf::catalog::anisotropic_cases`.)
 
 use crate::support::device;
-use caustic_bsdf::bsdf::{Bsdf, Sampling};
 use caustic_bsdf::Frame;
-use caustic_gpu::{bsdf_params, GpuScene, PathTracer, RenderSettings};
+use caustic_bsdf::bsdf::{Bsdf, Sampling};
+use caustic_gpu::{GpuScene, PathTracer, RenderSettings, bsdf_params};
 use caustic_scene::lang::Interpreter;
 use caustic_scene::{Anisotropy, Attenuation, Camera, Environment, Light, Material, Scene, Shape};
 use glam::{Mat4, Vec2, Vec3};
 use std::path::Path;
-
 
 /// The current material after running `text`, or the error message.
 fn material_after(text: &str) -> Result<Material, String> {
@@ -113,7 +112,10 @@ fn furnace_spheres_match_the_cpu_albedo_and_never_exceed_the_environment() {
             count += 1;
         }
         let (device, cpu) = (device / count as f64, cpu / count as f64);
-        println!("furnace {name:46}: device mean {device:.4}, CPU model {cpu:.4} ({:+.2}%) over {count} pixels; brightest pixel {brightest:.4}", 100.0 * (device / cpu - 1.0));
+        println!(
+            "furnace {name:46}: device mean {device:.4}, CPU model {cpu:.4} ({:+.2}%) over {count} pixels; brightest pixel {brightest:.4}",
+            100.0 * (device / cpu - 1.0)
+        );
         if (device / cpu - 1.0).abs() > 0.01 || device > 1.0 {
             failures.push(format!("{name}: device {device:.4}, CPU {cpu:.4}"));
         }
@@ -262,7 +264,13 @@ fn lobe_mask_leaves_the_slot_out_of_scenes_without_it() {
     let with = GpuScene::upload(&ctx, &scene).expect("upload");
     println!("anisotropic plane: LOBE_MASK {:#09b}", with.lobe_mask);
     assert_ne!(with.lobe_mask & 1 << 6, 0, "the anisotropic scene needs slot 6");
-    scene.materials[0] = Material { model: caustic_scene::ShadingModel::Phong, base_color: Vec3::splat(0.4), specular_color: Vec3::splat(0.5), shininess: 30.0, ..Material::default() };
+    scene.materials[0] = Material {
+        model: caustic_scene::ShadingModel::Phong,
+        base_color: Vec3::splat(0.4),
+        specular_color: Vec3::splat(0.5),
+        shininess: 30.0,
+        ..Material::default()
+    };
     let mut gpu = GpuScene::upload(&ctx, &scene).expect("upload");
     let masked = gpu.lobe_mask;
     assert_eq!(masked & 1 << 6, 0, "a Phong scene must not compile the anisotropic slot: {masked:#b}");

@@ -5,10 +5,10 @@
 
 use crate::support::device;
 use bytemuck::{Pod, Zeroable};
-use caustic_bsdf::ashikhmin::AshikhminShirley;
-use caustic_bsdf::catalog::{outgoing, ASHIKHMIN_EXPONENTS, TEST_ANGLES};
-use caustic_bsdf::chi_square::{corrected_level, ChiSquareTest};
 use caustic_bsdf::Bxdf;
+use caustic_bsdf::ashikhmin::AshikhminShirley;
+use caustic_bsdf::catalog::{ASHIKHMIN_EXPONENTS, TEST_ANGLES, outgoing};
+use caustic_bsdf::chi_square::{ChiSquareTest, corrected_level};
 use caustic_gpu::kernel_test::KernelTest;
 use caustic_gpu::shaders::bsdf_library;
 use glam::{Vec2, Vec3};

@@ -6,7 +6,6 @@ use crate::support::device;
 use caustic_gpu::bloom::{BLOOM_LEVELS, Bloom, BloomSettings, bloom_cpu};
 use caustic_image::Image;
 
-
 /// A 97 x 61 HDR test image: a dim gradient with a few very bright pixels (deterministic).
 fn hdr_image() -> Image {
     let (w, h) = (97u32, 61u32);

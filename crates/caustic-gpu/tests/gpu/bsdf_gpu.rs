@@ -13,8 +13,8 @@ use caustic_bsdf::chi_square::{ChiSquareTest, corrected_level};
 use caustic_bsdf::params::BsdfParams;
 use caustic_gpu::gpu_types::GpuMaterial;
 use caustic_gpu::kernel_test::KernelTest;
-use caustic_gpu::shaders::bsdf_library;
 use caustic_gpu::material_with_bsdf;
+use caustic_gpu::shaders::bsdf_library;
 use glam::{Vec2, Vec3};
 
 /// One BSDF query: `TestInput` in the WGSL below.
@@ -96,7 +96,6 @@ fn test_kernel(index: u32) -> TestOutput {
     return TestOutput(s.wi, s.pdf);
 }
 ";
-
 
 fn sampling_code(sampling: Sampling) -> u32 {
     match sampling {
@@ -184,7 +183,8 @@ fn device_bsdfs_match_their_cpu_twins() {
             let (wo, wi) = (Vec3::from(q.wo), Vec3::from(q.wi));
             // A non-delta weight is compared at the direction the device drew: at grazing wi
             // (z ~ 2e-4) the devices' transcendentals move wi.z, and eval with it, by ~1%.
-            let weight_at_device_direction = |s: &caustic_bsdf::BsdfSample| if s.delta { s.weight } else { bsdf.eval(wo, Vec3::from(a.wi)) / bsdf.pdf(wo, Vec3::from(a.wi), case.sampling) };
+            let weight_at_device_direction =
+                |s: &caustic_bsdf::BsdfSample| if s.delta { s.weight } else { bsdf.eval(wo, Vec3::from(a.wi)) / bsdf.pdf(wo, Vec3::from(a.wi), case.sampling) };
             let (eval, pdf) = (bsdf.eval(wo, wi), bsdf.pdf(wo, wi, case.sampling));
             let extreme = case.params.phong_exponent > 1.0e4;
             let eval_err = if extreme { 0.0 } else { rel(eval, Vec3::from(a.eval)) };
@@ -200,7 +200,8 @@ fn device_bsdfs_match_their_cpu_twins() {
                 Some(s) if device_valid && s.delta == (a.delta != 0) && (s.wi - Vec3::from(a.wi)).length() < 1e-3 => {
                     sampled += 1;
                     if !extreme {
-                        worst_sample = worst_sample.max(rel(Vec3::splat(s.pdf), Vec3::splat(a.sample_pdf)).max(rel(weight_at_device_direction(&s), Vec3::from(a.weight))));
+                        worst_sample =
+                            worst_sample.max(rel(Vec3::splat(s.pdf), Vec3::splat(a.sample_pdf)).max(rel(weight_at_device_direction(&s), Vec3::from(a.weight))));
                     }
                 }
                 None if !device_valid => {}
@@ -208,7 +209,9 @@ fn device_bsdfs_match_their_cpu_twins() {
             }
         }
     }
-    println!("{total} queries: worst relative difference eval {worst_eval:.1e}, pdf {worst_pdf:.1e}, sample pdf/weight {worst_sample:.1e} over {sampled} matching samples; {mismatched} samples differ in direction or validity");
+    println!(
+        "{total} queries: worst relative difference eval {worst_eval:.1e}, pdf {worst_pdf:.1e}, sample pdf/weight {worst_sample:.1e} over {sampled} matching samples; {mismatched} samples differ in direction or validity"
+    );
     assert!(worst_eval < 2e-3 && worst_pdf < 2e-3, "eval/pdf differ beyond 2e-3 relative");
     assert!(worst_sample < 2e-3, "sample pdf/weight differ beyond 2e-3 relative");
     assert!(mismatched * 1000 <= total, "{mismatched} of {total} samples differ (tolerance 0.1%: lobe choices at float boundaries)");
@@ -319,13 +322,25 @@ fn path_traced_white_furnace_per_material() {
         ("white lambert", white.clone(), true),
         ("smooth glass ior 1.5", Material { transmission: 1.0, roughness: 0.0, ..white.clone() }, true),
         ("perfect mirror", Material { metallic: 1.0, roughness: 0.0, ..white.clone() }, true),
-        ("translucent 0.5 / 0.5", Material { model: ShadingModel::Translucent, base_color: Vec3::splat(0.5), specular_color: Vec3::splat(0.5), ..white.clone() }, true),
+        (
+            "translucent 0.5 / 0.5",
+            Material { model: ShadingModel::Translucent, base_color: Vec3::splat(0.5), specular_color: Vec3::splat(0.5), ..white.clone() },
+            true,
+        ),
         ("language glass layer ior 1.33", Material { model: ShadingModel::Phong, transparency: 1.0, ior: 1.33, ..white.clone() }, true),
         ("rough glass roughness 0.5", Material { transmission: 1.0, roughness: 0.5, ..white.clone() }, false),
         ("rough metal roughness 0.5", Material { metallic: 1.0, roughness: 0.5, ..white.clone() }, false),
         ("white plastic roughness 0.4", Material { specular: 1.0, roughness: 0.4, ..white.clone() }, false),
-        ("phong kd 0.5 ks 0.5 n 20", Material { model: ShadingModel::Phong, base_color: Vec3::splat(0.5), specular_color: Vec3::splat(0.5), shininess: 20.0, ..white.clone() }, false),
-        ("cse168 ggx kd 0.5 ks 0.5 alpha 0.1", Material { model: ShadingModel::Ggx, base_color: Vec3::splat(0.5), specular_color: Vec3::splat(0.5), roughness: 0.1f32.sqrt(), ..white.clone() }, false),
+        (
+            "phong kd 0.5 ks 0.5 n 20",
+            Material { model: ShadingModel::Phong, base_color: Vec3::splat(0.5), specular_color: Vec3::splat(0.5), shininess: 20.0, ..white.clone() },
+            false,
+        ),
+        (
+            "cse168 ggx kd 0.5 ks 0.5 alpha 0.1",
+            Material { model: ShadingModel::Ggx, base_color: Vec3::splat(0.5), specular_color: Vec3::splat(0.5), roughness: 0.1f32.sqrt(), ..white.clone() },
+            false,
+        ),
     ];
     let (size, distance, radius, fov) = (48u32, 6.0f32, 1.5f32, 40f32.to_radians());
     // Pixels whose centre ray hits the sphere at least 1.5 pixels inside its silhouette.
@@ -358,7 +373,11 @@ fn path_traced_white_furnace_per_material() {
         assert_eq!(tracer.nonfinite_samples().expect("counter"), 0, "{name}: non-finite samples");
         let image = tracer.image().expect("image");
         let mean = inside.iter().map(|&i| f64::from(image.pixels[i].iter().sum::<f32>()) / 3.0).sum::<f64>() / inside.len() as f64;
-        println!("furnace {name:36}: sphere mean {mean:.4} over {} pixels ({})", inside.len(), if lossless { "lossless: 1 within 1%" } else { "lossy: at most 1" });
+        println!(
+            "furnace {name:36}: sphere mean {mean:.4} over {} pixels ({})",
+            inside.len(),
+            if lossless { "lossless: 1 within 1%" } else { "lossy: at most 1" }
+        );
         if (lossless && (mean - 1.0).abs() > 0.01) || mean > 1.005 {
             failures.push(format!("{name}: {mean:.4}"));
         }
@@ -442,7 +461,13 @@ fn device_triangle_test_misses_edge_on_slivers_and_hits_through_vertices() {
     let kernel = KernelTest::new(&ctx, &caustic_gpu::shaders::common_library(), TRIANGLE_KERNEL).expect("triangle kernel compiles");
     let row = |v: Vec3| [v.x, v.y, v.z, 0.0];
     let sliver = [Vec3::new(1.5, -0.5, -0.5), Vec3::new(2.5, -0.5, -0.5), Vec3::new(2.0, -0.5, -0.4999999)];
-    let mut inputs = vec![[row(Vec3::new(2.790382, -2.3988943, 1.7151849)), row(Vec3::new(-0.75664127, 0.63296473, -0.738395)), row(sliver[0]), row(sliver[1]), row(sliver[2])]];
+    let mut inputs = vec![[
+        row(Vec3::new(2.790382, -2.3988943, 1.7151849)),
+        row(Vec3::new(-0.75664127, 0.63296473, -0.738395)),
+        row(sliver[0]),
+        row(sliver[1]),
+        row(sliver[2]),
+    ]];
     let fan = [Vec3::X, Vec3::Y, Vec3::NEG_X, Vec3::NEG_Y];
     for direction in [Vec3::Z, Vec3::NEG_Z] {
         let origin = Vec3::new(0.0, 0.0, 2.0) - 4.0 * direction.max(Vec3::ZERO);

@@ -5,10 +5,13 @@
 //! switches themselves.
 
 use crate::support::device;
-use caustic_gpu::classic_reference::{classic_fresnel, pixel_centre_ray, spawn_origin, ClassicReference};
+use caustic_gpu::classic_reference::{ClassicReference, classic_fresnel, pixel_centre_ray, spawn_origin};
 use caustic_gpu::features::{ClassicFeatures, FEATURES};
 use caustic_gpu::{GpuContext, GpuScene, PathTracer, RenderSettings};
-use caustic_scene::{Attenuation, Camera, ColorSpace, Environment, EnvironmentMap, Integrator, Light, Material, Mesh, Scene, ShadingModel, Shape, Texture, TextureFilter, TextureSlot};
+use caustic_scene::{
+    Attenuation, Camera, ColorSpace, Environment, EnvironmentMap, Integrator, Light, Material, Mesh, Scene, ShadingModel, Shape, Texture, TextureFilter,
+    TextureSlot,
+};
 use glam::{Mat4, Vec2, Vec3};
 
 fn features(list: &[&str]) -> ClassicFeatures {
@@ -31,9 +34,14 @@ fn render(ctx: &GpuContext, scene: &Scene, list: &[&str], max_depth: u32, spp: u
     tracer.image().expect("image").pixels
 }
 
-
 fn quad(corner: Vec3, a: Vec3, b: Vec3, material: u32) -> Mesh {
-    Mesh { name: "quad".into(), positions: vec![corner, corner + a, corner + a + b, corner + b], indices: vec![[0, 1, 2], [0, 2, 3]], material, ..Mesh::default() }
+    Mesh {
+        name: "quad".into(),
+        positions: vec![corner, corner + a, corner + a + b, corner + b],
+        indices: vec![[0, 1, 2], [0, 2, 3]],
+        material,
+        ..Mesh::default()
+    }
 }
 
 /// An axis-aligned box between `lo` and `hi` turned by `turn` about its centre, faces outwards.
@@ -70,7 +78,14 @@ fn sphere(centre: Vec3, radius: f32, material: u32) -> Mesh {
 }
 
 fn glass() -> Material {
-    Material { model: ShadingModel::Phong, transparency: 0.9, ior: 1.5, specular_color: Vec3::splat(0.05), shininess: 40.0, ..Material::diffuse("glass", Vec3::ZERO) }
+    Material {
+        model: ShadingModel::Phong,
+        transparency: 0.9,
+        ior: 1.5,
+        specular_color: Vec3::splat(0.05),
+        shininess: 40.0,
+        ..Material::diffuse("glass", Vec3::ZERO)
+    }
 }
 
 /// A striped wall, a floor, a tilted glass slab, a smooth glass sphere and a mirror, lit by a
@@ -106,10 +121,13 @@ fn glass_scene() -> Scene {
 fn reference_image(scene: &Scene, list: &[&str], max_depth: u32) -> Vec<[f32; 3]> {
     let reference = ClassicReference::new(scene, &features(list), max_depth).expect("reference");
     let (w, h) = scene.resolution;
-    (0..h).flat_map(|y| (0..w).map(move |x| (x, y))).map(|(x, y)| {
-        let (o, d) = pixel_centre_ray(scene, x, y);
-        reference.trace(o, d).to_array()
-    }).collect()
+    (0..h)
+        .flat_map(|y| (0..w).map(move |x| (x, y)))
+        .map(|(x, y)| {
+            let (o, d) = pixel_centre_ray(scene, x, y);
+            reference.trace(o, d).to_array()
+        })
+        .collect()
 }
 
 /// Pixels whose 3x3 neighbourhood in `image` varies by less than `flat` in every channel:
@@ -120,10 +138,12 @@ fn smooth_pixels(image: &[[f32; 3]], (w, h): (u32, u32), flat: f32) -> Vec<usize
     for y in 1..h - 1 {
         for x in 1..w - 1 {
             let i = (y * w + x) as usize;
-            let smooth = (-1..=1).all(|dy| (-1..=1).all(|dx| {
-                let j = ((y + dy) * w + x + dx) as usize;
-                (0..3).all(|c| (image[i][c] - image[j][c]).abs() < flat)
-            }));
+            let smooth = (-1..=1).all(|dy| {
+                (-1..=1).all(|dx| {
+                    let j = ((y + dy) * w + x + dx) as usize;
+                    (0..3).all(|c| (image[i][c] - image[j][c]).abs() < flat)
+                })
+            });
             if smooth {
                 out.push(i);
             }
@@ -317,7 +337,8 @@ fn soft_shadows_sample_lights_and_switch_off_to_hard_shadows() {
     assert!(partial(&soft) > 2 * partial(&hard).max(5), "the spread light casts a penumbra only with soft shadows");
     // Noise of one pass in the penumbra falls as 1 / sqrt(light samples).
     let reference = render(&ctx, &scene, &["light-samples=16"], 5, 64);
-    let penumbra: Vec<usize> = (0..reference.len()).filter(|&i| reference[i][0] > 0.15 && reference[i][0] < lit - 0.05 && (reference[i][0] - 0.3).abs() > 0.01).collect();
+    let penumbra: Vec<usize> =
+        (0..reference.len()).filter(|&i| reference[i][0] > 0.15 && reference[i][0] < lit - 0.05 && (reference[i][0] - 0.3).abs() > 0.01).collect();
     let rmse = |list: &[&str]| {
         let one = render(&ctx, &scene, list, 5, 1);
         (penumbra.iter().map(|&i| (one[i][0] - reference[i][0]).powi(2)).sum::<f32>() / penumbra.len() as f32).sqrt()
@@ -359,7 +380,13 @@ fn flat_normals_show_the_facets() {
     let lit = |image: &[[f32; 3]]| image.iter().filter(|p| p[0] > 0.0).count();
     let smooth = reference_image(&scene, &[], 0);
     let flat = reference_image(&scene, &["smooth-normals=off"], 0);
-    println!("lit sphere pixels {} / {}; distinct shades: {} smooth, {} flat (the sphere has 288 facets)", lit(&smooth), lit(&flat), distinct(&smooth), distinct(&flat));
+    println!(
+        "lit sphere pixels {} / {}; distinct shades: {} smooth, {} flat (the sphere has 288 facets)",
+        lit(&smooth),
+        lit(&flat),
+        distinct(&smooth),
+        distinct(&flat)
+    );
     assert!(distinct(&flat) <= 288, "one shade per facet");
     assert!(distinct(&smooth) > 3 * distinct(&flat), "interpolated normals shade smoothly");
 }
@@ -426,7 +453,9 @@ fn the_texture_filter_switch_replaces_the_materials_filter() {
     let forced_bilinear = render(&ctx, &texture_scene(TextureFilter::Nearest), &["texture-filter=bilinear"], 1, 8);
     let apart = mean_difference(&nearest, &bilinear);
     let (to_nearest, to_bilinear) = (mean_difference(&forced_nearest, &nearest), mean_difference(&forced_bilinear, &bilinear));
-    println!("nearest and bilinear materials differ by {apart:.4}; forced nearest vs nearest material {to_nearest:.6}, forced bilinear vs bilinear material {to_bilinear:.6}");
+    println!(
+        "nearest and bilinear materials differ by {apart:.4}; forced nearest vs nearest material {to_nearest:.6}, forced bilinear vs bilinear material {to_bilinear:.6}"
+    );
     assert!(apart > 0.02, "the two filters give different pictures");
     assert!(to_nearest < 1e-5 && to_bilinear < 1e-5, "the switch gives the forced filter's picture");
 }
@@ -445,4 +474,3 @@ fn glosssamples_in_the_scene_language_sets_the_gloss_sample_count() {
     assert_eq!(features(&["gloss-samples=2"]).gloss_samples(scene.options.gloss_samples), 2, "the command line's wins");
     std::fs::remove_dir_all(&dir).ok();
 }
-

@@ -8,8 +8,8 @@
 //! faces' lobes add, the entry one widened by Snell's law.
 
 use crate::support::device;
-use caustic_gpu::{GpuContext, GpuScene, PathTracer, RenderSettings};
 use caustic_gpu::features::ClassicFeatures;
+use caustic_gpu::{GpuContext, GpuScene, PathTracer, RenderSettings};
 use caustic_scene::{Camera, Environment, EnvironmentMap, Integrator, Material, Scene, ShadingModel, Shape};
 use glam::{Mat4, Vec3};
 
@@ -101,6 +101,9 @@ fn a_frosted_glass_slab_spreads_by_both_faces_through_snells_law() {
     let (r, _) = rms_radius(&render(&ctx, &glass_scene(slab(), ior, frost), &["frost-samples=4"], 64));
     let predicted = (r0 * r0 + (ior * ior + 1.0) * frost * frost / 2.0).sqrt();
     let one_face = (r0 * r0 + frost * frost / 2.0).sqrt();
-    println!("glass slab (ior {ior}), frost {frost}: RMS radius {r:.4}, predicted {predicted:.4} ({:+.1}%); clear slab {r0:.4}; one unmagnified face would give {one_face:.4}", (r / predicted - 1.0) * 100.0);
+    println!(
+        "glass slab (ior {ior}), frost {frost}: RMS radius {r:.4}, predicted {predicted:.4} ({:+.1}%); clear slab {r0:.4}; one unmagnified face would give {one_face:.4}",
+        (r / predicted - 1.0) * 100.0
+    );
     assert!((r / predicted - 1.0).abs() < 0.08, "both faces' lobes, the entry one magnified by the refraction");
 }

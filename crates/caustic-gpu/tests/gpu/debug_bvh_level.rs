@@ -3,12 +3,12 @@
 //! equals `GpuBvh::closest_hit_level` on the same tree for the pixel's centre ray.
 
 use crate::support::{device, shared_path};
-use caustic_bvh::{build_with_shapes, flatten_with_shapes, BuildOptions, Ray};
+use caustic_bvh::{BuildOptions, Ray, build_with_shapes, flatten_with_shapes};
 use caustic_gpu::classic_reference::pixel_centre_ray;
 use caustic_gpu::debug_image::debug_picture;
 use caustic_gpu::filter::{FilterKind, PixelFilter};
 use caustic_gpu::{DebugView, GpuScene, NodeLayout, PathTracer, RenderSettings, SceneData};
-use caustic_scene::{load_scene, Scene, SceneSource};
+use caustic_scene::{Scene, SceneSource, load_scene};
 use std::path::Path;
 
 /// Pixels allowed to differ: rays that pass within the filter's 0.001 pixel of an edge two
@@ -22,11 +22,8 @@ fn gpu_levels(scene: &Scene, layout: NodeLayout) -> Vec<f32> {
     let ctx = device();
     let gpu = GpuScene::upload_with_layout(&ctx, scene, &BuildOptions::default(), layout).expect("upload");
     assert_eq!(gpu.node_layout, layout);
-    let settings = RenderSettings {
-        debug: Some(DebugView::BvhLevel),
-        filter: PixelFilter { kind: FilterKind::Box, radius: 0.001 },
-        ..RenderSettings::default()
-    };
+    let settings =
+        RenderSettings { debug: Some(DebugView::BvhLevel), filter: PixelFilter { kind: FilterKind::Box, radius: 0.001 }, ..RenderSettings::default() };
     let mut tracer = PathTracer::new(&ctx, scene, &gpu, &settings).expect("tracer");
     tracer.render_sample().expect("pass");
     tracer.image().expect("image").pixels.iter().map(|p| p[0]).collect()
@@ -71,7 +68,10 @@ fn shapes_and_planes_in(scene: &Scene, layout: NodeLayout) {
     let differing = (0..cpu.len()).filter(|&i| gpu[i] != cpu[i] as f32).count();
     let in_tree = cpu.iter().filter(|&&l| l > 0).count();
     let levels: std::collections::BTreeSet<u32> = cpu.iter().copied().collect();
-    println!("spheres on a plane at 96x72, {layout:?} nodes: {in_tree} pixels see a sphere (a leaf), the rest the plane or the sky (0); levels {levels:?}; {differing} of {} pixels differ", cpu.len());
+    println!(
+        "spheres on a plane at 96x72, {layout:?} nodes: {in_tree} pixels see a sphere (a leaf), the rest the plane or the sky (0); levels {levels:?}; {differing} of {} pixels differ",
+        cpu.len()
+    );
     assert!(in_tree > 500 && levels.contains(&0), "the spheres are in leaves, the plane in none");
     assert!(differing <= MAX_DIFFERING);
 }

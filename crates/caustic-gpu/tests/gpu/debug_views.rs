@@ -5,21 +5,16 @@
 use crate::support::{device, shared_path};
 use caustic_gpu::debug_image::{debug_picture, heat_color, id_color};
 use caustic_gpu::{DebugView, GpuContext, GpuScene, PathTracer, RenderSettings};
-use caustic_scene::{load_scene, Camera, Environment, EnvironmentMap, Scene, SceneSource};
+use caustic_scene::{Camera, Environment, EnvironmentMap, Scene, SceneSource, load_scene};
 use glam::Vec3;
 
 fn view(ctx: &GpuContext, scene: &Scene, debug: DebugView, max_depth: Option<u32>) -> Vec<f32> {
     let gpu = GpuScene::upload(ctx, scene).expect("upload");
-    let settings = RenderSettings {
-        debug: Some(debug),
-        max_depth,
-        ..RenderSettings::default()
-    };
+    let settings = RenderSettings { debug: Some(debug), max_depth, ..RenderSettings::default() };
     let mut tracer = PathTracer::new(ctx, scene, &gpu, &settings).expect("tracer");
     tracer.render_sample().expect("pass");
     tracer.image().expect("image").pixels.iter().map(|p| p[0]).collect()
 }
-
 
 #[test]
 fn node_visit_heat_map_is_hotter_at_silhouettes_than_in_empty_space() {
@@ -58,10 +53,7 @@ fn material_ids_albedo_and_path_lengths_on_the_cornell_box() {
     let left_wall = 32 * 64 + 3;
     let ids = view(&ctx, &scene, DebugView::MaterialId, None);
     let albedo = view(&ctx, &scene, DebugView::Albedo, None);
-    println!(
-        "left wall pixel: material id {}, albedo red channel {}",
-        ids[left_wall], albedo[left_wall]
-    );
+    println!("left wall pixel: material id {}, albedo red channel {}", ids[left_wall], albedo[left_wall]);
     assert_eq!(ids[left_wall], red as f32);
     assert_eq!(albedo[left_wall], scene.materials[red as usize].base_color.x);
     for depth in [0u32, 1, 3] {
@@ -77,15 +69,8 @@ fn material_ids_albedo_and_path_lengths_on_the_cornell_box() {
 /// is the test-only way to feed the kernels a NaN through the public API.
 fn nan_environment() -> EnvironmentMap {
     let (width, height) = (64u32, 32u32);
-    let texels = (0..width * height)
-        .map(|i| {
-            if (28..36).contains(&(i % width)) && (12..20).contains(&(i / width)) {
-                [f32::NAN; 3]
-            } else {
-                [1.0; 3]
-            }
-        })
-        .collect();
+    let texels =
+        (0..width * height).map(|i| if (28..36).contains(&(i % width)) && (12..20).contains(&(i / width)) { [f32::NAN; 3] } else { [1.0; 3] }).collect();
     EnvironmentMap { width, height, texels }
 }
 
@@ -103,23 +88,10 @@ fn reads_nan(d: Vec3) -> bool {
 #[test]
 fn nonfinite_view_marks_the_pixels_that_see_a_nan_texel() {
     let ctx = device();
-    let mut scene = Scene {
-        resolution: (48, 48),
-        environment: Environment::Map(nan_environment()),
-        ..Scene::default()
-    };
-    scene.camera = Camera {
-        eye: Vec3::ZERO,
-        target: Vec3::new(0.0, 0.0, -1.0),
-        up: Vec3::Y,
-        fov_y: 90f32.to_radians(),
-        ..Camera::default()
-    };
+    let mut scene = Scene { resolution: (48, 48), environment: Environment::Map(nan_environment()), ..Scene::default() };
+    scene.camera = Camera { eye: Vec3::ZERO, target: Vec3::new(0.0, 0.0, -1.0), up: Vec3::Y, fov_y: 90f32.to_radians(), ..Camera::default() };
     let gpu = GpuScene::upload(&ctx, &scene).expect("upload");
-    let settings = RenderSettings {
-        debug: Some(DebugView::NonFinite),
-        ..RenderSettings::default()
-    };
+    let settings = RenderSettings { debug: Some(DebugView::NonFinite), ..RenderSettings::default() };
     let mut tracer = PathTracer::new(&ctx, &scene, &gpu, &settings).expect("tracer");
     for _ in 0..4 {
         tracer.render_sample().expect("pass");
@@ -145,10 +117,7 @@ fn nonfinite_view_marks_the_pixels_that_see_a_nan_texel() {
             wrong += usize::from(red || counts[i] != 0);
         }
     }
-    println!(
-        "NaN view: {} pixels marked; {sure} must be (all 4 samples NaN), {clear} must not; {wrong} wrong",
-        picture.marked.unwrap()
-    );
+    println!("NaN view: {} pixels marked; {sure} must be (all 4 samples NaN), {clear} must not; {wrong} wrong", picture.marked.unwrap());
     assert!(sure > 20 && clear > 1000);
     assert_eq!(wrong, 0);
 }
@@ -161,10 +130,7 @@ fn heat_map_has_a_legend_and_material_ids_distinct_colours() {
     let gpu = GpuScene::upload(&ctx, &scene).expect("upload");
     let mut pictures = Vec::new();
     for debug in [DebugView::NodeVisits, DebugView::MaterialId] {
-        let settings = RenderSettings {
-            debug: Some(debug),
-            ..RenderSettings::default()
-        };
+        let settings = RenderSettings { debug: Some(debug), ..RenderSettings::default() };
         let mut tracer = PathTracer::new(&ctx, &scene, &gpu, &settings).expect("tracer");
         tracer.render_sample().expect("pass");
         let counts = tracer.nonfinite_counts().expect("counts");
@@ -175,21 +141,10 @@ fn heat_map_has_a_legend_and_material_ids_distinct_colours() {
     println!("node visits: legend 0..{max}, picture {}x{}", heat.image.width, heat.image.height);
     assert!(max >= 4.0, "camera rays into the Cornell box visit several BVH nodes, the hottest {max}");
     assert_eq!(heat.image.height, 64 + caustic_gpu::debug_image::LEGEND_ROWS);
-    assert_eq!(
-        heat.image.get(63, 64 + 2),
-        heat_color(1.0),
-        "the legend bar ends in the hottest colour"
-    );
+    assert_eq!(heat.image.get(63, 64 + 2), heat_color(1.0), "the legend bar ends in the hottest colour");
     let ids = &pictures[1].image;
     let colours: std::collections::BTreeSet<[u32; 3]> = ids.pixels.iter().map(|p| p.map(f32::to_bits)).collect();
-    println!(
-        "material ids: {} distinct colours for {} materials",
-        colours.len(),
-        scene.materials.len()
-    );
-    assert_eq!(
-        ids.get(3, 32),
-        id_color(scene.meshes.iter().find(|m| m.name.contains("red")).unwrap().material as f32)
-    );
+    println!("material ids: {} distinct colours for {} materials", colours.len(), scene.materials.len());
+    assert_eq!(ids.get(3, 32), id_color(scene.meshes.iter().find(|m| m.name.contains("red")).unwrap().material as f32));
     assert!(colours.len() >= scene.materials.len());
 }

@@ -10,10 +10,9 @@ use std::time::Duration;
 fn a_broken_shader_is_a_clear_error() {
     let ctx = device();
     assert!(ctx.check().is_ok(), "a fresh device has no error");
-    let _module = ctx.device.create_shader_module(wgpu::ShaderModuleDescriptor {
-        label: Some("broken"),
-        source: wgpu::ShaderSource::Wgsl("fn main( { let x = ; }".into()),
-    });
+    let _module = ctx
+        .device
+        .create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("broken"), source: wgpu::ShaderSource::Wgsl("fn main( { let x = ; }".into()) });
     match ctx.wait() {
         Err(GpuError::Runtime(message)) => {
             println!("reported: {message}");

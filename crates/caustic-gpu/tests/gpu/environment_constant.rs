@@ -5,8 +5,8 @@
 
 use crate::support::device;
 use caustic_gpu::{GpuContext, GpuScene, PathTracer, RenderSettings};
-use caustic_image::metrics::{mean_ratio, relative_mse, RELMSE_EPSILON};
 use caustic_image::Image;
+use caustic_image::metrics::{RELMSE_EPSILON, mean_ratio, relative_mse};
 use caustic_scene::{Camera, Environment, Material, NextEvent, Scene, ShadingModel, Shape};
 use glam::{Mat4, Vec3};
 
@@ -60,9 +60,13 @@ fn constant_background_is_light_sampled_unbiased_and_less_noisy() {
     let agreement = relative_mse(&brute_reference, &reference, RELMSE_EPSILON).expect("same size");
     let ratio = mean_ratio(&brute_reference, &reference).expect("same size");
     println!("1024 spp: BSDF-only / MIS mean ratio {:.4} {:.4} {:.4}, relMSE {agreement:.2e}", ratio[0], ratio[1], ratio[2]);
-    let noise = |scene: &Scene| (10..14).map(|seed| relative_mse(&render(&ctx, scene, 16, seed), &reference, RELMSE_EPSILON).expect("same size")).sum::<f64>() / 4.0;
+    let noise =
+        |scene: &Scene| (10..14).map(|seed| relative_mse(&render(&ctx, scene, 16, seed), &reference, RELMSE_EPSILON).expect("same size")).sum::<f64>() / 4.0;
     let (mis_noise, brute_noise) = (noise(&mis), noise(&brute));
-    println!("16 spp relMSE against the reference: MIS {mis_noise:.4e}, BSDF only {brute_noise:.4e} ({:.2}x lower with the background light-sampled)", brute_noise / mis_noise);
+    println!(
+        "16 spp relMSE against the reference: MIS {mis_noise:.4e}, BSDF only {brute_noise:.4e} ({:.2}x lower with the background light-sampled)",
+        brute_noise / mis_noise
+    );
     assert!(ratio.iter().all(|r| (r - 1.0).abs() < 0.005), "BSDF-only and MIS renders differ in expectation: {ratio:?}");
     assert!(agreement < 4e-4, "relMSE between the converged renders {agreement}");
     assert!(mis_noise < brute_noise, "MIS ({mis_noise}) is not less noisy than BSDF sampling alone ({brute_noise})");

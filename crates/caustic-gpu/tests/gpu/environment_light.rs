@@ -47,7 +47,6 @@ fn rel_mse(values: &[f64], expected: f64) -> f64 {
     values.iter().map(|v| (v - expected).powi(2)).sum::<f64>() / values.len() as f64 / (expected * expected)
 }
 
-
 #[test]
 fn overcast_and_gradient_skies_give_the_analytic_irradiance() {
     let ctx = device();

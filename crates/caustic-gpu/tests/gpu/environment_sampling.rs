@@ -42,7 +42,10 @@ fn samples_follow_the_pdf_by_chi_square() {
         let observed = test.observed(samples.iter().copied());
         let expected = test.expected(&|w| distribution.pdf(w));
         let result = test.run(&observed, &expected, u64::from(n * n));
-        println!("{width}x{height} map: chi-square {:.1} over {} dof, p = {:.3}, pdf integral {:.5}", result.statistic, result.dof, result.p_value, result.pdf_integral);
+        println!(
+            "{width}x{height} map: chi-square {:.1} over {} dof, p = {:.3}, pdf integral {:.5}",
+            result.statistic, result.dof, result.p_value, result.pdf_integral
+        );
         assert!((result.pdf_integral - 1.0).abs() < 2e-3, "pdf integrates to {}", result.pdf_integral);
         assert!(result.passes(level), "{width}x{height}: p = {} below {level}", result.p_value);
     }

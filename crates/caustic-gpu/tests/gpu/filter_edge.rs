@@ -48,9 +48,7 @@ fn rendered_profile(ctx: &GpuContext, scene: &Scene, filter: PixelFilter) -> Vec
     }
     assert_eq!(tracer.nonfinite_samples().expect("counter"), 0);
     let image = tracer.image().expect("image");
-    (0..SIZE.0)
-        .map(|x| (0..SIZE.1).map(|y| f64::from(image.pixels[(y * SIZE.0 + x) as usize][0])).sum::<f64>() / f64::from(SIZE.1))
-        .collect()
+    (0..SIZE.0).map(|x| (0..SIZE.1).map(|y| f64::from(image.pixels[(y * SIZE.0 + x) as usize][0])).sum::<f64>() / f64::from(SIZE.1)).collect()
 }
 
 /// The step (0 left of the edge, 1 right of it) convolved with the normalised filter at the

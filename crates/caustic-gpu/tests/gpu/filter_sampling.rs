@@ -5,8 +5,8 @@
 //! default box filter places every sample exactly where the film did before filters.
 
 use crate::support::device;
-use caustic_bsdf::chi_square::{corrected_level, ChiSquareTest};
-use caustic_gpu::filter::{sample_filter_1d, FilterKind, PixelFilter, FILTER_BINS};
+use caustic_bsdf::chi_square::{ChiSquareTest, corrected_level};
+use caustic_gpu::filter::{FILTER_BINS, FilterKind, PixelFilter, sample_filter_1d};
 use caustic_gpu::gpu_types::PixelSampling;
 use caustic_gpu::kernel_test::KernelTest;
 use caustic_gpu::shaders::common_library;

@@ -14,9 +14,11 @@ use caustic_gpu::gpu_types::GpuMaterial;
 use caustic_gpu::kernel_test::KernelTest;
 use caustic_gpu::{GpuScene, PathTracer, RenderSettings, material_with_bsdf};
 use caustic_image::Image;
-use caustic_scene::{AlphaMode, Camera, ColorSpace, Environment, Light, Material, Mesh, RenderPass, Scene, SceneSource, Texture, TextureFilter, TextureSlot, load_scene, normal_mapped, srgb_to_linear};
+use caustic_scene::{
+    AlphaMode, Camera, ColorSpace, Environment, Light, Material, Mesh, RenderPass, Scene, SceneSource, Texture, TextureFilter, TextureSlot, load_scene,
+    normal_mapped, srgb_to_linear,
+};
 use glam::{Vec2, Vec3, Vec4};
-
 
 /// `spp` samples of `scene` rendered with `settings`; asserts that none was non-finite.
 fn render_with(scene: &Scene, settings: &RenderSettings, spp: u32) -> Image {
@@ -142,7 +144,15 @@ fn metallic_roughness_lobes_match_the_cpu_twin() {
     let outputs: Vec<GpuMaterial> = test.run(&inputs, inputs.len()).expect("run");
     let mut worst = 0.0f32;
     for (input, got) in inputs.iter().zip(&outputs) {
-        let p = BsdfParams::metallic_roughness(Vec3::from(input.base_color), input.metallic, input.roughness, input.specular_factor, Vec3::from(input.specular_tint), input.ior, input.transmission);
+        let p = BsdfParams::metallic_roughness(
+            Vec3::from(input.base_color),
+            input.metallic,
+            input.roughness,
+            input.specular_factor,
+            Vec3::from(input.specular_tint),
+            input.ior,
+            input.transmission,
+        );
         let want = material_with_bsdf(&p);
         let pairs = [
             (want.diffuse, got.diffuse),
@@ -249,7 +259,8 @@ fn emissive_texture_scales_the_emission() {
     for (x, texel) in [(-0.5, texels[0]), (0.5, texels[1])] {
         let (px, py) = pixel_of(&s, Vec3::new(x, 0.0, 0.0));
         let got = patch_mean(&image, px, py, 8);
-        let want = factor * Vec3::new(srgb_to_linear(texel[0] as f32 / 255.0), srgb_to_linear(texel[1] as f32 / 255.0), srgb_to_linear(texel[2] as f32 / 255.0));
+        let want =
+            factor * Vec3::new(srgb_to_linear(texel[0] as f32 / 255.0), srgb_to_linear(texel[1] as f32 / 255.0), srgb_to_linear(texel[2] as f32 / 255.0));
         let error = (got - want).abs().max_element();
         println!("emissive texel {texel:?}: rendered {got:.4}, expected {want:.4}, largest difference {error:.5}");
         assert!(error < 0.002 * want.max_element(), "{got} vs {want}");
@@ -306,7 +317,12 @@ fn checker_scene(mode: AlphaMode) -> Scene {
     let texels = (0..16).map(|i| [0, 0, 0, if (i % 4 + i / 4) % 2 == 0 { 255 } else { 0 }]).collect();
     let checker = Material { base_color: Vec3::ZERO, alpha_mode: mode, base_color_texture: nearest(0), ..Material::default() };
     let backdrop = Material::diffuse("backdrop", Vec3::ONE);
-    let mut s = scene(vec![square("checker", 1.0, 0.0, 0), square("backdrop", 4.0, -1.0, 1)], vec![checker, backdrop], vec![texture(4, 4, ColorSpace::Srgb, texels)], 0.0);
+    let mut s = scene(
+        vec![square("checker", 1.0, 0.0, 0), square("backdrop", 4.0, -1.0, 1)],
+        vec![checker, backdrop],
+        vec![texture(4, 4, ColorSpace::Srgb, texels)],
+        0.0,
+    );
     s.lights.push(Light::Directional { direction: CHECKER_LIGHT.normalize(), color: Vec3::splat(std::f32::consts::PI), spread: 0.0 });
     s
 }
@@ -319,7 +335,7 @@ fn checker_opaque(p: Vec3) -> bool {
         return false;
     }
     let texel = (square_uv(p, 1.0) * 4.0).floor();
-    (texel.x as u32 + texel.y as u32) % 2 == 0
+    (texel.x as u32 + texel.y as u32).is_multiple_of(2)
 }
 
 /// The radiance the CPU expects through pixel position `film` of [`checker_scene`].
@@ -340,7 +356,8 @@ fn alpha_mask_cuts_camera_and_shadow_rays() {
     let (mut flat, mut matching, mut holes, mut shadowed) = (0, 0, 0, 0);
     for y in 0..64 {
         for x in 0..64 {
-            let values: Vec<f32> = (0..25).map(|i| checker_expected(&s, Vec2::new(x as f32 + 0.02 + 0.24 * (i % 5) as f32, y as f32 + 0.02 + 0.24 * (i / 5) as f32))).collect();
+            let values: Vec<f32> =
+                (0..25).map(|i| checker_expected(&s, Vec2::new(x as f32 + 0.02 + 0.24 * (i % 5) as f32, y as f32 + 0.02 + 0.24 * (i / 5) as f32))).collect();
             if values.iter().any(|v| *v != values[0]) {
                 continue;
             }
@@ -352,7 +369,9 @@ fn alpha_mask_cuts_camera_and_shadow_rays() {
             matching += usize::from((image.pixels[(y * 64 + x) as usize][0] - values[0]).abs() < 0.02);
         }
     }
-    println!("alpha MASK checker: {matching} of {flat} flat pixels within 0.02 of the CPU; through holes: {holes} lit backdrop pixels, {shadowed} in the checker's shadow");
+    println!(
+        "alpha MASK checker: {matching} of {flat} flat pixels within 0.02 of the CPU; through holes: {holes} lit backdrop pixels, {shadowed} in the checker's shadow"
+    );
     assert!(holes > 100 && shadowed > 50, "the holes should show the backdrop, lit and shadowed");
     assert!(matching as f32 >= 0.99 * flat as f32, "{matching} of {flat}");
 }
@@ -364,7 +383,8 @@ fn alpha_blend_transmits_half() {
     let blend = Material { base_color: Vec3::ZERO, alpha: 0.5, alpha_mode: AlphaMode::Blend, ..Material::default() };
     let sky = scene(vec![square("blend", 3.0, 0.0, 0)], vec![blend.clone()], Vec::new(), 1.0);
     let sky_mean = mean(&render(&sky, 1, 64));
-    let mut lit = scene(vec![square("blend", 8.0, 0.0, 0), square("backdrop", 8.0, -1.0, 1)], vec![blend, Material::diffuse("backdrop", Vec3::ONE)], Vec::new(), 0.0);
+    let mut lit =
+        scene(vec![square("blend", 8.0, 0.0, 0), square("backdrop", 8.0, -1.0, 1)], vec![blend, Material::diffuse("backdrop", Vec3::ONE)], Vec::new(), 0.0);
     lit.lights.push(Light::Directional { direction: CHECKER_LIGHT.normalize(), color: Vec3::splat(std::f32::consts::PI), spread: 0.0 });
     let lit_mean = mean(&render(&lit, 1, 64)) / CHECKER_LIGHT.normalize().z;
     println!("alpha BLEND 0.5: sky seen through {sky_mean:.4} (expected 0.5), lit backdrop through camera and shadow rays {lit_mean:.4} (expected 0.25)");
@@ -530,7 +550,8 @@ fn attenuation_test_columns_match_beer_lambert() {
                 continue;
             }
             let material = &s.materials[mesh.material as usize];
-            let sigma = -Vec3::new(material.attenuation_color.x.ln(), material.attenuation_color.y.ln(), material.attenuation_color.z.ln()) / material.attenuation_distance;
+            let sigma = -Vec3::new(material.attenuation_color.x.ln(), material.attenuation_color.y.ln(), material.attenuation_color.z.ln())
+                / material.attenuation_distance;
             let chord = |x: u32, y: u32| {
                 let (origin, d) = camera_ray(&s, Vec2::new(x as f32 + 0.5, y as f32 + 0.5));
                 let hits = crossings(mesh, origin, d);
@@ -554,10 +575,16 @@ fn attenuation_test_columns_match_beer_lambert() {
             worst_excess = worst_excess.max(((got - want).abs() - (Vec3::splat(0.005) + 0.02 * want)).max_element());
             row_values.push((material.name.clone(), got, want, count));
         }
-        println!("column x = {column}: {}", row_values.iter().map(|(name, got, want, count)| format!("{name} ({count} px) {got:.3} expected {want:.3}")).collect::<Vec<_>>().join("; "));
+        println!(
+            "column x = {column}: {}",
+            row_values.iter().map(|(name, got, want, count)| format!("{name} ({count} px) {got:.3} expected {want:.3}")).collect::<Vec<_>>().join("; ")
+        );
         assert_eq!(row_values.len(), 4, "four attenuated rows per column");
     }
-    println!("AttenuationTest: largest relative difference from the slab radiance {worst:.4} (a dim red channel; every channel within 0.005 + 2%: margin {:.4})", -worst_excess);
+    println!(
+        "AttenuationTest: largest relative difference from the slab radiance {worst:.4} (a dim red channel; every channel within 0.005 + 2%: margin {:.4})",
+        -worst_excess
+    );
     assert!(worst_excess <= 0.0, "a channel differs by more than 0.005 + 2% of the expected radiance: excess {worst_excess}");
 }
 
@@ -577,12 +604,19 @@ fn scene_data_carries_textures_tangents_alpha_and_absorption() {
         ..volume.clone()
     };
     let thin = Material { thickness: 0.0, ..volume };
-    let mut s = scene(vec![plane, square("thin", 1.0, -1.0, 1)], vec![textured, thin], vec![texture(1, 1, ColorSpace::Linear, vec![[128, 128, 255, 255]])], 0.0);
+    let mut s =
+        scene(vec![plane, square("thin", 1.0, -1.0, 1)], vec![textured, thin], vec![texture(1, 1, ColorSpace::Linear, vec![[128, 128, 255, 255]])], 0.0);
     s.resolution = (8, 8);
     let data = caustic_gpu::SceneData::new(&s);
     let (first, second) = (data.shading[0], data.shading[2]);
     let extension = data.shading[first.extension as usize];
-    println!("shading entries {}, first triangle's extension {} (flags {:#b}), second mesh's {}", data.shading.len(), first.extension, extension.flags, second.extension);
+    println!(
+        "shading entries {}, first triangle's extension {} (flags {:#b}), second mesh's {}",
+        data.shading.len(),
+        first.extension,
+        extension.flags,
+        second.extension
+    );
     assert_eq!((first.extension as usize, second.extension), (4, 0), "extensions follow the 4 triangles");
     assert_eq!(extension.flags, 0b100, "corner 2 of triangle [0, 1, 2] has handedness -1");
     assert_eq!((extension.n0, extension.uv1), ([1.0, 0.0, 0.0], [0.5, 0.25]));

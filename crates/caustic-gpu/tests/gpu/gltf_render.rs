@@ -7,7 +7,10 @@
 use crate::support::{device, shared_path};
 use caustic_gpu::{GpuScene, PathTracer, RenderSettings};
 use caustic_image::Image;
-use caustic_scene::{Camera, ColorSpace, Environment, Material, Mesh, MipFilter, NextEvent, Scene, SceneSource, Texture, TextureFilter, TextureSlot, load_scene, sample_mipmapped, texture_lod, texture_transform};
+use caustic_scene::{
+    Camera, ColorSpace, Environment, Material, Mesh, MipFilter, NextEvent, Scene, SceneSource, Texture, TextureFilter, TextureSlot, load_scene,
+    sample_mipmapped, texture_lod, texture_transform,
+};
 use glam::{Vec2, Vec3};
 
 /// The shared sample model `name` (under `../shared/assets/gltf/`) at `size` x `size`
@@ -199,7 +202,12 @@ fn emissive_strength_panels_are_1_2_4_8_16() {
 /// are several pixels wide.
 fn checker_scene(filter: TextureFilter) -> Scene {
     let colours = [[230, 25, 75], [60, 180, 75], [255, 225, 25], [0, 130, 200], [245, 130, 48], [145, 30, 180], [70, 240, 240], [240, 50, 230]];
-    let texels = (0..16).map(|i| { let [r, g, b] = colours[(i + i / 4) % 8]; [r, g, b, 255] }).collect();
+    let texels = (0..16)
+        .map(|i| {
+            let [r, g, b] = colours[(i + i / 4) % 8];
+            [r, g, b, 255]
+        })
+        .collect();
     let texture = Texture { name: "checker".into(), width: 4, height: 4, color_space: ColorSpace::Srgb, texels };
     let slot = TextureSlot { tex_coord: 1, transform: texture_transform(Vec2::ZERO, 0.0, Vec2::splat(2.0)), filter, ..TextureSlot::new(0) };
     let square = Mesh {
@@ -230,7 +238,8 @@ fn checker_error(scene: &Scene) -> (f32, Image) {
     let (mut sum, mut count) = (0.0, 0);
     for y in 0..height {
         for x in 0..width {
-            let grid: Option<Vec<Vec3>> = (0..25).map(|i| base_colour(scene, &chains, Vec2::new(x as f32 + 0.1 + 0.2 * (i % 5) as f32, y as f32 + 0.1 + 0.2 * (i / 5) as f32))).collect();
+            let grid: Option<Vec<Vec3>> =
+                (0..25).map(|i| base_colour(scene, &chains, Vec2::new(x as f32 + 0.1 + 0.2 * (i % 5) as f32, y as f32 + 0.1 + 0.2 * (i / 5) as f32))).collect();
             let Some(grid) = grid else { continue };
             let want = grid.iter().sum::<Vec3>() / 25.0;
             sum += (Vec3::from(image.pixels[(y * width + x) as usize]) - want).abs().max_element();
@@ -244,7 +253,8 @@ fn checker_error(scene: &Scene) -> (f32, Image) {
 fn checker_nearest_and_bilinear_match_the_cpu() {
     let (nearest_mae, nearest) = checker_error(&checker_scene(TextureFilter::Nearest));
     let (bilinear_mae, bilinear) = checker_error(&checker_scene(TextureFilter::Bilinear));
-    let apart = nearest.pixels.iter().zip(&bilinear.pixels).map(|(a, b)| (Vec3::from(*a) - Vec3::from(*b)).abs().max_element()).sum::<f32>() / nearest.pixels.len() as f32;
+    let apart = nearest.pixels.iter().zip(&bilinear.pixels).map(|(a, b)| (Vec3::from(*a) - Vec3::from(*b)).abs().max_element()).sum::<f32>()
+        / nearest.pixels.len() as f32;
     println!("checker: MAE against the CPU twin: nearest {nearest_mae:.4}, bilinear {bilinear_mae:.4}; nearest and bilinear renders differ by {apart:.4}");
     assert!(apart > 0.02, "the filters should give different images: {apart}");
     // 16 jittered samples against 25 fixed points per pixel differ at the texel edges by up
@@ -270,14 +280,19 @@ fn minified_textures_read_their_mip_levels() {
     let spread = |mip| {
         let scene = minified_checker(mip);
         let image = render(&scene, 1, 16);
-        let values: Vec<f32> = (0..32 * 32).filter(|&i| cast(&scene, Vec2::new((i % 32) as f32 + 0.5, (i / 32) as f32 + 0.5)).is_some()).map(|i| image.pixels[i as usize][0]).collect();
+        let values: Vec<f32> = (0..32 * 32)
+            .filter(|&i| cast(&scene, Vec2::new((i % 32) as f32 + 0.5, (i / 32) as f32 + 0.5)).is_some())
+            .map(|i| image.pixels[i as usize][0])
+            .collect();
         let mean = values.iter().sum::<f32>() / values.len() as f32;
         let worst = values.iter().map(|v| (v - mean).abs()).fold(0.0, f32::max);
         (mean, worst)
     };
     let (trilinear_mean, trilinear_worst) = spread(MipFilter::Linear);
     let (level0_mean, level0_worst) = spread(MipFilter::None);
-    println!("fine checker, minified: trilinear mean {trilinear_mean:.4} (worst pixel off by {trilinear_worst:.4}); level 0 only mean {level0_mean:.4} (worst off by {level0_worst:.4})");
+    println!(
+        "fine checker, minified: trilinear mean {trilinear_mean:.4} (worst pixel off by {trilinear_worst:.4}); level 0 only mean {level0_mean:.4} (worst off by {level0_worst:.4})"
+    );
     assert!((trilinear_mean - 0.5).abs() < 0.01 && trilinear_worst < 0.01, "mip levels of a fine checker are flat grey");
     assert!(level0_worst > 0.05, "level 0 alone should alias: {level0_worst}");
 }

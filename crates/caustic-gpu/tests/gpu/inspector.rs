@@ -8,7 +8,7 @@ use crate::support::device;
 use caustic_bvh::{BuildOptions, GpuBvh, Ray};
 use caustic_gpu::inspector::{PathRecord, Primitive, Termination};
 use caustic_gpu::{GpuContext, GpuScene, PathTracer, RenderSettings};
-use caustic_scene::{load_scene, Scene, SceneSource};
+use caustic_scene::{Scene, SceneSource, load_scene};
 use glam::Vec3;
 
 const SIZE: u32 = 64;
@@ -20,11 +20,7 @@ fn setup() -> (GpuContext, Scene, RenderSettings) {
     let mut scene = load_scene(&SceneSource::parse("cornell")).expect("cornell");
     scene.resolution = (SIZE, SIZE);
     assert!(scene.shapes.is_empty(), "the CPU twin below covers triangles only");
-    let settings = RenderSettings {
-        max_depth: Some(8),
-        seed: 7,
-        ..RenderSettings::default()
-    };
+    let settings = RenderSettings { max_depth: Some(8), seed: 7, ..RenderSettings::default() };
     (ctx, scene, settings)
 }
 
@@ -61,20 +57,11 @@ fn check_path(path: &PathRecord, bvh: &GpuBvh, rr_start: u32, worst: &mut Worst)
     assert_eq!(path.bounces.len() as u32, path.ray_count, "the record holds the whole path");
     for (i, bounce) in path.bounces.iter().enumerate() {
         worst.rays += 1;
-        let cpu = bvh.closest_hit(&Ray {
-            origin: bounce.origin,
-            direction: bounce.direction,
-            t_max: 3.0e38,
-        });
+        let cpu = bvh.closest_hit(&Ray { origin: bounce.origin, direction: bounce.direction, t_max: 3.0e38 });
         match (&bounce.hit, cpu) {
             (None, None) => {}
             (Some(hit), Some(cpu)) => {
-                assert_eq!(
-                    hit.primitive,
-                    Primitive::Triangle(cpu.triangle),
-                    "pixel {:?} bounce {i}: another triangle",
-                    path.pixel
-                );
+                assert_eq!(hit.primitive, Primitive::Triangle(cpu.triangle), "pixel {:?} bounce {i}: another triangle", path.pixel);
                 let error = relative(hit.t, cpu.t);
                 assert!(error < 1e-5, "pixel {:?} bounce {i}: t {} vs CPU {}", path.pixel, hit.t, cpu.t);
                 worst.t = worst.t.max(error);
@@ -87,27 +74,14 @@ fn check_path(path: &PathRecord, bvh: &GpuBvh, rr_start: u32, worst: &mut Worst)
         let hit = bounce.hit.as_ref().expect("only a surface hit continues the path");
         let bsdf = bounce.bsdf.as_ref().expect("a continued path sampled the BSDF");
         assert_eq!(next.direction, bsdf.wi, "the next ray follows the BSDF sample");
-        let side = if next.direction.dot(hit.geometric_normal) >= 0.0 {
-            hit.geometric_normal
-        } else {
-            -hit.geometric_normal
-        };
-        assert_eq!(
-            next.origin,
-            offset_ray_origin(hit.point, side),
-            "the next ray starts at the offset hit point"
-        );
+        let side = if next.direction.dot(hit.geometric_normal) >= 0.0 { hit.geometric_normal } else { -hit.geometric_normal };
+        assert_eq!(next.origin, offset_ray_origin(hit.point, side), "the next ray starts at the offset hit point");
         let mut expected = bounce.throughput * bsdf.weight;
         if i as u32 + 1 >= rr_start {
             expected /= expected.max_element().min(0.95);
         }
         let error = relative3(next.throughput, expected);
-        assert!(
-            error < 1e-5,
-            "pixel {:?} bounce {i}: throughput {} vs {expected}",
-            path.pixel,
-            next.throughput
-        );
+        assert!(error < 1e-5, "pixel {:?} bounce {i}: throughput {} vs {expected}", path.pixel, next.throughput);
         worst.throughput = worst.throughput.max(error);
     }
     let last = path.bounces.last().expect("at least the camera ray");
@@ -154,10 +128,7 @@ fn inspected_radiance_is_the_sample_a_render_adds() {
     let gpu = GpuScene::upload(&ctx, &scene).expect("upload");
     let mut worst = Worst::default();
     for sample in [0u32, 3] {
-        let settings = RenderSettings {
-            first_sample: sample,
-            ..settings
-        };
+        let settings = RenderSettings { first_sample: sample, ..settings };
         let mut tracer = PathTracer::new(&ctx, &scene, &gpu, &settings).expect("tracer");
         tracer.render_sample().expect("pass");
         let image = tracer.image().expect("image");
@@ -166,11 +137,7 @@ fn inspected_radiance_is_the_sample_a_render_adds() {
             let rendered = Vec3::from(image.get(x, y));
             let error = relative3(path.radiance, rendered);
             println!("pixel ({x}, {y}) sample {sample}: inspected {} rendered {rendered}", path.radiance);
-            assert!(
-                error < 1e-5,
-                "the inspected radiance {} differs from the rendered sample {rendered}",
-                path.radiance
-            );
+            assert!(error < 1e-5, "the inspected radiance {} differs from the rendered sample {rendered}", path.radiance);
             worst.radiance = worst.radiance.max(error);
         }
         let after = tracer.image().expect("image");

@@ -6,7 +6,7 @@
 
 use crate::support::device;
 use caustic_gpu::{GpuContext, GpuScene, PathTracer, RenderSettings, Sampler};
-use caustic_image::{metrics, Image};
+use caustic_image::{Image, metrics};
 use caustic_scene::{Camera, Environment, Light, Material, Mesh, NextEvent, Scene};
 use glam::Vec3;
 

@@ -92,8 +92,9 @@ fn corner_colours_light_a_plane_as_the_cpu_twin_integrates() {
     let exact: Vec<Vec3> = points.iter().map(|&p| irradiance(&light, p, 160)).collect();
     // Pixels nearest the points (x, z) = (-0.8, -0.8), (0.8, -0.8), (0.8, 0.8), (-0.8, 0.8)
     // under the red, green, blue and white corners.
-    let under = [(-0.8, -0.8), (0.8, -0.8), (0.8, 0.8), (-0.8, 0.8)]
-        .map(|(x, z)| (0..points.len()).min_by(|&a, &b| points[a].distance(Vec3::new(x, 0.0, z)).total_cmp(&points[b].distance(Vec3::new(x, 0.0, z)))).unwrap());
+    let under = [(-0.8, -0.8), (0.8, -0.8), (0.8, 0.8), (-0.8, 0.8)].map(|(x, z)| {
+        (0..points.len()).min_by(|&a, &b| points[a].distance(Vec3::new(x, 0.0, z)).total_cmp(&points[b].distance(Vec3::new(x, 0.0, z)))).unwrap()
+    });
     for (integrator, scale) in [(Integrator::PathTracer, ALBEDO / PI), (Integrator::RayTracer, ALBEDO)] {
         let image = render(&scene, integrator, 1, 256);
         let expected: Vec<Vec3> = exact.iter().map(|e| *e * scale).collect();

@@ -51,7 +51,8 @@ fn pixel_statistics(scene: &Scene, features: ClassicFeatures) -> Vec<(f64, f64)>
     let ctx = device();
     let gpu = GpuScene::upload(&ctx, scene).expect("upload");
     let filter = PixelFilter { kind: FilterKind::Box, radius: 1e-4 };
-    let settings = RenderSettings { integrator: Integrator::RayTracer, max_depth: Some(0), sampler: Sampler::Independent, filter, features, ..RenderSettings::default() };
+    let settings =
+        RenderSettings { integrator: Integrator::RayTracer, max_depth: Some(0), sampler: Sampler::Independent, filter, features, ..RenderSettings::default() };
     let mut tracer = PathTracer::new(&ctx, scene, &gpu, &settings).expect("tracer");
     let pixels = (WIDTH * HEIGHT) as usize;
     let (mut sum, mut sum2, mut previous) = (vec![0.0f64; pixels], vec![0.0f64; pixels], vec![0.0f64; pixels]);

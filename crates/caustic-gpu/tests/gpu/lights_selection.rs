@@ -27,7 +27,14 @@ fn render(ctx: &GpuContext, scene: &Scene, gpu: &GpuScene, seed: u32, spp: u32, 
 
 /// relMSE of `a` against `b` over the pixels `keep` selects (epsilon 1e-2 in the denominator).
 fn masked_rel_mse(a: &Image, b: &Image, keep: &[bool]) -> f64 {
-    let terms: Vec<f64> = a.pixels.iter().zip(&b.pixels).zip(keep).filter(|(_, k)| **k).flat_map(|((p, q), _)| (0..3).map(move |c| f64::from((p[c] - q[c]).powi(2) / (q[c] * q[c] + 1e-2)))).collect();
+    let terms: Vec<f64> = a
+        .pixels
+        .iter()
+        .zip(&b.pixels)
+        .zip(keep)
+        .filter(|(_, k)| **k)
+        .flat_map(|((p, q), _)| (0..3).map(move |c| f64::from((p[c] - q[c]).powi(2) / (q[c] * q[c] + 1e-2))))
+        .collect();
     terms.iter().sum::<f64>() / terms.len() as f64
 }
 
@@ -49,7 +56,11 @@ fn veach_mis_scene_converges_as_one_over_spp_without_fireflies() {
         let rel_mse = masked_rel_mse(&a, &b, &keep);
         let lit: Vec<f32> = a.pixels.iter().zip(&keep).filter(|(_, k)| **k).map(|(p, _)| p[0].max(p[1]).max(p[2])).collect();
         let (peak, mean) = (lit.iter().copied().fold(0.0f32, f32::max), lit.iter().sum::<f32>() / lit.len() as f32);
-        println!("mis.test {spp:>2} spp: relMSE between seeds {rel_mse:.3e} (x spp = {:.3}), brightest floor/wall pixel {peak:.2} = {:.1} x the mean", rel_mse * f64::from(spp), peak / mean);
+        println!(
+            "mis.test {spp:>2} spp: relMSE between seeds {rel_mse:.3e} (x spp = {:.3}), brightest floor/wall pixel {peak:.2} = {:.1} x the mean",
+            rel_mse * f64::from(spp),
+            peak / mean
+        );
         errors.push(rel_mse * f64::from(spp));
         assert!(peak < 40.0 * mean, "a firefly: {peak} against a mean of {mean}");
     }

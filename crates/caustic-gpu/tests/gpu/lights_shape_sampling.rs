@@ -111,7 +111,14 @@ fn shape_light_samples_reach_the_light_and_densities_integrate_to_one() {
     let ctx = device();
     let kernel = KernelTest::new(&ctx, &light_library(), KERNEL).expect("kernel compiles");
     let p = Vec3::ZERO;
-    let light = |disk: u32, centre: Vec3, a: Vec3, b: Vec3| Query { centre: centre.to_array(), disk, a: a.to_array(), b: b.to_array(), p: p.to_array(), ..Query::zeroed() };
+    let light = |disk: u32, centre: Vec3, a: Vec3, b: Vec3| Query {
+        centre: centre.to_array(),
+        disk,
+        a: a.to_array(),
+        b: b.to_array(),
+        p: p.to_array(),
+        ..Query::zeroed()
+    };
     let cases = [
         ("sphere at 1.5 radii", light(0, Vec3::new(0.0, 1.5, 0.0), Vec3::X, Vec3::ZERO)),
         ("sphere at 4 radii", light(0, Vec3::new(1.0, 2.0, -3.0), Vec3::new(0.94, 0.0, 0.0), Vec3::ZERO)),

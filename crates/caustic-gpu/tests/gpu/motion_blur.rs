@@ -26,9 +26,8 @@ fn pixel() -> f32 {
 }
 
 fn scene(body: &str) -> Scene {
-    let text = format!(
-        "size {WIDTH} {HEIGHT}\ncamera 0 0 0 0 0 -1 0 1 0 40\nintegrator raytracer\nmaxdepth 1\nambient 1 1 1\ndiffuse 0 0 0\nspecular 0 0 0\n{body}"
-    );
+    let text =
+        format!("size {WIDTH} {HEIGHT}\ncamera 0 0 0 0 0 -1 0 1 0 40\nintegrator raytracer\nmaxdepth 1\nambient 1 1 1\ndiffuse 0 0 0\nspecular 0 0 0\n{body}");
     let (scene, _) = caustic_scene::lang::parse_str(&text, Path::new("motion.scene")).expect("scene parses");
     scene.validate().expect("valid scene");
     scene
@@ -108,10 +107,12 @@ fn an_orbiting_square_streaks_along_its_arc() {
     // from -45 to 135 degrees (counter-clockwise from +x), bilinearly interpolated.
     let radius_px = 20.0;
     let step = 0.5f32.to_radians();
-    let arc: Vec<f32> = (0..360).map(|k| {
-        let angle = -45f32.to_radians() + k as f32 * step;
-        bilinear(&turning, 64.0 + radius_px * angle.cos(), 32.0 - radius_px * angle.sin())
-    }).collect();
+    let arc: Vec<f32> = (0..360)
+        .map(|k| {
+            let angle = -45f32.to_radians() + k as f32 * step;
+            bilinear(&turning, 64.0 + radius_px * angle.cos(), 32.0 - radius_px * angle.sin())
+        })
+        .collect();
     let streak = fwhm(&arc, step * radius_px);
     let expected = std::f32::consts::FRAC_PI_2 * radius_px;
     println!("square of side 6 px orbiting 90 degrees at 20 px: streak along the arc {streak:.2} px, expected {expected:.2} px");
@@ -149,7 +150,9 @@ fn a_spinning_lit_floor_looks_still() {
     let lit = "ambient 0 0 0\ndiffuse 0.8 0.8 0.8\npoint 1 1 -8 1 1 1\n";
     let square: String = [(-20, -20), (20, -20), (20, 20), (-20, 20)].iter().map(|(x, y)| format!("vertex {x} {y} -{DEPTH}\n")).collect();
     let still = render(&scene(&format!("{lit}{square}tri 0 1 2\ntri 0 2 3\n")));
-    let spinning = render(&scene(&format!("{lit}shutter 0 1\npushTransform\ntranslate 0 0 -{DEPTH}\nmotion 0 0 0 200 0 0 1\npopTransform\n{square}tri 0 1 2\ntri 0 2 3\n")));
+    let spinning = render(&scene(&format!(
+        "{lit}shutter 0 1\npushTransform\ntranslate 0 0 -{DEPTH}\nmotion 0 0 0 200 0 0 1\npopTransform\n{square}tri 0 1 2\ntri 0 2 3\n"
+    )));
     let error = rel_mse(&still, &spinning);
     println!("square spinning 200 degrees about its normal vs still, lit by a point light: relMSE {error:.3e}");
     assert!(error < 1e-4, "a spinning floor shades as the still one");
@@ -162,10 +165,12 @@ fn a_moving_emitter_lights_as_much_as_a_still_one() {
     // with full weight: the floor they light must be as bright as under the still light,
     // which next-event estimation and MIS find. A dim point light under the floor keeps the
     // light list from being empty (then every BSDF hit has full weight anyway).
-    let ring: String = (0..48).map(|k| {
-        let a = k as f32 / 48.0 * std::f32::consts::TAU;
-        format!("vertex {} 2 {}\n", 0.6 * a.cos(), 0.6 * a.sin())
-    }).collect();
+    let ring: String = (0..48)
+        .map(|k| {
+            let a = k as f32 / 48.0 * std::f32::consts::TAU;
+            format!("vertex {} 2 {}\n", 0.6 * a.cos(), 0.6 * a.sin())
+        })
+        .collect();
     // Vertex indices count from the file's first vertex: the floor's four come first.
     let fan: String = (0..48).map(|k| format!("tri 52 {} {}\n", 4 + k, 4 + (k + 1) % 48)).collect();
     let light = format!("{ring}vertex 0 2 0\nmaterial lambert\nemission 10 10 10\n{fan}");

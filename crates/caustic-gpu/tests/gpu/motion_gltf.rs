@@ -88,7 +88,9 @@ fn without_a_shutter_the_nodes_keep_their_own_transforms() {
 
 #[test]
 fn bad_shutters_are_named() {
-    let error = |source: SceneSource, shutter| load_scene_with(&source, &LoadOptions { shutter: Some(shutter), ..LoadOptions::default() }).expect_err("rejected").to_string();
+    let error = |source: SceneSource, shutter| {
+        load_scene_with(&source, &LoadOptions { shutter: Some(shutter), ..LoadOptions::default() }).expect_err("rejected").to_string()
+    };
     let backwards = error(SceneSource::File(animated_gltf("bad")), (1.0, 0.5));
     assert!(backwards.contains("shutter") && backwards.contains("close >= open"), "{backwards}");
     let not_gltf = error(SceneSource::parse("cornell"), (0.0, 1.0));

@@ -9,12 +9,8 @@ use caustic_scene::{Integrator, Scene, SceneSource, load_scene};
 use std::path::Path;
 
 fn render(ctx: &GpuContext, scene: &Scene, gpu: &GpuScene, paths_per_invocation: u32) -> Vec<[f32; 3]> {
-    let settings = RenderSettings {
-        integrator: Integrator::PathTracer,
-        max_depth: None,
-        paths_per_invocation: Some(paths_per_invocation),
-        ..RenderSettings::default()
-    };
+    let settings =
+        RenderSettings { integrator: Integrator::PathTracer, max_depth: None, paths_per_invocation: Some(paths_per_invocation), ..RenderSettings::default() };
     let mut tracer = PathTracer::new(ctx, scene, gpu, &settings).expect("tracer");
     for _ in 0..6 {
         tracer.render_sample().expect("pass");

@@ -9,7 +9,6 @@ use glam::Vec3;
 
 const SPP: u32 = 2;
 
-
 fn small_cornell() -> Scene {
     Scene { resolution: (32, 24), ..cornell_box() }
 }
@@ -108,10 +107,7 @@ fn edited_materials_and_environment_render_what_a_fresh_upload_renders() {
 #[test]
 fn a_device_opened_elsewhere_renders_like_one_opened_by_caustic() {
     let ctx = device();
-    let instance = wgpu::Instance::new(wgpu::InstanceDescriptor {
-        backends: wgpu::Backends::VULKAN,
-        ..wgpu::InstanceDescriptor::new_without_display_handle()
-    });
+    let instance = wgpu::Instance::new(wgpu::InstanceDescriptor { backends: wgpu::Backends::VULKAN, ..wgpu::InstanceDescriptor::new_without_display_handle() });
     let adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::VULKAN));
     let adapter = GpuContext::choose_adapter(adapters, Some(&ctx.adapter.name)).expect("the same adapter");
     let (device, queue) = pollster::block_on(adapter.request_device(&GpuContext::device_descriptor(&adapter))).expect("device");

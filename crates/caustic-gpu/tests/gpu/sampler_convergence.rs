@@ -7,8 +7,8 @@
 
 use crate::support::{device, shared_path};
 use caustic_gpu::{GpuScene, PathTracer, RenderSettings, Sampler};
-use caustic_image::{metrics, Image};
-use caustic_scene::{load_scene, SceneSource};
+use caustic_image::{Image, metrics};
+use caustic_scene::{SceneSource, load_scene};
 
 const CHECKPOINTS: [u32; 3] = [16, 64, 256];
 
@@ -69,12 +69,7 @@ fn samplers_at_equal_spp_on_the_cornell_box() {
     }
     let (independent, sobol, stratified) = (&table[0].1, &table[1].1, &table[2].1);
     for i in 0..CHECKPOINTS.len() {
-        println!(
-            "  {} spp: stratified {:.2}x, Sobol {:.2}x lower than independent",
-            CHECKPOINTS[i],
-            independent[i] / stratified[i],
-            independent[i] / sobol[i]
-        );
+        println!("  {} spp: stratified {:.2}x, Sobol {:.2}x lower than independent", CHECKPOINTS[i], independent[i] / stratified[i], independent[i] / sobol[i]);
     }
     assert!(stratified[1] < independent[1] && stratified[2] < independent[2], "stratification should beat independent numbers at 64 and 256 spp");
 }

@@ -6,9 +6,9 @@
 //! independent numbers at equal sample count.
 
 use crate::support::device;
+use caustic_gpu::GpuContext;
 use caustic_gpu::kernel_test::KernelTest;
 use caustic_gpu::shaders::bsdf_library;
-use caustic_gpu::GpuContext;
 
 const KERNEL: &str = "
 struct TestInput {
@@ -49,11 +49,7 @@ fn cells(points: &[[f32; 2]], n: usize, one_d: bool) -> Vec<usize> {
         .iter()
         .map(|p| {
             assert!((0.0..1.0).contains(&p[0]) && (0.0..1.0).contains(&p[1]), "point {p:?} outside [0,1)^2");
-            if one_d {
-                (p[0] * (n * n) as f32) as usize
-            } else {
-                (p[1] * n as f32) as usize * n + (p[0] * n as f32) as usize
-            }
+            if one_d { (p[0] * (n * n) as f32) as usize } else { (p[1] * n as f32) as usize * n + (p[0] * n as f32) as usize }
         })
         .collect()
 }
@@ -166,7 +162,10 @@ fn test_kernel(index: u32) -> TestOutput {
         // Jittered sampling's variance is (h^2 / 12) E|grad f|^2 / N with h = 1 / n, against
         // Var f / N: for this bump the gain is Var f / (E|grad f|^2 / 12) x N = 0.21 N.
         let gain = mse_i / mse_s;
-        println!("{spp:>3} spp: integration MSE independent {mse_i:.3e}, stratified {mse_s:.3e} ({gain:.1}x lower; theory 0.21 N = {:.1}x)", 0.208 * spp as f64);
+        println!(
+            "{spp:>3} spp: integration MSE independent {mse_i:.3e}, stratified {mse_s:.3e} ({gain:.1}x lower; theory 0.21 N = {:.1}x)",
+            0.208 * spp as f64
+        );
         assert!(gain > 0.1 * spp as f64, "{spp} spp: stratification should cut the error of a smooth integrand about 0.21 N-fold, got {gain:.1}x");
     }
 }

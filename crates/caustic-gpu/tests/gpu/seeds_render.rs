@@ -4,15 +4,14 @@
 //! flat region at 8 spp; glTF's orthographic camera; OBJ's `Ks`/`Ns` Phong highlight; the
 //! seed's `material checkers` and `material flat` in both integrators.
 
+use crate::support::device;
 use caustic_gpu::classic_reference::pixel_centre_ray;
 use caustic_gpu::filter::PixelFilter;
-use crate::support::device;
 use caustic_gpu::{GpuContext, GpuScene, PathTracer, RenderSettings};
 use caustic_scene::lang::Interpreter;
 use caustic_scene::{Camera, Environment, Integrator, NextEvent, Scene};
 use glam::Vec3;
 use std::path::Path;
-
 
 fn scene_language(text: &str) -> Scene {
     let mut interpreter = Interpreter::new();
@@ -76,7 +75,11 @@ fn a_point_light_alone_lights_the_path_tracer_with_next_event_estimation_off() {
         }
     }
     let mean_error = (sum - expected_sum).abs() / expected_sum;
-    println!("point light, NEE off: image mean {:.5} against {:.5} (relative error {mean_error:.2e}, tolerance 5e-3); worst pixel relative error {worst:.2e} (tolerance 2e-2)", sum / f64::from(width * height), expected_sum / f64::from(width * height));
+    println!(
+        "point light, NEE off: image mean {:.5} against {:.5} (relative error {mean_error:.2e}, tolerance 5e-3); worst pixel relative error {worst:.2e} (tolerance 2e-2)",
+        sum / f64::from(width * height),
+        expected_sum / f64::from(width * height)
+    );
     assert!(mean_error < 5e-3 && worst < 2e-2, "the point light's direct light");
 }
 
@@ -102,7 +105,10 @@ fn lanczos_keeps_a_flat_region_flat_at_8_spp() {
         assert_eq!(nonfinite, 0);
         let black = pixels.iter().filter(|p| p[0] < 0.25).count();
         let worst = pixels.iter().map(|p| (p[0] - 0.5).abs().max((p[1] - 0.5).abs()).max((p[2] - 0.5).abs())).fold(0f32, f32::max);
-        println!("{filter} at 8 spp over a flat 0.5: {black} of {} pixels below 0.25 (tolerance 0), worst deviation {worst:.2e} (tolerance 1e-4)", pixels.len());
+        println!(
+            "{filter} at 8 spp over a flat 0.5: {black} of {} pixels below 0.25 (tolerance 0), worst deviation {worst:.2e} (tolerance 1e-4)",
+            pixels.len()
+        );
         assert!(black == 0 && worst < 1e-4, "{filter}: a flat region stays flat");
     }
 }
@@ -163,7 +169,10 @@ fn an_orthographic_camera_sees_sizes_independent_of_distance() {
     let ndc = (offset.dot(right) / half_width, offset.dot(up) / half_height);
     let (origin, direction) = scene.camera.ray(scene.resolution, ndc);
     let error = (origin - ray.origin).length().max((direction - ray.direction).length()).max(offset.dot(forward).abs());
-    println!("debug-pixel (50, 7): origin {} direction {} at film {film:?}; twin {origin} {direction}; error {error:.2e} (tolerance 1e-5)", ray.origin, ray.direction);
+    println!(
+        "debug-pixel (50, 7): origin {} direction {} at film {film:?}; twin {origin} {direction}; error {error:.2e} (tolerance 1e-5)",
+        ray.origin, ray.direction
+    );
     assert!(error < 1e-5 && film.0.floor() == 50.0 && film.1.floor() == 7.0, "the inspector's camera ray is the orthographic one");
 }
 
@@ -187,7 +196,8 @@ fn obj_ks_and_ns_are_a_phong_highlight() {
     let material = &scene.materials[0];
     println!("OBJ material: model {:?}, kd {}, ks {}, exponent {}", material.model, material.base_color, material.specular_color, material.shininess);
     let light = Vec3::new(0.4, 0.1, 1.0);
-    scene.lights = vec![caustic_scene::Light::Point { position: light, color: Vec3::splat(2.0), attenuation: caustic_scene::Attenuation::default(), spread: 0.0 }];
+    scene.lights =
+        vec![caustic_scene::Light::Point { position: light, color: Vec3::splat(2.0), attenuation: caustic_scene::Attenuation::default(), spread: 0.0 }];
     scene.environment = Environment::Constant(Vec3::ZERO);
     scene.resolution = (32, 32);
     scene.camera = Camera {
@@ -227,7 +237,9 @@ fn obj_ks_and_ns_are_a_phong_highlight() {
         }
     }
     let total_error = (sum - expected_sum).abs() / expected_sum;
-    println!("OBJ Ks/Ns under a point light: image sum {sum:.4} against {expected_sum:.4} (relative {total_error:.2e}, tolerance 1e-2); worst pixel relative error {worst:.2e} (tolerance 3e-2)");
+    println!(
+        "OBJ Ks/Ns under a point light: image sum {sum:.4} against {expected_sum:.4} (relative {total_error:.2e}, tolerance 1e-2); worst pixel relative error {worst:.2e} (tolerance 3e-2)"
+    );
     assert_eq!(material.model, caustic_scene::ShadingModel::Phong);
     assert!(total_error < 1e-2 && worst < 3e-2, "the modified Phong highlight");
 }

@@ -8,7 +8,6 @@ use caustic_gpu::{GpuScene, PathTracer, RayBench, RayKind, RenderSettings, Scene
 use caustic_scene::{Camera, Environment, Material, NextEvent, RenderOptions, Scene, Shape};
 use glam::{Mat4, Vec3};
 
-
 /// The furnace, traced by BSDF sampling alone: light-sampling the constant sky with MIS would
 /// make each sample the albedo only in expectation, not exactly.
 fn furnace(shapes: Vec<Shape>) -> Scene {
@@ -47,7 +46,15 @@ fn each_shape_in_a_white_furnace_shows_its_albedo() {
         }
         let image = tracer.image().expect("image");
         let values: Vec<f32> = image.pixels.iter().map(|p| (p[0] + p[1] + p[2]) / 3.0).collect();
-        let class = |v: f32| if (v - 0.5).abs() < 1e-3 { Class::Shape } else if (v - 1.0).abs() < 1e-3 { Class::Sky } else { Class::Mixed };
+        let class = |v: f32| {
+            if (v - 0.5).abs() < 1e-3 {
+                Class::Shape
+            } else if (v - 1.0).abs() < 1e-3 {
+                Class::Sky
+            } else {
+                Class::Mixed
+            }
+        };
         let classes: Vec<Class> = values.iter().map(|v| class(*v)).collect();
         let count = |c: Class| classes.iter().filter(|k| **k == c).count();
         let interior_faults = (0..classes.len()).filter(|&i| classes[i] == Class::Mixed && !is_silhouette(&classes, i, 64)).count();

@@ -12,7 +12,6 @@ use caustic_image::metrics::{RELMSE_EPSILON, relative_mse};
 use caustic_scene::{Environment, Scene, SceneSource, load_scene};
 use glam::Vec3;
 
-
 /// Eight samples per pixel of `scene` through `data_path`, seed 5.
 fn render(ctx: &GpuContext, scene: &Scene, gpu: &GpuScene, data_path: DataPath) -> Image {
     let settings = RenderSettings { data_path, seed: 5, ..RenderSettings::default() };

@@ -3,7 +3,7 @@
 
 use crate::support::device;
 use caustic_gpu::{GpuScene, PathTracer, RenderSettings};
-use caustic_scene::{spot_cone, Attenuation, Camera, Light, Material, Scene, Shape};
+use caustic_scene::{Attenuation, Camera, Light, Material, Scene, Shape, spot_cone};
 use glam::{Mat4, Vec3};
 use std::f32::consts::PI;
 

@@ -17,10 +17,7 @@ fn compare_on(scene_name: &str) {
 /// A device on the same adapter opened without optional features: no subgroups (no packet
 /// walk) and no 64-bit integers (wide nodes read with 32-bit loads, `bvh/wide_nodes.wgsl`).
 fn plain_device() -> GpuContext {
-    let instance = wgpu::Instance::new(wgpu::InstanceDescriptor {
-        backends: wgpu::Backends::VULKAN,
-        ..wgpu::InstanceDescriptor::new_without_display_handle()
-    });
+    let instance = wgpu::Instance::new(wgpu::InstanceDescriptor { backends: wgpu::Backends::VULKAN, ..wgpu::InstanceDescriptor::new_without_display_handle() });
     let adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::VULKAN));
     let adapter = GpuContext::choose_adapter(adapters, std::env::var("CAUSTIC_ADAPTER").ok().as_deref()).expect("adapter");
     let descriptor = wgpu::DeviceDescriptor { required_features: wgpu::Features::empty(), ..GpuContext::device_descriptor(&adapter) };

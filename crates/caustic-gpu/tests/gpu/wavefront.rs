@@ -9,7 +9,6 @@ use caustic_scene::{Integrator, Scene, SceneSource, load_scene};
 use std::path::Path;
 use std::time::Duration;
 
-
 fn render(ctx: &GpuContext, scene: &Scene, settings: &RenderSettings, passes: u32) -> Vec<[f32; 3]> {
     let gpu = GpuScene::upload(ctx, scene).expect("upload");
     let mut tracer = PathTracer::new(ctx, scene, &gpu, settings).expect("tracer");

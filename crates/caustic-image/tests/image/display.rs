@@ -19,10 +19,7 @@ fn tone_maps_are_monotonic_from_zero_to_one() {
         for s in sweep() {
             for rgb in [[s; 3], colour.map(|c| c * s)] {
                 let mapped = tone_map.apply(rgb);
-                assert!(
-                    mapped.iter().all(|c| (0.0..=1.0).contains(c)),
-                    "{tone_map}({rgb:?}) = {mapped:?}"
-                );
+                assert!(mapped.iter().all(|c| (0.0..=1.0).contains(c)), "{tone_map}({rgb:?}) = {mapped:?}");
                 if rgb[1] == s {
                     for c in 0..3 {
                         assert!(mapped[c] >= previous[c], "{tone_map} not monotonic at {s}");
@@ -32,13 +29,7 @@ fn tone_maps_are_monotonic_from_zero_to_one() {
             }
         }
         let gray = |x: f32| tone_map.apply([x; 3])[0];
-        println!(
-            "{tone_map:>8}: f(0.18)={:.4} f(1)={:.4} f(10)={:.4} f(1e6)={:.6}",
-            gray(0.18),
-            gray(1.0),
-            gray(10.0),
-            gray(1e6)
-        );
+        println!("{tone_map:>8}: f(0.18)={:.4} f(1)={:.4} f(10)={:.4} f(1e6)={:.6}", gray(0.18), gray(1.0), gray(10.0), gray(1e6));
         assert!(gray(1e6) > 0.999);
     }
 }
@@ -49,10 +40,7 @@ fn colour_sweep_is_monotonic_per_channel() {
         let mut previous = [0.0f32; 3];
         for s in sweep() {
             let mapped = tone_map.apply([1.0, 0.5, 0.125].map(|c| c * s));
-            assert!(
-                (0..3).all(|c| mapped[c] >= previous[c]),
-                "{tone_map} at {s}"
-            );
+            assert!((0..3).all(|c| mapped[c] >= previous[c]), "{tone_map} at {s}");
             previous = mapped;
         }
     }
@@ -78,21 +66,9 @@ fn srgb_curve_round_trips() {
 #[test]
 fn display_transform_applies_exposure_and_blanks_nonfinite_pixels() {
     let mut image = Image::new(5, 1);
-    image.pixels = vec![
-        [1.0; 3],
-        [0.25; 3],
-        [0.5; 3],
-        [f32::NAN, 0.5, 0.5],
-        [f32::INFINITY; 3],
-    ];
-    let clamp = SaveOptions {
-        exposure: 0.0,
-        tone_map: ToneMap::Clamp,
-    };
-    let brighter = SaveOptions {
-        exposure: 1.0,
-        ..clamp
-    };
+    image.pixels = vec![[1.0; 3], [0.25; 3], [0.5; 3], [f32::NAN, 0.5, 0.5], [f32::INFINITY; 3]];
+    let clamp = SaveOptions { exposure: 0.0, tone_map: ToneMap::Clamp };
+    let brighter = SaveOptions { exposure: 1.0, ..clamp };
     let plain = to_srgb8(&image, &clamp);
     let exposed = to_srgb8(&image, &brighter);
     assert_eq!(plain[0], [255, 255, 255, 255]);
@@ -112,11 +88,5 @@ fn tone_map_names_parse_and_print() {
     println!("{error}");
     assert!(error.to_string().contains("clamp, aces, reinhard"));
     assert_eq!(ToneMap::default(), ToneMap::Aces);
-    assert_eq!(
-        SaveOptions::default(),
-        SaveOptions {
-            exposure: 0.0,
-            tone_map: ToneMap::Aces
-        }
-    );
+    assert_eq!(SaveOptions::default(), SaveOptions { exposure: 0.0, tone_map: ToneMap::Aces });
 }

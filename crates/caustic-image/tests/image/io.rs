@@ -24,10 +24,7 @@ impl Scratch {
 
     /// Sorted names of everything in the folder, temporaries included.
     fn entries(&self) -> Vec<String> {
-        let mut names: Vec<String> = fs::read_dir(&self.dir)
-            .unwrap()
-            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-            .collect();
+        let mut names: Vec<String> = fs::read_dir(&self.dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
         names.sort();
         names
     }
@@ -44,10 +41,7 @@ fn gradient(width: u32, height: u32) -> Image {
     let mut image = Image::new(width, height);
     for y in 0..height {
         for x in 0..width {
-            let (u, v) = (
-                x as f32 / (width - 1) as f32,
-                y as f32 / (height - 1) as f32,
-            );
+            let (u, v) = (x as f32 / (width - 1) as f32, y as f32 / (height - 1) as f32);
             image.pixels[(y * width + x) as usize] = [u, v, 1.0 - u * v];
         }
     }
@@ -60,20 +54,13 @@ fn hdr_image() -> Image {
     for (i, p) in image.pixels.iter_mut().enumerate() {
         let t = i as f32 / 702.0;
         let scale = 10f32.powf(-3.0 + 6.0 * t);
-        *p = [
-            scale,
-            scale * (0.3 + 0.7 * (i % 7) as f32 / 7.0),
-            scale * 0.05 * (i % 3) as f32,
-        ];
+        *p = [scale, scale * (0.3 + 0.7 * (i % 7) as f32 / 7.0), scale * 0.05 * (i % 3) as f32];
     }
     image
 }
 
 fn clamp_options() -> SaveOptions {
-    SaveOptions {
-        exposure: 0.0,
-        tone_map: ToneMap::Clamp,
-    }
+    SaveOptions { exposure: 0.0, tone_map: ToneMap::Clamp }
 }
 
 #[test]
@@ -85,10 +72,7 @@ fn exr_round_trip_is_exact() {
     image.save(&path, &SaveOptions::default()).unwrap();
     let loaded = Image::load(&path).unwrap();
     assert_eq!(loaded, image);
-    println!(
-        "EXR round trip of {}x{}: bit-exact",
-        image.width, image.height
-    );
+    println!("EXR round trip of {}x{}: bit-exact", image.width, image.height);
 }
 
 #[test]
@@ -114,12 +98,7 @@ fn hdr_round_trip_within_rgbe_precision() {
 fn hdr_writes_unrepresentable_values_as_black() {
     let scratch = Scratch::new("hdr-safe");
     let mut image = Image::new(2, 2);
-    image.pixels = vec![
-        [f32::NAN, 1.0, 1.0],
-        [f32::INFINITY, 0.0, 0.0],
-        [-1.0, 2.0, 0.5],
-        [1e-40, 0.0, 0.0],
-    ];
+    image.pixels = vec![[f32::NAN, 1.0, 1.0], [f32::INFINITY, 0.0, 0.0], [-1.0, 2.0, 0.5], [1e-40, 0.0, 0.0]];
     let path = scratch.path("safe.hdr");
     image.save(&path, &SaveOptions::default()).unwrap();
     let loaded = Image::load(&path).unwrap();
@@ -139,10 +118,7 @@ fn lossless_ldr_round_trip_of_gradient_within_one_step() {
         image.save(&path, &clamp_options()).unwrap();
         let loaded = Image::load(&path).unwrap();
         let worst = max_srgb_difference(&image, &loaded);
-        println!(
-            "{name} round trip: max sRGB error = {:.3}/255",
-            worst * 255.0
-        );
+        println!("{name} round trip: max sRGB error = {:.3}/255", worst * 255.0);
         assert!(worst <= 1.0 / 255.0, "{name}: sRGB error {worst}");
     }
 }
@@ -156,23 +132,14 @@ fn jpeg_round_trip_is_close() {
     let loaded = Image::load(&path).unwrap();
     let worst = max_srgb_difference(&image, &loaded);
     let mean = mean_srgb_difference(&image, &loaded);
-    println!(
-        "JPEG (quality 95) round trip: sRGB error mean {:.2}/255, max {:.2}/255",
-        mean * 255.0,
-        worst * 255.0
-    );
+    println!("JPEG (quality 95) round trip: sRGB error mean {:.2}/255, max {:.2}/255", mean * 255.0, worst * 255.0);
     assert!(mean <= 2.0 / 255.0 && worst <= 24.0 / 255.0);
 }
 
 /// Channel differences after sRGB encoding of both images.
 fn srgb_differences(a: &Image, b: &Image) -> Vec<f32> {
     assert_eq!((a.width, a.height), (b.width, b.height));
-    a.pixels
-        .iter()
-        .flatten()
-        .zip(b.pixels.iter().flatten())
-        .map(|(&x, &y)| (linear_to_srgb(x) - linear_to_srgb(y)).abs())
-        .collect()
+    a.pixels.iter().flatten().zip(b.pixels.iter().flatten()).map(|(&x, &y)| (linear_to_srgb(x) - linear_to_srgb(y)).abs()).collect()
 }
 
 /// Largest channel difference after sRGB encoding of both images.
@@ -191,9 +158,7 @@ fn missing_folder_is_an_error_naming_it_and_creates_nothing() {
     let scratch = Scratch::new("missing");
     let folder = scratch.path("no-such-folder");
     let path = folder.join("out.exr");
-    let error = Image::new(4, 4)
-        .save(&path, &SaveOptions::default())
-        .unwrap_err();
+    let error = Image::new(4, 4).save(&path, &SaveOptions::default()).unwrap_err();
     println!("missing folder: {error}");
     assert!(matches!(error, ImageError::MissingFolder { .. }));
     assert!(error.to_string().contains(&folder.display().to_string()));
@@ -206,16 +171,10 @@ fn unsupported_extension_lists_supported_ones() {
     let scratch = Scratch::new("extension");
     for name in ["out.tiff", "out"] {
         let path = scratch.path(name);
-        let error = Image::new(4, 4)
-            .save(&path, &SaveOptions::default())
-            .unwrap_err();
+        let error = Image::new(4, 4).save(&path, &SaveOptions::default()).unwrap_err();
         println!("{name}: {error}");
         assert!(matches!(error, ImageError::UnsupportedExtension { .. }));
-        assert!(
-            error
-                .to_string()
-                .contains(".exr, .hdr, .png, .bmp, .jpg, .jpeg")
-        );
+        assert!(error.to_string().contains(".exr, .hdr, .png, .bmp, .jpg, .jpeg"));
         assert!(Image::load(&path).is_err());
     }
     assert!(check_output_path(&scratch.path("ok.JPEG")).is_ok());
@@ -229,13 +188,8 @@ fn saving_over_an_existing_file_replaces_it_whole() {
     gradient(256, 256).save(&target, &clamp_options()).unwrap();
     let small = gradient(8, 4);
     small.save(&target, &clamp_options()).unwrap();
-    small
-        .save(&scratch.path("fresh.png"), &clamp_options())
-        .unwrap();
-    assert_eq!(
-        fs::read(&target).unwrap(),
-        fs::read(scratch.path("fresh.png")).unwrap()
-    );
+    small.save(&scratch.path("fresh.png"), &clamp_options()).unwrap();
+    assert_eq!(fs::read(&target).unwrap(), fs::read(scratch.path("fresh.png")).unwrap());
     let loaded = Image::load(&target).unwrap();
     assert_eq!((loaded.width, loaded.height), (8, 4));
     println!("after replace: {:?}", scratch.entries());
@@ -252,21 +206,13 @@ fn failed_saves_leave_no_temporary_and_keep_the_old_file() {
     // The JPEG encoder rejects widths above 65535 while encoding.
     let old = scratch.path("wide.jpg");
     fs::write(&old, b"old contents").unwrap();
-    let error = Image::new(70_000, 1)
-        .save(&old, &SaveOptions::default())
-        .unwrap_err();
+    let error = Image::new(70_000, 1).save(&old, &SaveOptions::default()).unwrap_err();
     println!("oversized JPEG: {error}");
     assert!(matches!(error, ImageError::Encode { .. }));
     assert_eq!(fs::read(&old).unwrap(), b"old contents");
     // An image whose fields disagree is refused before anything is created.
-    let broken = Image {
-        width: 3,
-        height: 3,
-        pixels: vec![[0.0; 3]; 2],
-    };
-    let error = broken
-        .save(&scratch.path("broken.exr"), &SaveOptions::default())
-        .unwrap_err();
+    let broken = Image { width: 3, height: 3, pixels: vec![[0.0; 3]; 2] };
+    let error = broken.save(&scratch.path("broken.exr"), &SaveOptions::default()).unwrap_err();
     assert!(matches!(error, ImageError::PixelCount { .. }));
     println!("after failures: {:?}", scratch.entries());
     assert_eq!(scratch.entries(), ["folder.exr", "wide.jpg"]);

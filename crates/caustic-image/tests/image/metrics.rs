@@ -14,10 +14,7 @@ fn two_level() -> Image {
 
 fn scaled(image: &Image, factor: f32) -> Image {
     let pixels = image.pixels.iter().map(|p| p.map(|c| c * factor)).collect();
-    Image {
-        pixels,
-        ..image.clone()
-    }
+    Image { pixels, ..image.clone() }
 }
 
 #[test]
@@ -42,9 +39,7 @@ fn metrics_of_a_scaled_copy_match_analytic_values() {
     let rmse_value = rmse(&image, &reference).unwrap();
     let mae = mean_absolute_error(&image, &reference).unwrap();
     println!("x1.1 copy: relMSE {relmse:.8} (analytic {expected_relmse:.8})");
-    println!(
-        "x1.1 copy: RMSE {rmse_value:.8} (analytic {expected_rmse:.8}), MAE {mae:.8} (analytic {expected_mae:.8})"
-    );
+    println!("x1.1 copy: RMSE {rmse_value:.8} (analytic {expected_rmse:.8}), MAE {mae:.8} (analytic {expected_mae:.8})");
     // 1.1 is not exact in f32; allow its rounding.
     assert!((relmse / expected_relmse - 1.0).abs() < 1e-5);
     assert!((rmse_value / expected_rmse - 1.0).abs() < 1e-5);
@@ -63,18 +58,9 @@ fn mean_ratio_detects_a_factor_of_two() {
 fn size_mismatch_and_empty_images_are_errors() {
     let error = rmse(&Image::new(4, 4), &Image::new(4, 2)).unwrap_err();
     println!("{error}");
-    assert!(matches!(
-        error,
-        ImageError::SizeMismatch {
-            image: (4, 4),
-            reference: (4, 2)
-        }
-    ));
+    assert!(matches!(error, ImageError::SizeMismatch { image: (4, 4), reference: (4, 2) }));
     assert!(relative_mse(&Image::new(2, 2), &Image::new(3, 2), RELMSE_EPSILON).is_err());
     assert!(mean_ratio(&Image::new(2, 2), &Image::new(2, 3)).is_err());
     let empty = Image::new(0, 5);
-    assert!(matches!(
-        mean_absolute_error(&empty, &empty),
-        Err(ImageError::Empty { .. })
-    ));
+    assert!(matches!(mean_absolute_error(&empty, &empty), Err(ImageError::Empty { .. })));
 }

@@ -5,8 +5,7 @@ use std::path::PathBuf;
 use caustic_image::{Image, SaveOptions, to_srgb8};
 
 fn reference_path() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../../../shared/references/cornell/reference.exr")
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/references/cornell/reference.exr")
 }
 
 #[test]

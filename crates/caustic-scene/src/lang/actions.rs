@@ -1,9 +1,9 @@
 //! The imperative commands: `reset`, `exit`, `render`, `save` and `postprocess`, and the
 //! [`Action`]s they hand to the host.
 
+use super::Interpreter;
 use super::args::{Args, Res};
 use super::error::Location;
-use super::Interpreter;
 use crate::{RenderPass, Scene};
 use std::path::PathBuf;
 
@@ -116,10 +116,6 @@ impl Interpreter {
     /// `save` and `postprocess` act on the last rendered image: an error before any `render`
     /// (`reset` clears the scene, not the image).
     fn require_image(&self, a: &Args) -> Res<()> {
-        if self.rendered {
-            Ok(())
-        } else {
-            a.fail(format!("nothing has been rendered yet: {} needs a render line before it", a.name))
-        }
+        if self.rendered { Ok(()) } else { a.fail(format!("nothing has been rendered yet: {} needs a render line before it", a.name)) }
     }
 }

@@ -180,11 +180,7 @@ impl<'a> Args<'a> {
     /// Argument `i` as an integer in `min..=max`.
     pub fn int_in(&self, i: usize, min: i64, max: i64) -> Res<i64> {
         let value = self.int(i)?;
-        if (min..=max).contains(&value) {
-            Ok(value)
-        } else {
-            self.fail_at(i, format!("{} must be between {min} and {max}, found {value}", self.arg_name(i)))
-        }
+        if (min..=max).contains(&value) { Ok(value) } else { self.fail_at(i, format!("{} must be between {min} and {max}, found {value}", self.arg_name(i))) }
     }
 
     /// Argument `i` as one of `choices`; returns its index.

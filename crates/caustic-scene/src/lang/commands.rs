@@ -28,7 +28,11 @@ pub const COMMANDS: &[CommandInfo] = &[
     c("output", "filename", "output image file name"),
     c("preview", "filename", "file name of a preview image written with an HDR save"),
     c("camera", "eyex eyey eyez centerx centery centerz upx upy upz fovy", "look-at pinhole camera, fovy = full vertical field of view in degrees"),
-    c("dof", "lens_size [focus_distance]", "thin-lens depth of field: lens radius (0 = pinhole) and distance to the plane of focus (default: to the camera's centre point)"),
+    c(
+        "dof",
+        "lens_size [focus_distance]",
+        "thin-lens depth of field: lens radius (0 = pinhole) and distance to the plane of focus (default: to the camera's centre point)",
+    ),
     c("supersample", "n", "n x n jittered samples per pixel (spp = n^2 x resample)"),
     c("resample", "count", "samples per jittered sub-pixel (spp = supersample^2 x count)"),
     c("spp", "count", "samples per pixel"),
@@ -40,7 +44,11 @@ pub const COMMANDS: &[CommandInfo] = &[
     c("russianroulette", "on|off", "Russian roulette in the path tracer"),
     c("importancesampling", "hemisphere|cosine|brdf", "bounce direction sampling (default hemisphere)"),
     c("gamma", "gamma", "display gamma of LDR output (default 1)"),
-    c("environment", "r g b | grey | file | sky zr zg zb hr hg hb | overcast r g b", "radiance of escaping rays: a colour, an equirectangular .hdr/.exr map, a zenith-to-horizon gradient sky or the CIE overcast sky"),
+    c(
+        "environment",
+        "r g b | grey | file | sky zr zg zb hr hg hb | overcast r g b",
+        "radiance of escaping rays: a colour, an equirectangular .hdr/.exr map, a zenith-to-horizon gradient sky or the CIE overcast sky",
+    ),
     c("maxverts", "count", "announce the number of vertices (a hint)"),
     c("maxvertnorms", "count", "announce the number of vertices with normals (a hint)"),
     // Actions
@@ -63,7 +71,11 @@ pub const COMMANDS: &[CommandInfo] = &[
     c("pushTransform", "", "save the current transform"),
     c("popTransform", "", "restore the transform saved by the matching pushTransform"),
     // Motion blur
-    c("motion", "dx dy dz [degrees ax ay az]", "objects that follow move by (dx, dy, dz) and turn about the axis through the current origin over one unit of time (0 0 0 = still)"),
+    c(
+        "motion",
+        "dx dy dz [degrees ax ay az]",
+        "objects that follow move by (dx, dy, dz) and turn about the axis through the current origin over one unit of time (0 0 0 = still)",
+    ),
     c("shutter", "open close", "the interval of time the camera sees (default 0 0: no motion blur)"),
     // Materials
     c("material", "flat|lambert|phong|blinnphong|ggx|translucent|checkers|mirror|glass", "start a fresh material of a reflection model"),
@@ -81,13 +93,21 @@ pub const COMMANDS: &[CommandInfo] = &[
     c("glosssamples", "count", "rays per glossy reflection"),
     c("frost", "amount", "blur of refractions"),
     c("frostsamples", "count", "rays per frosted refraction"),
-    c("anisotropic", "rs_r rs_g rs_b nu nv [rd_r rd_g rd_b]", "Ashikhmin-Shirley anisotropic Phong: specular reflectance Rs, exponents along the tangent (nu) and bitangent (nv), diffuse Rd (default 0)"),
+    c(
+        "anisotropic",
+        "rs_r rs_g rs_b nu nv [rd_r rd_g rd_b]",
+        "Ashikhmin-Shirley anisotropic Phong: specular reflectance Rs, exponents along the tangent (nu) and bitangent (nv), diffuse Rd (default 0)",
+    ),
     c("anisotropyaxis", "x y z", "world direction whose projection onto the surface is the anisotropic tangent (default 1 0 0)"),
     // Lights
     c("directional", "x y z r g b", "directional light; (x, y, z) points towards the light"),
     c("point", "x y z r g b", "point light"),
     c("attenuation", "constant linear quadratic", "attenuation of the point lights that follow (default 1 0 0)"),
-    c("quadLight", "ax ay az abx aby abz acx acy acz r g b [rb gb bb rc gc bc rd gd bd]", "one-sided parallelogram light a + s ab + t ac; four colours: at a, b = a + ab, c = a + ac, d = a + ab + ac, bilinear in between"),
+    c(
+        "quadLight",
+        "ax ay az abx aby abz acx acy acz r g b [rb gb bb rc gc bc rd gd bd]",
+        "one-sided parallelogram light a + s ab + t ac; four colours: at a, b = a + ab, c = a + ac, d = a + ab + ac, bilinear in between",
+    ),
     c("segmentLight", "x0 y0 z0 x1 y1 z1 r0 g0 b0 r1 g1 b1", "segment light: point lights along it, colour interpolated from end 0 to end 1"),
     c("sphereLight", "x y z radius r g b", "emissive sphere declared as a light (radiance rgb)"),
     c("diskLight", "x y z nx ny nz radius r g b", "one-sided emissive disk facing n, declared as a light"),
@@ -109,12 +129,7 @@ pub(crate) fn suggestion(name: &str) -> Option<&'static str> {
         return None;
     }
     let lower = name.to_ascii_lowercase();
-    COMMANDS
-        .iter()
-        .map(|c| (edit_distance(&lower, &c.name.to_ascii_lowercase()), c.name))
-        .filter(|&(d, _)| d <= 2)
-        .min()
-        .map(|(_, n)| n)
+    COMMANDS.iter().map(|c| (edit_distance(&lower, &c.name.to_ascii_lowercase()), c.name)).filter(|&(d, _)| d <= 2).min().map(|(_, n)| n)
 }
 
 /// Levenshtein distance over characters.

@@ -1,12 +1,12 @@
 //! Geometry: vertices, triangles gathered into meshes, and the analytic shapes (sphere, box,
 //! plane, disk), each under the current transform and with the current material.
 
+use super::Interpreter;
 use super::args::{Args, Res};
 use super::error::Location;
 use super::interpreter::MAX_TRIANGLES;
 use super::materials::material_key;
 use super::state::OpenMesh;
-use super::Interpreter;
 use crate::{Mesh, Shape};
 use glam::{DMat3, DMat4, Vec3};
 
@@ -112,11 +112,8 @@ impl Interpreter {
         a.expect(&[3])?;
         let (vertex_base, normal_base) = self.bases();
         let w = &mut self.world;
-        let (base, count, what) = if normals {
-            (normal_base, w.normal_vertices.len(), "vertexnormal vertices")
-        } else {
-            (vertex_base, w.vertices.len(), "vertices")
-        };
+        let (base, count, what) =
+            if normals { (normal_base, w.normal_vertices.len(), "vertexnormal vertices") } else { (vertex_base, w.vertices.len(), "vertices") };
         let available = count.saturating_sub(base);
         let mut global = [0usize; 3];
         for (k, slot) in global.iter_mut().enumerate() {

@@ -3,7 +3,7 @@
 //! `transforms`, `materials`, `lights`).
 
 use super::actions::Action;
-use super::args::{shown, tokens, Args, Fault, Res};
+use super::args::{Args, Fault, Res, shown, tokens};
 use super::commands::{command, suggestion};
 use super::error::{LangError, LangWarning, Location};
 use super::state::{Frame, LanguageSettings, World};
@@ -50,7 +50,17 @@ impl Default for Interpreter {
 impl Interpreter {
     /// A fresh session with the default state.
     pub fn new() -> Interpreter {
-        Interpreter { world: World::new("scene".to_string()), frames: Vec::new(), warnings: Vec::new(), exit_requested: false, file_access: true, limits: crate::InputLimits::default(), sourced_files: 0, snapshots_left: usize::MAX, rendered: false }
+        Interpreter {
+            world: World::new("scene".to_string()),
+            frames: Vec::new(),
+            warnings: Vec::new(),
+            exit_requested: false,
+            file_access: true,
+            limits: crate::InputLimits::default(),
+            sourced_files: 0,
+            snapshots_left: usize::MAX,
+            rendered: false,
+        }
     }
 
     /// Allows or forbids reading files (`source`, `environment FILE`); forbidden, they are
@@ -253,12 +263,7 @@ impl Interpreter {
             return Err(LangError::whole_file(path, format!("source cycle: {}", chain.join(" -> "))));
         }
         let bytes = self.limits.read(&canonical).map_err(|e| LangError::whole_file(path, e.message))?;
-        self.frames.push(Frame {
-            canonical,
-            shown: path.to_path_buf(),
-            vertex_base: self.world.vertices.len(),
-            normal_base: self.world.normal_vertices.len(),
-        });
+        self.frames.push(Frame { canonical, shown: path.to_path_buf(), vertex_base: self.world.vertices.len(), normal_base: self.world.normal_vertices.len() });
         let result = self.run_bytes(&bytes, path, actions);
         self.frames.pop();
         result
@@ -319,10 +324,6 @@ impl Interpreter {
             || self.motion_command(a)?
             || self.material_command(a, at)?
             || self.light_command(a, at)?;
-        if handled {
-            Ok(())
-        } else {
-            a.fail(format!("'{}' is not implemented", shown(a.name)))
-        }
+        if handled { Ok(()) } else { a.fail(format!("'{}' is not implemented", shown(a.name))) }
     }
 }

@@ -1,10 +1,10 @@
 //! Lights: point, directional and quad lights under the current transform, the attenuation
 //! state of later point lights, and the soft-shadow spread.
 
+use super::Interpreter;
 use super::args::{Args, Res};
 use super::error::Location;
 use super::state::Site;
-use super::Interpreter;
 use crate::{Attenuation, Light, Shape};
 use glam::{DMat4, Vec3};
 
@@ -66,11 +66,7 @@ impl Interpreter {
                 let corner = a.dvec3_f32(0)?;
                 let ab = a.dvec3_f32(3)?;
                 let ac = a.dvec3_f32(6)?;
-                let radiance = if a.len() == 21 {
-                    [a.color(9)?, a.color(15)?, a.color(18)?, a.color(12)?]
-                } else {
-                    [a.color(9)?; 4]
-                };
+                let radiance = if a.len() == 21 { [a.color(9)?, a.color(15)?, a.color(18)?, a.color(12)?] } else { [a.color(9)?; 4] };
                 let (corner, ab, ac) = if w.current == DMat4::IDENTITY {
                     (corner, ab, ac)
                 } else {

@@ -1,22 +1,16 @@
 //! Materials: the current material state, its defaults, the models `material KIND` names, and
 //! the key under which identical materials are shared.
 
+use super::Interpreter;
 use super::args::{Args, Res};
 use super::error::Location;
-use super::Interpreter;
 use crate::{Anisotropy, Material, ShadingModel};
 use glam::Vec3;
 
 /// The material state before any material command: the CSE167 defaults (ambient 0.2, all
 /// other colours 0, shininess 1), Phong model, ior 1, GGX roughness 1.
 pub fn default_material() -> Material {
-    Material {
-        base_color: Vec3::ZERO,
-        ior: 1.0,
-        model: ShadingModel::Phong,
-        ambient: Vec3::splat(0.2),
-        ..Material::default()
-    }
+    Material { base_color: Vec3::ZERO, ior: 1.0, model: ShadingModel::Phong, ambient: Vec3::splat(0.2), ..Material::default() }
 }
 
 /// The material `material KIND` starts: like [`default_material`] with ambient 0.
@@ -53,10 +47,41 @@ pub(super) fn material_key(m: &Material) -> [u32; MATERIAL_KEY_LEN] {
     let a = m.anisotropy.unwrap_or(Anisotropy { rs: Vec3::ZERO, rd: Vec3::ZERO, nu: 0.0, nv: 0.0, axis: Vec3::ZERO });
     let ([r0, r1, r2], [d0, d1, d2], [x0, x1, x2]) = (v(a.rs), v(a.rd), v(a.axis));
     [
-        b0, b1, b2, e0, e1, e2, a0, a1, a2, s0, s1, s2,
-        m.metallic.to_bits(), m.roughness.to_bits(), m.specular.to_bits(), m.ior.to_bits(), m.transmission.to_bits(),
-        model, m.shininess.to_bits(), m.reflectance.to_bits(), m.transparency.to_bits(), m.gloss.to_bits(), m.frost.to_bits(),
-        u32::from(m.anisotropy.is_some()), r0, r1, r2, d0, d1, d2, a.nu.to_bits(), a.nv.to_bits(), x0, x1, x2,
+        b0,
+        b1,
+        b2,
+        e0,
+        e1,
+        e2,
+        a0,
+        a1,
+        a2,
+        s0,
+        s1,
+        s2,
+        m.metallic.to_bits(),
+        m.roughness.to_bits(),
+        m.specular.to_bits(),
+        m.ior.to_bits(),
+        m.transmission.to_bits(),
+        model,
+        m.shininess.to_bits(),
+        m.reflectance.to_bits(),
+        m.transparency.to_bits(),
+        m.gloss.to_bits(),
+        m.frost.to_bits(),
+        u32::from(m.anisotropy.is_some()),
+        r0,
+        r1,
+        r2,
+        d0,
+        d1,
+        d2,
+        a.nu.to_bits(),
+        a.nv.to_bits(),
+        x0,
+        x1,
+        x2,
     ]
 }
 

@@ -25,9 +25,9 @@ mod state;
 mod transforms;
 
 pub use actions::{Action, PostProcess};
-pub use commands::{command, CommandInfo, COMMANDS};
+pub use commands::{COMMANDS, CommandInfo, command};
 pub use error::{LangError, LangWarning, Location};
-pub use interpreter::{Interpreter, MAX_IMAGE_SIDE, MAX_SOURCED_FILES, MAX_SOURCE_DEPTH, MAX_TRIANGLES};
+pub use interpreter::{Interpreter, MAX_IMAGE_SIDE, MAX_SOURCE_DEPTH, MAX_SOURCED_FILES, MAX_TRIANGLES};
 pub use materials::default_material;
 pub use options::default_options;
 pub use state::LanguageSettings;

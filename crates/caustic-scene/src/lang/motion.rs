@@ -2,8 +2,8 @@
 //! unit of time, `shutter` the interval of that time the camera sees. The scene a session
 //! produces ([`Interpreter::scene`]) carries each motion measured over the shutter.
 
-use super::args::{Args, Res};
 use super::Interpreter;
+use super::args::{Args, Res};
 use crate::{Motion, Scene};
 use glam::DVec3;
 

@@ -1,10 +1,10 @@
 //! Global settings: image size, depth, camera, sampling, integrator switches, output names,
 //! the environment and the vertex-count hints.
 
-use super::args::{shown, Args, Res};
+use super::Interpreter;
+use super::args::{Args, Res, shown};
 use super::error::Location;
 use super::interpreter::{MAX_IMAGE_SIDE, RESERVE_CAP};
-use super::Interpreter;
 use crate::{Camera, Environment, EnvironmentMap, ImportanceSampling, Integrator, NextEvent, RenderOptions, RenderPass};
 use glam::Vec3;
 use std::path::PathBuf;

@@ -3,7 +3,7 @@
 //! the files being sourced. `reset` replaces the whole [`World`].
 
 use super::args::{Args, Res};
-use super::materials::{default_material, material_key, model_name, MATERIAL_KEY_LEN};
+use super::materials::{MATERIAL_KEY_LEN, default_material, material_key, model_name};
 use super::options::default_options;
 use crate::{Attenuation, Material, Scene};
 use glam::{DMat3, DMat4, Vec3};

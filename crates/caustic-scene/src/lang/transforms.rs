@@ -1,10 +1,10 @@
 //! The transform stack: `translate`, `rotate` and `scale` right-multiply the current matrix;
 //! `pushTransform` and `popTransform` save and restore it.
 
+use super::Interpreter;
 use super::args::{Args, Res};
 use super::error::Location;
 use super::state::Site;
-use super::Interpreter;
 use glam::{DMat4, DVec3};
 
 impl Interpreter {
@@ -53,4 +53,3 @@ impl Interpreter {
         Ok(true)
     }
 }
-

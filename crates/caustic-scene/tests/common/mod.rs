@@ -2,7 +2,7 @@
 
 #![allow(dead_code)] // Each test crate uses its own subset.
 
-use caustic_scene::{load_scene, Scene, SceneError, SceneSource};
+use caustic_scene::{Scene, SceneError, SceneSource, load_scene};
 use std::path::{Path, PathBuf};
 
 /// The shared data folder (`../shared` of the workspace), or `None` (after saying so) when

@@ -90,9 +90,16 @@ fn every_gltf_sample_loads_or_names_its_unsupported_extension() {
         let name = path.file_name().unwrap_or_default().to_string_lossy();
         match timed_load(path) {
             (Ok(scene), ms) => {
-                println!("{name:36} {:>8} triangles {:>4} meshes {:>3} materials {:>2} textures {:>7.1} MiB {ms:>8.1} ms  {}x{}",
-                    scene.triangle_count(), scene.meshes.len(), scene.materials.len(), scene.textures.len(),
-                    scene.memory_bytes() as f64 / (1 << 20) as f64, scene.resolution.0, scene.resolution.1);
+                println!(
+                    "{name:36} {:>8} triangles {:>4} meshes {:>3} materials {:>2} textures {:>7.1} MiB {ms:>8.1} ms  {}x{}",
+                    scene.triangle_count(),
+                    scene.meshes.len(),
+                    scene.materials.len(),
+                    scene.textures.len(),
+                    scene.memory_bytes() as f64 / (1 << 20) as f64,
+                    scene.resolution.0,
+                    scene.resolution.1
+                );
                 assert_eq!(Some(scene.triangle_count()), expected(&GLTF_TRIANGLES, path), "{name}");
             }
             (Err(e), _) => {

@@ -63,7 +63,11 @@ fn obj_material_libraries() {
     assert_eq!(scene.environment, caustic_scene::Environment::Constant(glam::Vec3::ONE), "no emitter: white sky");
 
     write(&dir, "good.mtl", "newmtl lamp\nKd 0 0 0\nKe 5 4 3\nnewmtl grey\nKd 0.2 0.3 0.4\n");
-    let good = write(&dir, "good.obj", "mtllib good.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nvt 1 1\nusemtl lamp\nf 1/1 2/2 3/3\nusemtl grey\nf 2/2 4/4 3/3\n");
+    let good = write(
+        &dir,
+        "good.obj",
+        "mtllib good.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nvt 1 1\nusemtl lamp\nf 1/1 2/2 3/3\nusemtl grey\nf 2/2 4/4 3/3\n",
+    );
     let scene = common::load(&good).unwrap_or_else(|e| panic!("{e}"));
     let summary: Vec<_> = scene.meshes.iter().map(|m| (&scene.materials[m.material as usize].name, m.triangle_count(), m.uvs.len())).collect();
     println!("good.obj meshes (material, triangles, uvs): {summary:?}");
@@ -147,7 +151,11 @@ fn broken_gltf_files_are_errors() {
     expect_error(&glb, &glb, "not a valid glTF file");
     let dangling = write(&dir, "dangling.gltf", r#"{"asset": {"version": "2.0"}, "scenes": [{"nodes": [3]}]}"#);
     expect_error(&dangling, &dangling, "invalid glTF");
-    let draco = write(&dir, "draco.gltf", r#"{"asset": {"version": "2.0"}, "extensionsUsed": ["KHR_draco_mesh_compression"], "extensionsRequired": ["KHR_draco_mesh_compression"]}"#);
+    let draco = write(
+        &dir,
+        "draco.gltf",
+        r#"{"asset": {"version": "2.0"}, "extensionsUsed": ["KHR_draco_mesh_compression"], "extensionsRequired": ["KHR_draco_mesh_compression"]}"#,
+    );
     expect_error(&draco, &draco, "requires unsupported glTF extensions: KHR_draco_mesh_compression");
     let empty = write(&dir, "empty.gltf", r#"{"asset": {"version": "2.0"}, "scenes": [{"nodes": []}]}"#);
     expect_error(&empty, &empty, "contains no triangles");

@@ -2,7 +2,7 @@
 //! latitude-longitude map, and the shared Yokohama cubemap loads.
 
 use crate::common;
-use caustic_scene::{srgb_to_linear, EnvironmentMap};
+use caustic_scene::{EnvironmentMap, srgb_to_linear};
 use glam::Vec3;
 
 /// The map's texel in direction `d` (`u = 0.5 + atan2(d.x, -d.z) / 2pi`, `v = acos(d.y) / pi`).
@@ -17,7 +17,8 @@ fn texel_towards(map: &EnvironmentMap, d: Vec3) -> [f32; 3] {
 #[test]
 fn each_face_lands_in_its_direction() {
     let dir = common::scratch_dir("cubemap");
-    let faces = [("posx", [255, 0, 0]), ("negx", [0, 255, 0]), ("posy", [0, 0, 255]), ("negy", [255, 255, 0]), ("posz", [0, 255, 255]), ("negz", [255, 0, 255])];
+    let faces =
+        [("posx", [255, 0, 0]), ("negx", [0, 255, 0]), ("posy", [0, 0, 255]), ("negy", [255, 255, 0]), ("posz", [0, 255, 255]), ("negz", [255, 0, 255])];
     for (name, rgb) in faces {
         image::RgbImage::from_pixel(8, 8, image::Rgb(rgb)).save(dir.join(format!("{name}.png"))).expect("write a face");
     }

@@ -3,7 +3,7 @@
 //! its own lighting.
 
 use crate::common;
-use caustic_scene::{Environment, DEFAULT_SKY};
+use caustic_scene::{DEFAULT_SKY, Environment};
 use std::path::Path;
 
 const TRIANGLE: &str = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
@@ -51,6 +51,7 @@ fn unlit_models_get_the_default_sky_and_lit_ones_keep_theirs() {
         path
     };
     assert!(sky_of(&gltf("dark.gltf", "")).is_some(), "a glTF without lights gets the default sky");
-    let lit = gltf("lit.gltf", r#","extensionsUsed":["KHR_lights_punctual"],"extensions":{"KHR_lights_punctual":{"lights":[{"type":"point","intensity":10}]}}"#);
+    let lit =
+        gltf("lit.gltf", r#","extensionsUsed":["KHR_lights_punctual"],"extensions":{"KHR_lights_punctual":{"lights":[{"type":"point","intensity":10}]}}"#);
     assert!(sky_of(&lit).is_none(), "a glTF with a light keeps the black environment");
 }

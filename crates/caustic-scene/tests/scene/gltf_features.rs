@@ -137,7 +137,8 @@ fn cameras_lights_and_instances() {
 
     let inverse_square = Attenuation { constant: 0.0, linear: 0.0, quadratic: 1.0 };
     assert_eq!(scene.lights[0], Light::Point { position: Vec3::new(0.0, 4.0, 0.0), color: Vec3::new(8.0, 4.0, 2.0), attenuation: inverse_square, spread: 0.0 });
-    let spot = Light::Spot { position: Vec3::ZERO, direction: Vec3::NEG_Z, color: Vec3::splat(2.0), attenuation: inverse_square, inner_cone: 0.1, outer_cone: 0.5 };
+    let spot =
+        Light::Spot { position: Vec3::ZERO, direction: Vec3::NEG_Z, color: Vec3::splat(2.0), attenuation: inverse_square, inner_cone: 0.1, outer_cone: 0.5 };
     assert_eq!(scene.lights[1], spot, "a spot shines along its node's -z");
     let Light::Directional { direction, color, .. } = scene.lights[2] else { panic!("directional: {:?}", scene.lights[2]) };
     assert!((direction - Vec3::NEG_Y).length() < 1e-6 && color == Vec3::splat(3.0), "shines along its node's -z = +y: {direction}");

@@ -3,7 +3,7 @@
 //! files"). Every refusal names the file and, where an option lifts it, the option.
 
 use crate::common;
-use caustic_scene::{load_scene_with, InputLimits, LoadOptions, Scene, SceneError, SceneSource};
+use caustic_scene::{InputLimits, LoadOptions, Scene, SceneError, SceneSource, load_scene_with};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 

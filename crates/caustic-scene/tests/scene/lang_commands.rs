@@ -3,9 +3,7 @@
 
 use crate::common;
 use caustic_scene::lang::{self, Action, Interpreter, Location, PostProcess};
-use caustic_scene::{
-    Environment, ImportanceSampling, Integrator, Light, NextEvent, RenderPass, Scene, ShadingModel, ShapeKind,
-};
+use caustic_scene::{Environment, ImportanceSampling, Integrator, Light, NextEvent, RenderPass, Scene, ShadingModel, ShapeKind};
 use glam::{DMat4, DVec3, Mat4, Vec3};
 use std::path::Path;
 
@@ -101,7 +99,8 @@ fn environment_maps_load_relative_to_the_file() {
 
 #[test]
 fn extended_settings() {
-    let (interpreter, _) = run("supersample 3\nresample 2\npreview prev.jpg\ndof 0.25\nglosssamples 4\nfrostsamples 5\nlightspread 0.5\nmaxverts 10\nmaxvertnorms 7\n");
+    let (interpreter, _) =
+        run("supersample 3\nresample 2\npreview prev.jpg\ndof 0.25\nglosssamples 4\nfrostsamples 5\nlightspread 0.5\nmaxverts 10\nmaxvertnorms 7\n");
     let settings = interpreter.settings();
     assert_eq!((settings.supersample, settings.resample), (3, 2));
     assert_eq!(interpreter.scene().options.spp, Some(18), "spp = supersample^2 x resample");
@@ -123,7 +122,10 @@ fn material_state_applies_to_later_geometry() {
          diffuse 0 0 1\nmaterial lambert\nsphere 0 0 0 1\n",
     );
     let m: Vec<_> = s.shapes.iter().map(|shape| &s.materials[shape.material as usize]).collect();
-    assert_eq!((m[0].ambient, m[0].base_color, m[0].specular_color, m[0].shininess, m[0].emission), (Vec3::new(0.1, 0.2, 0.3), Vec3::new(0.5, 0.25, 0.0), Vec3::ONE, 30.0, Vec3::splat(2.0)));
+    assert_eq!(
+        (m[0].ambient, m[0].base_color, m[0].specular_color, m[0].shininess, m[0].emission),
+        (Vec3::new(0.1, 0.2, 0.3), Vec3::new(0.5, 0.25, 0.0), Vec3::ONE, 30.0, Vec3::splat(2.0))
+    );
     assert_eq!(m[1].base_color, Vec3::new(0.0, 0.0, 1.0));
     assert_eq!(m[1].specular_color, Vec3::ONE, "other properties carry over");
     assert_eq!(m[2].model, ShadingModel::Ggx);
@@ -289,10 +291,8 @@ fn an_attenuation_no_light_follows_is_warned_about() {
 
 #[test]
 fn actions_come_back_in_order_with_snapshots() {
-    let (interpreter, actions) = run(
-        "sphere 0 0 0 1\nrender image\npostprocess monochrome\nsave ldr\nsphere 0 0 3 1\npreview quick\nrender hdr photo\n\
-         postprocess blur\npostprocess blur 2.5\nsave hdr\nexit\nsphere 0 0 9 1\n",
-    );
+    let (interpreter, actions) = run("sphere 0 0 0 1\nrender image\npostprocess monochrome\nsave ldr\nsphere 0 0 3 1\npreview quick\nrender hdr photo\n\
+         postprocess blur\npostprocess blur 2.5\nsave hdr\nexit\nsphere 0 0 9 1\n");
     assert_eq!(actions.len(), 8);
     let Action::Render { scene, pass, hdr, preview } = &actions[0] else { panic!("render") };
     assert_eq!((scene.shapes.len(), *pass, *hdr, scene.options.pass), (1, RenderPass::Image, false, RenderPass::Image));
@@ -326,10 +326,8 @@ fn actions_come_back_in_order_with_snapshots() {
 
 #[test]
 fn reset_clears_everything() {
-    let (interpreter, _) = run(
-        "size 10 10\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\ndiffuse 1 0 0\ntranslate 1 2 3\npushTransform\ntri 0 1 2\n\
-         point 0 0 0 1 1 1\nspp 4\nreset\nvertex 5 5 5\n",
-    );
+    let (interpreter, _) = run("size 10 10\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\ndiffuse 1 0 0\ntranslate 1 2 3\npushTransform\ntri 0 1 2\n\
+         point 0 0 0 1 1 1\nspp 4\nreset\nvertex 5 5 5\n");
     let s = interpreter.scene();
     assert_eq!((s.meshes.len(), s.lights.len(), s.materials.len(), s.resolution, s.options.spp), (0, 0, 0, (640, 480), None));
     assert_eq!(interpreter.vertices(), [Vec3::splat(5.0)]);
@@ -355,7 +353,66 @@ fn line_by_line_sessions_survive_errors() {
     assert_eq!(shell.execute_line("exit", at(9)).expect("ok"), [Action::Exit]);
     assert_eq!(shell.scene().triangle_count(), 1);
     assert!(lang::command("quadLight").is_some_and(|c| c.usage.contains("acx")));
-    for name in ["size", "maxdepth", "output", "camera", "sphere", "maxverts", "maxvertnorms", "vertex", "vertexnormal", "tri", "trinormal", "translate", "rotate", "scale", "pushTransform", "popTransform", "directional", "point", "attenuation", "ambient", "diffuse", "specular", "shininess", "emission", "integrator", "quadLight", "lightsamples", "lightstratify", "spp", "nexteventestimation", "russianroulette", "importancesampling", "brdf", "roughness", "gamma", "source", "reset", "exit", "supersample", "resample", "preview", "dof", "render", "save", "postprocess", "box", "plane", "disk", "material", "transparency", "reflectance", "ior", "gloss", "glosssamples", "frost", "frostsamples", "lightspread", "environment"] {
+    for name in [
+        "size",
+        "maxdepth",
+        "output",
+        "camera",
+        "sphere",
+        "maxverts",
+        "maxvertnorms",
+        "vertex",
+        "vertexnormal",
+        "tri",
+        "trinormal",
+        "translate",
+        "rotate",
+        "scale",
+        "pushTransform",
+        "popTransform",
+        "directional",
+        "point",
+        "attenuation",
+        "ambient",
+        "diffuse",
+        "specular",
+        "shininess",
+        "emission",
+        "integrator",
+        "quadLight",
+        "lightsamples",
+        "lightstratify",
+        "spp",
+        "nexteventestimation",
+        "russianroulette",
+        "importancesampling",
+        "brdf",
+        "roughness",
+        "gamma",
+        "source",
+        "reset",
+        "exit",
+        "supersample",
+        "resample",
+        "preview",
+        "dof",
+        "render",
+        "save",
+        "postprocess",
+        "box",
+        "plane",
+        "disk",
+        "material",
+        "transparency",
+        "reflectance",
+        "ior",
+        "gloss",
+        "glosssamples",
+        "frost",
+        "frostsamples",
+        "lightspread",
+        "environment",
+    ] {
         assert!(lang::command(name).is_some(), "{name} is missing from COMMANDS");
     }
     println!("{} commands", lang::COMMANDS.len());
@@ -367,7 +424,11 @@ fn source_offsets_vertex_indices_by_a_frame_pointer() {
     std::fs::create_dir_all(dir.join("parts")).expect("mkdir");
     // A reusable unit triangle: its indices count from its own first vertex.
     std::fs::write(dir.join("parts/unit.test"), "vertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\ntri 0 1 2\nsource normal.test\ntri 2 1 0\n").expect("write");
-    std::fs::write(dir.join("parts/normal.test"), "vertexnormal 0 0 0 0 0 1\nvertexnormal 2 0 0 0 0 1\nvertexnormal 0 2 0 0 0 1\nvertex 9 9 9\ntrinormal 0 1 2\ntri 0 0 0\n").expect("write");
+    std::fs::write(
+        dir.join("parts/normal.test"),
+        "vertexnormal 0 0 0 0 0 1\nvertexnormal 2 0 0 0 0 1\nvertexnormal 0 2 0 0 0 1\nvertex 9 9 9\ntrinormal 0 1 2\ntri 0 0 0\n",
+    )
+    .expect("write");
     std::fs::write(
         dir.join("main.test"),
         "vertex 5 5 5\nvertex 6 5 5\nvertex 5 6 5\nvertexnormal 7 7 7 0 1 0\ntranslate 0 0 10\nsource parts/unit.test\ntranslate 0 0 10\nsource parts/unit.test\ntri 0 1 2\n",
@@ -425,7 +486,9 @@ fn a_quad_light_takes_one_colour_or_one_per_corner() {
 
 #[test]
 fn arealightsamples_gives_the_lights_after_it_their_own_count() {
-    let s = scene("point 0 1 0 1 1 1\narealightsamples 16\nquadLight 0 1 0 1 0 0 0 0 1 1 1 1\nsphereLight 0 2 0 0.1 1 1 1\narealightsamples 0\ndirectional 0 1 0 1 1 1\n");
+    let s = scene(
+        "point 0 1 0 1 1 1\narealightsamples 16\nquadLight 0 1 0 1 0 0 0 0 1 1 1 1\nsphereLight 0 2 0 0.1 1 1 1\narealightsamples 0\ndirectional 0 1 0 1 1 1\n",
+    );
     assert_eq!(s.options.light_sample_counts, vec![(1, 16), (2, 16)], "the quad and the sphere light, not the point or directional light");
     let mut interpreter = Interpreter::new();
     let error = interpreter.execute_str("arealightsamples -1\n", Path::new("bad.scene")).expect_err("negative").to_string();

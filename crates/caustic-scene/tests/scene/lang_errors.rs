@@ -73,7 +73,10 @@ fn each_error_names_the_place_and_what_was_expected() {
         ("spp 0\n", "bad.test:1:5: spp: count must be between 1 and 4294967295, found 0"),
         ("maxverts -5\n", "bad.test:1:10: maxverts: count must be between 1 and 9223372036854775807, found -5"),
         ("supersample 0\n", "bad.test:1:13: supersample: n must be between 1 and 65535, found 0"),
-        ("environment 1 2\n", "bad.test:1:16: environment: expected 1 or 3 arguments (environment r g b | grey | file | sky zr zg zb hr hg hb | overcast r g b), found 2"),
+        (
+            "environment 1 2\n",
+            "bad.test:1:16: environment: expected 1 or 3 arguments (environment r g b | grey | file | sky zr zg zb hr hg hb | overcast r g b), found 2",
+        ),
         ("environment sky.hdr\n", "bad.test:1:13: environment: reading files is disabled in this session"),
         ("source other.test\n", "bad.test:1:8: source: other.test: reading files is disabled in this session"),
         ("reset now\n", "bad.test:1:7: reset: expected no arguments, found 1"),
@@ -179,9 +182,53 @@ impl Rng {
 }
 
 const WORDS: &[&str] = &[
-    "0", "1", "2", "-1", "+1", ".5", "-.5", "1e9", "1e38", "-1e38", "3.4e38", "1e-40", "0.0001", "nan", "inf", "-inf", "9999999999999999999",
-    "on", "off", "mis", "hdr", "ldr", "image", "depth", "photo", "normals", "blur", "monochrome", "lambert", "ggx", "phong", "glass",
-    "#", "#x", "source", "x.test", "\u{e9}", "\u{1F600}", "\t", "\u{0}", "\r", "🎉🎉", "pushTransform", "-0", "65535", "16384", "1.5",
+    "0",
+    "1",
+    "2",
+    "-1",
+    "+1",
+    ".5",
+    "-.5",
+    "1e9",
+    "1e38",
+    "-1e38",
+    "3.4e38",
+    "1e-40",
+    "0.0001",
+    "nan",
+    "inf",
+    "-inf",
+    "9999999999999999999",
+    "on",
+    "off",
+    "mis",
+    "hdr",
+    "ldr",
+    "image",
+    "depth",
+    "photo",
+    "normals",
+    "blur",
+    "monochrome",
+    "lambert",
+    "ggx",
+    "phong",
+    "glass",
+    "#",
+    "#x",
+    "source",
+    "x.test",
+    "\u{e9}",
+    "\u{1F600}",
+    "\t",
+    "\u{0}",
+    "\r",
+    "🎉🎉",
+    "pushTransform",
+    "-0",
+    "65535",
+    "16384",
+    "1.5",
 ];
 
 /// A random line: usually a real command with the right number of plausible arguments,
@@ -316,7 +363,9 @@ fn huge_counts_do_not_allocate_up_front() {
     let (_, warnings) = lang::parse_str(&"pushTransform\n".repeat(10_000), Path::new("p.test")).expect("accepted");
     println!("{}", warnings[0]);
     assert_eq!(warnings.len(), 1);
-    assert!(warnings[0].to_string().starts_with("p.test:1:1: warning: pushTransform has no matching popTransform") && warnings[0].message.contains("9999 more"));
+    assert!(
+        warnings[0].to_string().starts_with("p.test:1:1: warning: pushTransform has no matching popTransform") && warnings[0].message.contains("9999 more")
+    );
 
     // Many renders of a big scene: loaders keep one snapshot, so this stays linear.
     let mut text = String::from("vertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\n");
@@ -335,15 +384,7 @@ fn a_failing_line_changes_nothing() {
     let mut shell = Interpreter::new();
     shell.set_file_access(false);
     let at = |line| Location::new(Path::new("<stdin>"), line);
-    let lines = [
-        "vertex 0 0 0",
-        "vertex 1 0 0",
-        "vertex 0 1 0",
-        "diffuse 1 0 0",
-        "pushTransform",
-        "scale 1e30 1e30 1e30",
-        "scale 1e30 1e30 1e30",
-    ];
+    let lines = ["vertex 0 0 0", "vertex 1 0 0", "vertex 0 1 0", "diffuse 1 0 0", "pushTransform", "scale 1e30 1e30 1e30", "scale 1e30 1e30 1e30"];
     for (n, line) in lines.iter().enumerate() {
         shell.execute_line(line, at(n + 1)).expect("accepted");
     }

@@ -4,7 +4,7 @@
 
 use crate::common;
 use caustic_scene::lang::{self, Action};
-use caustic_scene::{cornell_box, Environment, Integrator, Light, RenderPass, Scene};
+use caustic_scene::{Environment, Integrator, Light, RenderPass, Scene, cornell_box};
 use glam::Vec3;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -210,7 +210,12 @@ fn reference_furnace_has_the_icosphere_and_a_white_sky() {
     let Some(shared) = common::shared_dir() else { return };
     let start = Instant::now();
     let scene = common::load(&shared.join("references/furnace/scene.txt")).expect("the furnace parses");
-    println!("furnace: {} triangles, {} vertices in {:.1} ms", scene.triangle_count(), scene.meshes.iter().map(|m| m.positions.len()).sum::<usize>(), start.elapsed().as_secs_f64() * 1e3);
+    println!(
+        "furnace: {} triangles, {} vertices in {:.1} ms",
+        scene.triangle_count(),
+        scene.meshes.iter().map(|m| m.positions.len()).sum::<usize>(),
+        start.elapsed().as_secs_f64() * 1e3
+    );
     assert_eq!(scene.triangle_count(), 81920);
     assert_eq!(scene.meshes.len(), 1);
     assert_eq!(scene.meshes[0].positions.len(), 40962, "shared vertices stay shared");

@@ -2,7 +2,7 @@
 //! `../shared/references/`.
 
 use crate::common;
-use caustic_scene::{cornell_box, Environment, Scene};
+use caustic_scene::{Environment, Scene, cornell_box};
 use glam::Vec3;
 
 /// Every triangle's corners as bit patterns, in scene order.
@@ -15,8 +15,13 @@ fn cornell_box_equals_the_reference_gltf() {
     let Some(shared) = common::shared_dir() else { return };
     let built_in = cornell_box();
     let reference = common::load(&shared.join("references/cornell/scene.gltf")).expect("reference glTF loads");
-    println!("built-in: {} triangles in {} meshes; reference glTF: {} triangles in {} meshes",
-        built_in.triangle_count(), built_in.meshes.len(), reference.triangle_count(), reference.meshes.len());
+    println!(
+        "built-in: {} triangles in {} meshes; reference glTF: {} triangles in {} meshes",
+        built_in.triangle_count(),
+        built_in.meshes.len(),
+        reference.triangle_count(),
+        reference.meshes.len()
+    );
     assert_eq!(built_in.triangle_count(), 32);
     assert_eq!(reference.triangle_count(), 32);
     assert_eq!(triangle_bits(&built_in), triangle_bits(&reference), "same float32 triangles in the same order and winding");
@@ -35,8 +40,7 @@ fn cornell_box_equals_the_reference_gltf() {
 
     let (ours, theirs) = (&built_in.camera, &reference.camera);
     let direction = |c: &caustic_scene::Camera| (c.target - c.eye).normalize();
-    println!("camera eye {} vs {}, direction {} vs {}, fov_y {} vs {}",
-        ours.eye, theirs.eye, direction(ours), direction(theirs), ours.fov_y, theirs.fov_y);
+    println!("camera eye {} vs {}, direction {} vs {}, fov_y {} vs {}", ours.eye, theirs.eye, direction(ours), direction(theirs), ours.fov_y, theirs.fov_y);
     assert!(ours.eye.abs_diff_eq(theirs.eye, 1e-5));
     assert!(direction(ours).abs_diff_eq(direction(theirs), 1e-5));
     assert!(ours.frame().1.abs_diff_eq(theirs.frame().1, 1e-5), "same image up");

@@ -2,7 +2,7 @@
 //! `TextureTransformTest`'s transforms checked against the markers the model carries.
 
 use crate::common;
-use caustic_scene::{sample_mipmapped, srgb_to_linear, texture_lod, ColorSpace, Mesh, MipFilter, Scene, Texture, TextureFilter, TextureSlot, WrapMode};
+use caustic_scene::{ColorSpace, Mesh, MipFilter, Scene, Texture, TextureFilter, TextureSlot, WrapMode, sample_mipmapped, srgb_to_linear, texture_lod};
 use glam::{Vec2, Vec3, Vec4};
 
 /// A 2x1 texture, black then white.
@@ -21,7 +21,8 @@ fn filters_colour_spaces_and_wrap_modes() {
     assert!((middle - Vec4::new(0.5, 0.5, 0.5, 1.0)).abs().max_element() < 1e-6, "halfway between texel centres");
     assert!((quarter.x - 0.25).abs() < 1e-6, "a quarter of the way: {quarter}");
     let grey = Texture { texels: vec![[128, 128, 128, 128]], width: 1, ..black_white(ColorSpace::Srgb) };
-    let (decoded, raw) = (grey.sample(Vec2::ZERO, TextureFilter::Nearest), Texture { color_space: ColorSpace::Linear, ..grey }.sample(Vec2::ZERO, TextureFilter::Nearest));
+    let (decoded, raw) =
+        (grey.sample(Vec2::ZERO, TextureFilter::Nearest), Texture { color_space: ColorSpace::Linear, ..grey }.sample(Vec2::ZERO, TextureFilter::Nearest));
     println!("sRGB 128 -> {decoded}, linear 128 -> {raw}");
     assert!((decoded.x - 0.21586).abs() < 1e-4 && (raw.x - 128.0 / 255.0).abs() < 1e-6 && decoded.w == raw.w);
     let wrapped = |mode| TextureSlot { wrap: [mode; 2], ..TextureSlot::new(0) }.lookup(Vec2::new(1.25, -0.25));
@@ -95,7 +96,8 @@ fn texture_transform_test_lands_on_its_correct_markers() {
     for (material, want) in [("Offset U", "green"), ("Offset V", "blue"), ("Offset UV", "cyan")] {
         let slot = scene.materials[mesh_with(&scene, material).material as usize].base_color_texture.expect("textured");
         let texture = &scene.textures[slot.texture as usize];
-        let (moved, still) = (texture.sample(slot.lookup(Vec2::splat(0.04)), TextureFilter::Nearest), texture.sample(Vec2::splat(0.04), TextureFilter::Nearest));
+        let (moved, still) =
+            (texture.sample(slot.lookup(Vec2::splat(0.04)), TextureFilter::Nearest), texture.sample(Vec2::splat(0.04), TextureFilter::Nearest));
         println!("{material}: uv (0.04, 0.04) reads {} ({moved}); untransformed {}", colour_name(moved), colour_name(still));
         assert_eq!((colour_name(moved), colour_name(still)), (want, "yellow"), "{material}");
     }
@@ -115,7 +117,12 @@ fn texture_transform_test_lands_on_its_correct_markers() {
 
 #[test]
 fn mip_chains_average_in_linear_light() {
-    let texture = Texture { texels: vec![[0, 0, 0, 255], [255; 4], [0, 0, 0, 255], [255; 4], [255; 4], [0, 0, 0, 255], [255; 4], [0, 0, 0, 255]], width: 4, height: 2, ..black_white(ColorSpace::Srgb) };
+    let texture = Texture {
+        texels: vec![[0, 0, 0, 255], [255; 4], [0, 0, 0, 255], [255; 4], [255; 4], [0, 0, 0, 255], [255; 4], [0, 0, 0, 255]],
+        width: 4,
+        height: 2,
+        ..black_white(ColorSpace::Srgb)
+    };
     let chain = texture.mip_chain();
     let sizes: Vec<(u32, u32)> = chain.iter().map(|level| (level.width, level.height)).collect();
     println!("levels {sizes:?}, level 1 {:?}, level 2 {:?}", chain[1].texels, chain[2].texels);

@@ -5,7 +5,7 @@
 use caustic_gpu::features::ClassicFeatures;
 use caustic_gpu::{GpuContext, GpuScene, PathTracer, RenderSettings};
 use caustic_image::Image;
-use caustic_scene::{load_scene, Integrator, Scene, SceneSource};
+use caustic_scene::{Integrator, Scene, SceneSource, load_scene};
 use caustic_viewer::features_panel::FeaturePanel;
 use caustic_viewer::{Progressive, Uploads};
 use std::path::Path;
