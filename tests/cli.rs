@@ -215,3 +215,16 @@ fn presets_choose_samples_and_explicit_options_win() {
     assert_eq!(explicit["spp"], 3);
     assert_ne!(preview["fingerprint"], render(&["--preset", "final", "--spp", "16"])["fingerprint"], "presets change the settings");
 }
+
+#[test]
+fn exposures_that_would_make_every_pixel_black_or_white_are_usage_errors() {
+    let out = support::scratch("exposure").join("never.png");
+    for value in ["nan", "inf", "128", "-65", "bright"] {
+        let output = support::caustic(&["render", "--size", "8x8", "--spp", "1", "--exposure", value, "-o", out.to_str().unwrap()]);
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        println!("--exposure {value}: exit {:?}", output.status.code());
+        assert_eq!(output.status.code(), Some(2), "--exposure {value} must be a usage error: {stderr}");
+        assert!(stderr.contains("number of stops from -64 to 64"), "--exposure {value}: {stderr}");
+        assert!(!out.exists(), "--exposure {value} wrote an image");
+    }
+}

@@ -223,8 +223,8 @@ impl SceneOverrides {
 /// Exposure and tone mapping of LDR outputs, shared by `render`, `merge` and `view`.
 #[derive(Debug, Args)]
 pub struct DisplayArgs {
-    /// Exposure in stops for LDR outputs.
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    /// Exposure in stops for LDR outputs (-64 to 64; each stop doubles the brightness).
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true, value_parser = parse_exposure)]
     pub exposure: f32,
     /// Tone mapper for LDR outputs: aces, reinhard or clamp, then sRGB (default aces; a
     /// scene-language script's own LDR files default to the classic clamp and `gamma`).
@@ -552,6 +552,18 @@ fn parse_size(text: &str) -> Result<(u32, u32), String> {
     }
     Ok(size)
 }
+
+/// Stops of exposure: finite and at most [`MAX_EXPOSURE`] either way, since beyond that every
+/// pixel of an LDR file is black or white (and NaN would make every pixel black).
+fn parse_exposure(text: &str) -> Result<f32, String> {
+    match text.trim().parse::<f32>() {
+        Ok(stops) if stops.is_finite() && stops.abs() <= MAX_EXPOSURE => Ok(stops),
+        _ => Err(format!("'{text}' is not a number of stops from -{MAX_EXPOSURE} to {MAX_EXPOSURE}")),
+    }
+}
+
+/// The largest exposure in stops either way (a factor of 2^64).
+const MAX_EXPOSURE: f32 = 64.0;
 
 fn parse_vector(text: &str) -> Result<Vec3, String> {
     let numbers: Result<Vec<f32>, _> = text.split(',').map(|s| s.trim().parse::<f32>()).collect();
