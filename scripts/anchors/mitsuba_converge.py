@@ -3,7 +3,7 @@
 Mitsuba 3 (`llvm_ad_rgb` on the CPU, the variant that made the reference) against Caustic,
 in the same run on the same machine.
 
-    pip install mitsuba && apt-get install libllvm19   # Dr.Jit needs LLVM >= 16 (Debian 12's default 14/15 crash it)
+    pip install mitsuba && apt-get install libllvm19   # Dr.Jit needs LLVM >= 16 (common.py says more)
     python3 scripts/anchors/mitsuba_converge.py [--caustic target/release/caustic] [--target 1e-3]
 
 Both render `../shared/references/cornell` (Mitsuba its `scene.xml`, Caustic the identical
@@ -15,7 +15,6 @@ log-log between measurements, as `caustic converge` does.
 
 import argparse
 import json
-import math
 import os
 import subprocess
 import sys
@@ -24,26 +23,11 @@ import time
 
 import numpy as np
 
-# Dr.Jit JIT-compiles with the system LLVM; point it at LLVM 19 when the default is too old.
-if os.path.exists("/usr/lib/x86_64-linux-gnu/libLLVM-19.so"):
-    os.environ.setdefault("DRJIT_LIBLLVM_PATH", "/usr/lib/x86_64-linux-gnu/libLLVM-19.so")
-import mitsuba as mi  # noqa: E402  (after the environment is set)
+from common import import_mitsuba, relmse, time_to
 
-
-def relmse(image, reference, epsilon=1e-2):
-    return float(np.mean((image - reference) ** 2 / (reference ** 2 + epsilon)))
-
-
-def time_to(points, target):
-    """First time the error reaches `target`, interpolated in log-log; None if it never does."""
-    for i, (seconds, error) in enumerate(points):
-        if error <= target:
-            if i == 0:
-                return seconds
-            (s0, e0), (s1, e1) = points[i - 1], points[i]
-            f = (math.log(e0) - math.log(target)) / (math.log(e0) - math.log(e1))
-            return math.exp(math.log(s0) + f * (math.log(s1) - math.log(s0)))
-    return None
+mi, why = import_mitsuba()
+if mi is None:
+    sys.exit(why)
 
 
 def mitsuba_points(scene_xml, reference, max_spp):
