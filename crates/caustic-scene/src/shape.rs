@@ -66,11 +66,18 @@ impl Shape {
         Some(points.iter().fold((first, first), |(a, b), p| (a.min(*p), b.max(*p))))
     }
 
+    /// Whether the transform is finite and invertible as a 4x4 matrix (a huge translation can
+    /// overflow its determinant even where the linear part's is fine); the one test that
+    /// [`Shape::validate`] and the scene language's shape commands apply.
+    pub fn has_usable_transform(&self) -> bool {
+        let det = self.object_to_world.determinant();
+        self.object_to_world.is_finite() && det.is_finite() && det.abs() >= 1e-30
+    }
+
     /// Checks that the transform is finite and invertible, naming the shape.
     pub fn validate(&self, index: usize, material_count: usize) -> Result<(), crate::SceneError> {
         let object = || format!("{:?} {index}", self.kind).to_lowercase();
-        let det = self.object_to_world.determinant();
-        if !self.object_to_world.is_finite() || !det.is_finite() || det.abs() < 1e-30 {
+        if !self.has_usable_transform() {
             return Err(crate::SceneError::invalid(object(), "transform is degenerate or not finite (zero radius or scale?)"));
         }
         if self.material as usize >= material_count {

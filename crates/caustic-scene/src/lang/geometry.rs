@@ -98,9 +98,7 @@ impl Interpreter {
 
     /// Checks the shape's transform, then adds it with the current material.
     fn add_shape(&mut self, a: &Args, shape: Shape) -> Res<()> {
-        let m = shape.object_to_world;
-        let det = m.determinant();
-        if !m.is_finite() || !det.is_finite() || det.abs() < 1e-30 {
+        if !shape.has_usable_transform() {
             return a.fail("the shape's transform is degenerate or not finite (a zero or huge scale?)");
         }
         let material = self.world.material_index();

@@ -135,8 +135,7 @@ impl Interpreter {
             Shape::disk(transform, centre, normal.normalize(), radius, 0)
         };
         let m = glam::Mat3::from_mat4(shape.object_to_world);
-        let det = m.determinant();
-        if !m.is_finite() || !det.is_finite() || det.abs() < 1e-30 {
+        if !shape.has_usable_transform() {
             return a.fail("the light's transform is degenerate or not finite (a zero or huge scale?)");
         }
         let round = |u: Vec3, v: Vec3| u.dot(v).abs() <= 1e-4 * u.length_squared() && (u.length_squared() / v.length_squared() - 1.0).abs() <= 1e-4;
