@@ -242,3 +242,24 @@ fn interrupted_renders_exit_128_plus_the_signal() {
         assert!(out.is_file(), "the partial image was written");
     }
 }
+
+#[test]
+fn files_the_cli_reads_itself_are_refused_when_not_regular() {
+    let dir = support::scratch("cli-inputs");
+    let fifo = dir.join("part.exr");
+    mkfifo(&fifo);
+    let f = fifo.to_str().unwrap();
+    let out = dir.join("out.exr");
+    let o = out.to_str().unwrap();
+    for (what, args) in [
+        ("merge part", vec!["merge", f, f, "-o", o]),
+        ("converge reference", vec!["converge", "cornell", "--reference", f, "--spp", "1"]),
+        ("bench rays", vec!["bench", "--rays", f]),
+        ("resumed part", vec!["render", "--size", "8x8", "--spp", "1", "--resume", "-o", f]),
+    ] {
+        let (output, took) = timed(&args);
+        let stderr = fails_with(&output, &["part.exr", "not a regular file (a FIFO)"]);
+        println!("{what}: refused in {took:?}: {}", stderr.lines().last().unwrap_or(""));
+    }
+    assert!(!out.exists(), "a refused input left an output");
+}

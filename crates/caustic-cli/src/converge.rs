@@ -100,6 +100,7 @@ pub fn run(args: &ConvergeArgs) -> anyhow::Result<()> {
     if let Some(t) = args.time.filter(|t| !(t.is_finite() && *t > 0.0)) {
         crate::failure::usage!("--time {t}: must be a positive number of seconds");
     }
+    caustic_scene::InputLimits::default().check_file(&args.reference).context("the reference")?;
     let reference = Image::load(&args.reference).with_context(|| format!("reference {}", args.reference.display()))?;
     let mut scene = load_scene_with(&SceneSource::parse(&args.scene), &args.overrides.load_options())?;
     scene.resolution = (reference.width, reference.height);

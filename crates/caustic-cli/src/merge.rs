@@ -31,6 +31,10 @@ pub fn run(args: &MergeArgs) -> anyhow::Result<()> {
     if let Some(part) = args.parts.iter().find(|p| same_file(p, &args.output)) {
         crate::failure::usage!("-o {} is also one of the parts ({}): write the merge to a new file", args.output.display(), part.display());
     }
+    for part in &args.parts {
+        // Regular files within the default size limit: a FIFO or device would block or never end.
+        caustic_scene::InputLimits::default().check_file(part)?;
+    }
     let merged = PartialImage::merge(&args.parts, args.samples.clone())?;
     let is_exr = args.output.extension().is_some_and(|e| e.eq_ignore_ascii_case("exr"));
     if is_exr {

@@ -13,7 +13,7 @@ pub const RAY_RECORD_BYTES: usize = 24;
 /// Reads a ray file. Errors name the file and, for a bad record, its index: a length that is
 /// not a whole number of records, a non-finite value, or a zero direction.
 pub fn read_rays(path: &Path) -> anyhow::Result<Vec<ExternalRay>> {
-    let bytes = std::fs::read(path).with_context(|| format!("cannot read ray file {}", path.display()))?;
+    let bytes = caustic_scene::InputLimits::default().read(path).context("cannot read the ray file")?;
     parse_rays(&bytes).with_context(|| format!("ray file {}", path.display()))
 }
 

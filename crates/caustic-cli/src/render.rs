@@ -414,6 +414,7 @@ fn previous_part(output: &Path, print: &Fingerprint, budget: &mut Budget) -> any
         eprintln!("--resume: {} does not exist yet; rendering from sample {}", output.display(), budget.first_sample);
         return Ok(None);
     }
+    caustic_scene::InputLimits::default().check_file(output).context("--resume")?;
     let part = PartialImage::load(output).with_context(|| format!("--resume: cannot continue {}", output.display()))?;
     let range = part.info.range.clone();
     if part.info.fingerprint != print.hash {

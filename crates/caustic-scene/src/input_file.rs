@@ -100,6 +100,13 @@ impl InputLimits {
     }
 
     /// Refuses what is not a regular file or is larger than the limit.
+    /// Checks `path` as [`InputLimits::open`] does (a regular file within the size limit)
+    /// without opening it, for readers that open the file themselves (images, partial images).
+    pub fn check_file(&self, path: &Path) -> Result<(), InputError> {
+        let metadata = std::fs::metadata(path).map_err(|e| InputError::new(path, format!("cannot read: {e}")))?;
+        self.check(path, &metadata)
+    }
+
     fn check(&self, path: &Path, metadata: &Metadata) -> Result<(), InputError> {
         if !metadata.is_file() {
             return Err(InputError::new(path, format!("is not a regular file ({}): refused", file_kind(metadata))));
