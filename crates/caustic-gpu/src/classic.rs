@@ -7,7 +7,7 @@ use crate::features::{
     FEATURE_SMOOTH_NORMALS, FEATURE_SOFT_SHADOWS,
 };
 use crate::gpu_types::GpuLight;
-use crate::scene_data::{LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPOT};
+use crate::light_kind::LightKind;
 use caustic_scene::{Material, Scene, ShadingModel};
 
 /// The classic tracer's refraction weight of `m` (`GpuMaterial::transparency`): the scene
@@ -26,10 +26,10 @@ pub fn transparency(m: &Material) -> f32 {
 /// Whether a light gives different light at different points of it (area lights, spread point
 /// and directional lights), so soft shadows sample it.
 pub fn is_extended(light: &GpuLight) -> bool {
-    match light.kind {
-        LIGHT_POINT | LIGHT_DIRECTIONAL => light.area > 0.0,
-        LIGHT_SPOT => false,
-        _ => true,
+    match LightKind::of(light) {
+        LightKind::Point | LightKind::Directional => light.area > 0.0,
+        LightKind::Spot => false,
+        LightKind::Triangle | LightKind::Quad | LightKind::Sphere | LightKind::Disk | LightKind::Environment | LightKind::Segment => true,
     }
 }
 

@@ -14,8 +14,8 @@
 
 use crate::convex_solid::{SceneSolids, SolidPlane, light_corners, outward};
 use crate::gpu_types::GpuLight;
+use crate::light_kind::LightKind;
 use crate::requirements::REQUIRES_PLANES;
-use crate::scene_data::{LIGHT_DIRECTIONAL, LIGHT_ENVIRONMENT};
 use caustic_bvh::{GpuBvh, SHAPE_BIT};
 use glam::{DVec3, Vec3};
 
@@ -74,9 +74,11 @@ impl ConvexOccluders {
         let outside = |points: &[DVec3]| {
             self.occluders.iter().all(|o| o.planes.iter().any(|&(n, c)| points.iter().all(|p| n.as_dvec3().dot(*p) - f64::from(c) > self.tolerance)))
         };
-        lights.iter().all(|light| match light.kind {
-            LIGHT_DIRECTIONAL | LIGHT_ENVIRONMENT => true,
-            _ => light_corners(light).is_some_and(|corners| outside(&corners)),
+        lights.iter().all(|light| match LightKind::of(light) {
+            LightKind::Directional | LightKind::Environment => true,
+            LightKind::Triangle | LightKind::Quad | LightKind::Point | LightKind::Spot | LightKind::Sphere | LightKind::Disk | LightKind::Segment => {
+                light_corners(light).is_some_and(|corners| outside(&corners))
+            }
         })
     }
 

@@ -10,7 +10,7 @@
 //! through [`crate::closest_solid`].
 
 use crate::gpu_types::GpuLight;
-use crate::scene_data::{LIGHT_POINT, LIGHT_QUAD, LIGHT_SEGMENT, LIGHT_SPOT, LIGHT_TRIANGLE};
+use crate::light_kind::LightKind;
 use caustic_bvh::{GpuBvh, SHAPE_BIT};
 use glam::DVec3;
 use std::collections::HashMap;
@@ -90,16 +90,16 @@ impl SceneSolids {
 /// without a finite set of corners (directional, environment, sphere and disk lights).
 pub(crate) fn light_corners(light: &GpuLight) -> Option<Vec<DVec3>> {
     let [v0, e1, e2] = [light.v0, light.e1, light.e2].map(|v| glam::Vec3::from(v).as_dvec3());
-    match light.kind {
-        LIGHT_TRIANGLE => Some(vec![v0, v0 + e1, v0 + e2]),
-        LIGHT_QUAD => Some(vec![v0, v0 + e1, v0 + e2, v0 + e1 + e2]),
-        LIGHT_POINT => {
+    match LightKind::of(light) {
+        LightKind::Triangle => Some(vec![v0, v0 + e1, v0 + e2]),
+        LightKind::Quad => Some(vec![v0, v0 + e1, v0 + e2, v0 + e1 + e2]),
+        LightKind::Point => {
             let r = f64::from(light.area.max(0.0));
             Some((0..8).map(|i| v0 + DVec3::new(corner(i, 0), corner(i, 1), corner(i, 2)) * r).collect())
         }
-        LIGHT_SPOT => Some(vec![v0]),
-        LIGHT_SEGMENT => Some(vec![v0, v0 + e1]),
-        _ => None,
+        LightKind::Spot => Some(vec![v0]),
+        LightKind::Segment => Some(vec![v0, v0 + e1]),
+        LightKind::Directional | LightKind::Environment | LightKind::Sphere | LightKind::Disk => None,
     }
 }
 

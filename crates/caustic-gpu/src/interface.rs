@@ -11,22 +11,13 @@ use crate::gpu_types::{
     ALPHA_BLEND, ALPHA_MASK, ALPHA_OPAQUE, CHECKER_DARK, FLAG_ALPHA_TESTED, FLAG_LIGHT_LISTED, FLAG_QUAD_LIGHT, FLAG_VERTEX_NORMALS, INSPECT_MAX_BOUNCES,
     MATERIAL_CHECKERS, MATERIAL_FLAT, NO_PIXEL, PROJECTION_ORTHOGRAPHIC, PROJECTION_PERSPECTIVE,
 };
-use crate::scene_data::{
-    LIGHT_DIRECTIONAL, LIGHT_DISK, LIGHT_ENVIRONMENT, LIGHT_FLAG_CLASSIC, LIGHT_POINT, LIGHT_QUAD, LIGHT_SEGMENT, LIGHT_SPHERE, LIGHT_SPOT, LIGHT_TRIANGLE,
-};
+use crate::light_kind::LightKind;
+use crate::scene_data::LIGHT_FLAG_CLASSIC;
 use std::sync::LazyLock;
 
-/// Every shared `u32` constant by its name on both sides.
+/// Every shared `u32` constant by its name on both sides (the light kinds come from
+/// [`LightKind::ALL`]).
 pub const SHARED_CONSTANTS: &[(&str, u32)] = &[
-    ("LIGHT_TRIANGLE", LIGHT_TRIANGLE),
-    ("LIGHT_QUAD", LIGHT_QUAD),
-    ("LIGHT_POINT", LIGHT_POINT),
-    ("LIGHT_DIRECTIONAL", LIGHT_DIRECTIONAL),
-    ("LIGHT_SPOT", LIGHT_SPOT),
-    ("LIGHT_SPHERE", LIGHT_SPHERE),
-    ("LIGHT_DISK", LIGHT_DISK),
-    ("LIGHT_ENVIRONMENT", LIGHT_ENVIRONMENT),
-    ("LIGHT_SEGMENT", LIGHT_SEGMENT),
     ("LIGHT_FLAG_CLASSIC", LIGHT_FLAG_CLASSIC),
     ("FLAG_VERTEX_NORMALS", FLAG_VERTEX_NORMALS),
     ("FLAG_ALPHA_TESTED", FLAG_ALPHA_TESTED),
@@ -53,7 +44,10 @@ pub const INTERFACE_FILE: &str = "generated/interface.wgsl";
 
 /// The WGSL declarations of [`SHARED_CONSTANTS`].
 pub fn wgsl_constants() -> String {
-    let mut text = String::from("// Generated from caustic_gpu::interface::SHARED_CONSTANTS: edit the Rust side.\n");
+    let mut text = String::from("// Generated from caustic_gpu::interface and caustic_gpu::light_kind: edit the Rust side.\n");
+    for kind in LightKind::ALL {
+        text.push_str(&format!("const {}: u32 = {}u;\n", kind.wgsl_name(), kind as u32));
+    }
     for (name, value) in SHARED_CONSTANTS {
         text.push_str(&format!("const {name}: u32 = {value:#x}u;\n"));
     }
@@ -73,7 +67,12 @@ mod tests {
 
     #[test]
     fn every_constant_is_declared_once() {
-        let mut names: Vec<&str> = SHARED_CONSTANTS.iter().map(|(name, _)| *name).chain(SHARED_FLOATS.iter().map(|(name, _)| *name)).collect();
+        let mut names: Vec<&str> = SHARED_CONSTANTS
+            .iter()
+            .map(|(name, _)| *name)
+            .chain(SHARED_FLOATS.iter().map(|(name, _)| *name))
+            .chain(LightKind::ALL.iter().map(|kind| kind.wgsl_name()))
+            .collect();
         names.sort_unstable();
         let count = names.len();
         names.dedup();

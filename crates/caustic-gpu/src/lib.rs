@@ -27,6 +27,7 @@ pub mod inspector;
 pub mod interface;
 pub mod kernel;
 pub mod kernel_test;
+pub mod light_kind;
 pub mod light_plane;
 pub mod motion;
 mod path_tracer;

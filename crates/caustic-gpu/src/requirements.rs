@@ -10,7 +10,7 @@
 
 use crate::SceneData;
 use crate::gpu_types::{FLAG_QUAD_LIGHT, FLAG_VERTEX_NORMALS, GpuLight, GpuMaterial};
-use crate::scene_data::{LIGHT_DIRECTIONAL, LIGHT_DISK, LIGHT_ENVIRONMENT, LIGHT_POINT, LIGHT_SEGMENT, LIGHT_SPHERE, LIGHT_SPOT};
+use crate::light_kind::LightKind;
 use caustic_bvh::ShapeKind;
 use caustic_scene::Environment;
 
@@ -87,12 +87,13 @@ pub fn shading_requirements(materials: &[GpuMaterial], lights: &[GpuLight], envi
         bits |= REQUIRES_MEDIA;
     }
     for light in lights {
-        bits |= match light.kind {
-            LIGHT_POINT | LIGHT_SPOT | LIGHT_SEGMENT => REQUIRES_POINT_LIGHTS,
-            LIGHT_DIRECTIONAL => REQUIRES_DIRECTIONAL_LIGHTS,
-            LIGHT_SPHERE | LIGHT_DISK => REQUIRES_SHAPE_LIGHTS,
-            LIGHT_ENVIRONMENT => REQUIRES_ENVIRONMENT_LIGHT,
-            _ => 0,
+        bits |= match LightKind::of(light) {
+            LightKind::Point | LightKind::Spot | LightKind::Segment => REQUIRES_POINT_LIGHTS,
+            LightKind::Directional => REQUIRES_DIRECTIONAL_LIGHTS,
+            LightKind::Sphere | LightKind::Disk => REQUIRES_SHAPE_LIGHTS,
+            LightKind::Environment => REQUIRES_ENVIRONMENT_LIGHT,
+            // Emissive geometry: part of every kernel (quad lights' own bit is set above).
+            LightKind::Triangle | LightKind::Quad => 0,
         };
     }
     if matches!(environment, Environment::Map(_)) {

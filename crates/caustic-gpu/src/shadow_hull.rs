@@ -11,8 +11,8 @@
 //! test it compiles, so each skipped one is saved in every bounce.
 
 use crate::gpu_types::GpuLight;
+use crate::light_kind::LightKind;
 use crate::requirements::{REQUIRES_DIRECTIONAL_LIGHTS, REQUIRES_ENVIRONMENT_LIGHT, REQUIRES_PLANES};
-use crate::scene_data::{LIGHT_DIRECTIONAL, LIGHT_ENVIRONMENT, LIGHT_POINT, LIGHT_SEGMENT, LIGHT_SPOT};
 use caustic_bvh::{GpuBvh, SHAPE_BIT};
 use glam::{DVec3, Vec3};
 
@@ -74,13 +74,14 @@ impl ShadowHull {
         if self.faces.is_empty() || requirements & (REQUIRES_PLANES | REQUIRES_DIRECTIONAL_LIGHTS | REQUIRES_ENVIRONMENT_LIGHT) != 0 {
             return false;
         }
-        lights.iter().all(|light| match light.kind {
+        lights.iter().all(|light| match LightKind::of(light) {
             // A spread point light samples a sphere of radius `area` around its centre.
-            LIGHT_POINT => self.contains_box(Vec3::from(light.v0) - light.area.max(0.0), Vec3::from(light.v0) + light.area.max(0.0)),
-            LIGHT_SPOT => self.contains(light.v0.into()),
-            LIGHT_SEGMENT => self.contains(light.v0.into()) && self.contains(Vec3::from(light.v0) + Vec3::from(light.e1)),
-            LIGHT_DIRECTIONAL | LIGHT_ENVIRONMENT => false,
-            _ => true,
+            LightKind::Point => self.contains_box(Vec3::from(light.v0) - light.area.max(0.0), Vec3::from(light.v0) + light.area.max(0.0)),
+            LightKind::Spot => self.contains(light.v0.into()),
+            LightKind::Segment => self.contains(light.v0.into()) && self.contains(Vec3::from(light.v0) + Vec3::from(light.e1)),
+            LightKind::Directional | LightKind::Environment => false,
+            // Emitting surfaces are part of the scene, whose points the hull bounds.
+            LightKind::Triangle | LightKind::Quad | LightKind::Sphere | LightKind::Disk => true,
         })
     }
 }
@@ -116,6 +117,7 @@ fn supporting_plane(triangle: [Vec3; 3], points: &[DVec3], tolerance: f64) -> Op
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scene_data::LIGHT_POINT;
 
     fn bvh_of(triangles: &[[Vec3; 3]]) -> GpuBvh {
         caustic_bvh::flatten(&caustic_bvh::build(triangles, &caustic_bvh::BuildOptions::default()), triangles)
