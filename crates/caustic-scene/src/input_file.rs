@@ -103,7 +103,7 @@ impl InputLimits {
     /// Checks `path` as [`InputLimits::open`] does (a regular file within the size limit)
     /// without opening it, for readers that open the file themselves (images, partial images).
     pub fn check_file(&self, path: &Path) -> Result<(), InputError> {
-        let metadata = std::fs::metadata(path).map_err(|e| InputError::new(path, format!("cannot read: {e}")))?;
+        let metadata = std::fs::metadata(path).map_err(|e| InputError::new(path, format!("cannot open: {e}")))?;
         self.check(path, &metadata)
     }
 
