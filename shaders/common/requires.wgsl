@@ -32,6 +32,8 @@ const REQUIRES_ENVIRONMENT_LIGHT: u32 = 0x400u;
 const REQUIRES_ENVIRONMENT_MAP: u32 = 0x800u;
 // The pixel inspector's hooks (integrator/inspect.wgsl).
 const REQUIRES_INSPECTOR: u32 = 0x1000u;
+// The seed's `checkers` and `flat` materials.
+const REQUIRES_SEED_MATERIALS: u32 = 0x2000u;
 
 // Whether the kernel was compiled with any of `bits`.
 fn scene_needs(bits: u32) -> bool {

@@ -47,9 +47,11 @@ fn environment_search(row: u32, count: u32, u: f32) -> u32 {
     var lo = 0u;
     var hi = count - 1u;
     let column = environment_size().x;
+    let marginal = row == 0xffffffffu;
     while lo < hi {
         let mid = (lo + hi) / 2u;
-        let value = select(environment_cdf(mid, row), environment_cdf(column, mid), row == 0xffffffffu);
+        // One texel per step: `select` of two loads would make both.
+        let value = environment_cdf(select(mid, column, marginal), select(row, mid, marginal));
         if value > u {
             hi = mid;
         } else {

@@ -70,7 +70,7 @@ fn surface_interaction_open(ray: Ray, hit: Hit) -> SurfaceInteraction {
 // path tracer's diffuse lobe). CPU twin: caustic_gpu::gpu_types::checker_odd.
 
 fn checkered(m: Material, p: vec3<f32>) -> Material {
-    if (m.flags & MATERIAL_CHECKERS) == 0u {
+    if !scene_needs(REQUIRES_SEED_MATERIALS) || (m.flags & MATERIAL_CHECKERS) == 0u {
         return m;
     }
     let cell = vec3<i32>(trunc(p));
@@ -94,7 +94,7 @@ fn toon_ramp(cos_theta: f32) -> f32 {
 }
 
 fn is_flat(m: Material) -> bool {
-    return (m.flags & MATERIAL_FLAT) != 0u;
+    return scene_needs(REQUIRES_SEED_MATERIALS) && (m.flags & MATERIAL_FLAT) != 0u;
 }
 
 // Whether material m reads any texture.

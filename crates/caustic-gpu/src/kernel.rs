@@ -172,11 +172,12 @@ fn specialised_traversal<'a>(gpu: &'a GpuScene, settings: &RenderSettings) -> Op
     }
 }
 
-/// The scene's tables compiled in, if any: with the generated traversal under
-/// [`DataPath::Auto`] (a small scene's constants, until its materials are edited).
+/// The scene's tables compiled in, if any, under [`DataPath::Auto`]: a small scene's shading
+/// entries, materials and lights, or a larger one's materials and lights (until its materials
+/// are edited).
 fn tables(gpu: &GpuScene, settings: &RenderSettings) -> Option<BakedTables> {
     match settings.data_path {
-        DataPath::Auto => specialised_traversal(gpu, settings).and(gpu.tables.clone()),
+        DataPath::Auto => gpu.tables.clone(),
         DataPath::Traversal | DataPath::Buffers => None,
     }
 }

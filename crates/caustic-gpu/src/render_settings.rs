@@ -100,9 +100,10 @@ pub const MAX_STRATA: u32 = 256;
 pub enum DataPath {
     /// Small scenes' primitives compiled into a generated traversal that tests them in turn
     /// ([`GpuScene::traversal`], at most [`crate::specialize::BAKE_MAX_PRIMITIVES`]) and their
-    /// shading entries, materials and lights compiled in as constants ([`GpuScene::tables`]),
-    /// larger scenes' BVH and tables read from storage buffers (the default: faster on small
-    /// scenes, the same image; docs/PERFORMANCE.md).
+    /// shading entries, materials and lights compiled in as constants ([`GpuScene::tables`]);
+    /// larger scenes' BVH and shading entries read from storage buffers, their materials and
+    /// lights compiled in while each table has at most [`crate::bake::BAKE_MAX_ENTRIES`]
+    /// entries (the default: faster, the same image; docs/PERFORMANCE.md).
     #[default]
     Auto,
     /// Small scenes' primitives compiled in as with `Auto`, but their shading entries,

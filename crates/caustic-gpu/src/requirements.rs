@@ -9,7 +9,7 @@
 //! code. [`REQUIRES_ALL`] is the general kernel.
 
 use crate::SceneData;
-use crate::gpu_types::{FLAG_QUAD_LIGHT, FLAG_VERTEX_NORMALS, GpuLight, GpuMaterial};
+use crate::gpu_types::{FLAG_QUAD_LIGHT, FLAG_VERTEX_NORMALS, GpuLight, GpuMaterial, MATERIAL_CHECKERS, MATERIAL_FLAT};
 use crate::light_kind::LightKind;
 use caustic_bvh::ShapeKind;
 use caustic_scene::Environment;
@@ -40,8 +40,10 @@ pub const REQUIRES_ENVIRONMENT_LIGHT: u32 = 0x400;
 pub const REQUIRES_ENVIRONMENT_MAP: u32 = 0x800;
 /// The pixel inspector's hooks: only the kernel [`crate::PathTracer::inspect`] runs.
 pub const REQUIRES_INSPECTOR: u32 = 0x1000;
+/// The seed's `checkers` and `flat` materials (material flags tested at every hit).
+pub const REQUIRES_SEED_MATERIALS: u32 = 0x2000;
 /// Every part: the general kernel.
-pub const REQUIRES_ALL: u32 = 0x1fff;
+pub const REQUIRES_ALL: u32 = 0x3fff;
 
 /// The bits that follow from the geometry, which [`crate::GpuScene::update_materials`] keeps.
 pub const GEOMETRY_REQUIREMENTS: u32 = REQUIRES_SHAPES | REQUIRES_PLANES | REQUIRES_VERTEX_NORMALS | REQUIRES_QUAD_LIGHTS;
@@ -86,6 +88,9 @@ pub fn shading_requirements(materials: &[GpuMaterial], lights: &[GpuLight], envi
     if materials.iter().any(|m| m.absorption != [0.0; 3]) {
         bits |= REQUIRES_MEDIA;
     }
+    if materials.iter().any(|m| m.flags & (MATERIAL_CHECKERS | MATERIAL_FLAT) != 0) {
+        bits |= REQUIRES_SEED_MATERIALS;
+    }
     for light in lights {
         bits |= match LightKind::of(light) {
             LightKind::Point | LightKind::Spot | LightKind::Segment => REQUIRES_POINT_LIGHTS,
@@ -129,6 +134,7 @@ mod tests {
             ("REQUIRES_ENVIRONMENT_LIGHT", REQUIRES_ENVIRONMENT_LIGHT),
             ("REQUIRES_ENVIRONMENT_MAP", REQUIRES_ENVIRONMENT_MAP),
             ("REQUIRES_INSPECTOR", REQUIRES_INSPECTOR),
+            ("REQUIRES_SEED_MATERIALS", REQUIRES_SEED_MATERIALS),
         ];
         let mut all = 0;
         for (name, bit) in named {

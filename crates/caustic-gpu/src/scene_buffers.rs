@@ -102,9 +102,10 @@ pub struct GpuScene {
     /// Whether every light still lies in the planes of [`GpuScene::shadow_light_planes`]: the
     /// kernels' `SHADOW_LIGHT_PLANES` override, updated with the lights.
     pub shadow_light_plane_skip: bool,
-    /// For the same small scenes: the shading entries, materials and lights as WGSL
-    /// constants ([`crate::bake`]), which kernels with the generated traversal read instead of
-    /// the buffers; dropped by [`GpuScene::update_materials`].
+    /// The scene's tables as WGSL constants ([`crate::bake`]), which kernels read instead of
+    /// the buffers: for the same small scenes the shading entries, materials and lights, for
+    /// larger ones the materials and lights (`None` when a table is too long); dropped by
+    /// [`GpuScene::update_materials`].
     pub tables: Option<crate::bake::BakedTables>,
     /// The BSDF lobes the scene's materials use ([`specialize::lobe_mask`]), for the
     /// kernels' `LOBE_MASK` override.
@@ -181,7 +182,10 @@ impl GpuScene {
             triangle_count: data.triangles.len(),
             bvh_stats: bvh.stats,
             bounds: scene.bounds().unwrap_or((Vec3::ZERO, Vec3::ZERO)),
-            tables: traversal.as_ref().and_then(|_| crate::bake::BakedTables::new(&data.shading, &data.materials, &data.lights)),
+            tables: match traversal {
+                Some(_) => crate::bake::BakedTables::new(&data.shading, &data.materials, &data.lights),
+                None => crate::bake::BakedTables::materials_and_lights(&data.materials, &data.lights),
+            },
             traversal,
             shadow_hull_cull: shadow_hull.culls_shadow_rays(&data.lights, requirements),
             shadow_hull,

@@ -2,7 +2,8 @@
 //! (`caustic_gpu::bake`) render what the kernel reading them from storage buffers renders, at
 //! equal seeds: the Cornell box (emissive quad light, diffuse walls) and the textured glTF
 //! `BoxTextured` under a white sky (texture coordinates from the shading entries), and after a
-//! material edit (the tracer falls back to the tables in the buffers and shows the edit).
+//! material edit (the tracer falls back to the tables in the buffers and shows the edit); and
+//! a mesh that walks the BVH, whose materials and lights alone are baked.
 
 use crate::support::{device, shared_path};
 use caustic_gpu::bake::BakedTables;
@@ -58,6 +59,26 @@ fn baked_tables_render_a_textured_model_as_the_buffers_do() {
 }
 
 #[test]
+fn a_mesh_bakes_its_materials_and_lights_alone() {
+    let ctx = device();
+    let Some(path) = shared_path("references/cornell_dragon/scene.gltf") else { return };
+    let mut scene = load_scene(&SceneSource::File(path)).expect("cornell_dragon loads");
+    scene.resolution = (48, 48);
+    let gpu = GpuScene::upload(&ctx, &scene).expect("upload");
+    assert!(gpu.traversal.is_none(), "the dragon walks the BVH");
+    let tables = gpu.tables.clone().expect("a few materials and lights are baked");
+    let source = tables.apply(&caustic_gpu::shaders::Program::PathTracer.source());
+    assert!(source.contains("baked_materials(") && source.contains("baked_lights("), "materials and lights read from constants");
+    assert!(!source.contains("baked_shading("), "the mesh's shading entries stay in their buffer");
+    let (baked, buffers) = (render(&ctx, &scene, &gpu, DataPath::Auto), render(&ctx, &scene, &gpu, DataPath::Buffers));
+    let differing = baked.pixels.iter().zip(&buffers.pixels).filter(|(a, b)| a != b).count();
+    let mean = buffers.pixels.iter().map(|p| p[0] + p[1] + p[2]).sum::<f32>() / buffers.pixels.len() as f32;
+    println!("cornell_dragon: baked materials and lights vs buffers: {differing} of {} pixels differ (tolerance 0), mean {mean:.4}", buffers.pixels.len());
+    assert!(mean > 0.01, "the image is black, nothing compared");
+    assert_eq!(differing, 0, "the same bits are read from the constants");
+}
+
+#[test]
 fn an_edited_material_falls_back_to_the_buffers() {
     let ctx = device();
     let mut scene = caustic_scene::cornell_box();
@@ -95,6 +116,13 @@ fn oversized_tables_stay_in_buffers() {
     assert!(BakedTables::new(&[], &[], &lights).is_some());
     let lights = vec![caustic_gpu::gpu_types::GpuLight::default(); caustic_gpu::bake::BAKE_MAX_ENTRIES + 1];
     assert!(BakedTables::new(&[], &[], &lights).is_none());
+    // A mesh's materials and lights share a word budget (compile time grows with them).
+    let material_words = std::mem::size_of::<caustic_gpu::gpu_types::GpuMaterial>() / 4;
+    let fitting = caustic_gpu::bake::BAKE_MESH_MAX_WORDS / material_words;
+    let materials = vec![caustic_gpu::gpu_types::GpuMaterial::default(); fitting];
+    assert!(BakedTables::materials_and_lights(&materials, &[]).is_some(), "{fitting} materials of {material_words} words fit");
+    let materials = vec![caustic_gpu::gpu_types::GpuMaterial::default(); fitting + 1];
+    assert!(BakedTables::materials_and_lights(&materials, &[]).is_none());
 }
 
 #[test]
