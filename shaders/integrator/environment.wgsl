@@ -3,7 +3,8 @@
 // map by its luminance. The map's texture has one column more than the map: texel (x, y)
 // holds the radiance in rgb and the row's conditional CDF at its right edge in alpha; the
 // last column's alpha holds the marginal CDF at each row's end (luminance x sin(theta),
-// caustic_gpu::environment_sampling, this file's CPU twin).
+// caustic_gpu::environment_sampling, this file's CPU twin). Below the map's rows, ceil(rows /
+// 4) more hold the CDFs' guide tables, four rows' a texel row (channel y % 4 for row y).
 
 fn environment_radiance(direction: vec3<f32>) -> vec3<f32> {
     if !scene_needs(REQUIRES_ENVIRONMENT_MAP) || frame.environment_mode == 0u {
@@ -12,10 +13,11 @@ fn environment_radiance(direction: vec3<f32>) -> vec3<f32> {
     return environment_map_lookup(direction);
 }
 
-// Size of the map itself, without the CDF column.
+// Size of the map itself, without the CDF column and the guide rows: a map of h rows has
+// h + ceil(h / 4) texel rows, and floor(4 (h + ceil(h / 4)) / 5) = h.
 fn environment_size() -> vec2<u32> {
     let size = textureDimensions(environment_map);
-    return vec2<u32>(size.x - 1u, size.y);
+    return vec2<u32>(size.x - 1u, size.y * 4u / 5u);
 }
 
 // Bilinear lookup in the latitude-longitude map: u = 0.5 + atan2(x, -z) / 2pi, v = acos(y) / pi.
@@ -41,11 +43,23 @@ fn environment_cdf(x: u32, y: u32) -> f32 {
     return textureLoad(environment_map, vec2<i32>(i32(x), i32(y)), 0).a;
 }
 
-// Index in 0..count of the first CDF entry above u (binary search), along a row (`row` = the
-// row, x varies) or down the marginal column (`row` = 0xffffffff, y varies).
+// Bucket k of the guide table of a row's conditional CDF (`row` = the row), or of the
+// marginal CDF (`row` = 0xffffffff): the first entry above k / count.
+fn environment_guide(row: u32, k: u32) -> u32 {
+    let size = environment_size();
+    let marginal = row == 0xffffffffu;
+    let y = select(row, k, marginal);
+    return u32(textureLoad(environment_map, vec2<i32>(i32(select(k, size.x, marginal)), i32(size.y + y / 4u)), 0)[y & 3u]);
+}
+
+// Index in 0..count of the first CDF entry above u, along a row (`row` = the row, x varies)
+// or down the marginal column (`row` = 0xffffffff, y varies): a binary search between the
+// guides of u's bucket's neighbours (caustic_gpu::environment_sampling::guided_search), which
+// finds what a search of the whole CDF finds.
 fn environment_search(row: u32, count: u32, u: f32) -> u32 {
-    var lo = 0u;
-    var hi = count - 1u;
+    let k = min(u32(u * f32(count)), count - 1u);
+    var lo = environment_guide(row, select(k - 1u, 0u, k == 0u));
+    var hi = select(count - 1u, environment_guide(row, k + 2u), k + 2u < count);
     let column = environment_size().x;
     let marginal = row == 0xffffffffu;
     while lo < hi {

@@ -1,10 +1,16 @@
 //! Importance sampling of latitude-longitude environment maps: a piecewise-constant 2-D
 //! distribution over the texels, proportional to luminance (the largest over the texels the
-//! bilinear lookup mixes there) x sin(theta) (the solid angle a texel covers), drawn by a marginal CDF over rows and a conditional CDF within the row
-//! (pbrt's `PiecewiseConstant2D`). The tables travel in the environment texture itself, so no
-//! binding is added: texel (x, y) keeps its radiance in rgb and holds the row's conditional CDF
-//! at its right edge in alpha; one extra column x = width holds the marginal CDF at the end of
-//! each row. [`EnvironmentDistribution`] is the CPU twin of `shaders/integrator/environment.wgsl`.
+//! bilinear lookup mixes there) x sin(theta) (the solid angle a texel covers), drawn by a
+//! marginal CDF over rows and a conditional CDF within the row (pbrt's `PiecewiseConstant2D`).
+//! The tables travel in the environment texture itself, so no binding is added: texel (x, y)
+//! keeps its radiance in rgb and holds the row's conditional CDF at its right edge in alpha;
+//! one extra column x = width holds the marginal CDF at the end of each row. Below the map,
+//! `ceil(height / 4)` extra rows hold guide tables (Chen's index tables) that start each CDF
+//! search within a few entries of its answer: the search finds the same entry as a binary
+//! search over the whole CDF, in about four texel loads instead of ten (on lavapipe a texel
+//! load is a function call, and the two searches took a quarter of an environment-lit
+//! path's time). [`EnvironmentDistribution`] is the CPU twin of
+//! `shaders/integrator/environment.wgsl`.
 
 use caustic_scene::{EnvironmentMap, luminance};
 use glam::{Vec2, Vec3};
@@ -17,8 +23,12 @@ pub struct EnvironmentDistribution {
     height: u32,
     /// Per row, the conditional CDF at each texel's right edge (`width` values a row).
     conditional: Vec<f32>,
+    /// Per row, the guide table of its conditional CDF.
+    conditional_guide: Vec<u32>,
     /// The marginal CDF at each row's lower edge.
     marginal: Vec<f32>,
+    /// The guide table of the marginal CDF.
+    marginal_guide: Vec<u32>,
     /// Integral of the weights over the sphere: sum of weight x texel solid angle.
     integral: f64,
 }
@@ -57,8 +67,40 @@ fn cdf(values: &[f64]) -> (Vec<f32>, f64) {
 }
 
 /// Index of the first entry of the non-decreasing `cdf` above `u` (clamped to the last).
-fn search(cdf: &[f32], u: f32) -> usize {
+pub fn search(cdf: &[f32], u: f32) -> usize {
     cdf.partition_point(|&c| c <= u).min(cdf.len() - 1)
+}
+
+/// The guide table of `cdf` (n entries): for each bucket k of u, [k/n, (k+1)/n), the first
+/// entry above k/n (clamped to the last), compared exactly in f64.
+pub fn guide(cdf: &[f32]) -> Vec<u32> {
+    let n = cdf.len();
+    (0..n).map(|k| cdf.partition_point(|&c| f64::from(c) <= k as f64 / n as f64).min(n - 1) as u32).collect()
+}
+
+/// [`search`] started from the guide table: u's bucket k = floor(u n) bounds the answer by
+/// the guides of buckets k - 1 and k + 2 (one bucket of margin either side covers the
+/// rounding of u n), and a binary search between them finds the same entry. The twin of
+/// `environment_search`.
+pub fn guided_search(cdf: &[f32], guide: &[u32], u: f32) -> usize {
+    let n = cdf.len();
+    let k = ((u * n as f32) as usize).min(n - 1);
+    let (mut lo, mut hi) = (guide[k.saturating_sub(1)] as usize, if k + 2 < n { guide[k + 2] as usize } else { n - 1 });
+    while lo < hi {
+        let mid = (lo + hi) / 2;
+        if cdf[mid] > u {
+            hi = mid;
+        } else {
+            lo = mid + 1;
+        }
+    }
+    lo
+}
+
+/// Extra texture rows below a map of `height` rows for the guide tables: four rows' guides a
+/// texel row, one per channel.
+pub fn guide_rows(height: u32) -> u32 {
+    height.div_ceil(4)
 }
 
 impl EnvironmentDistribution {
@@ -77,7 +119,9 @@ impl EnvironmentDistribution {
         }
         let (marginal, total) = cdf(&row_sums);
         let texel_solid_angle = 2.0 * f64::from(PI) * f64::from(PI) / (f64::from(width) * f64::from(height));
-        EnvironmentDistribution { width, height, conditional, marginal, integral: total * texel_solid_angle }
+        let conditional_guide = conditional.chunks(width as usize).flat_map(guide).collect();
+        let marginal_guide = guide(&marginal);
+        EnvironmentDistribution { width, height, conditional, conditional_guide, marginal, marginal_guide, integral: total * texel_solid_angle }
     }
 
     /// Integral of the sampling weight over the sphere (for the light's power: the map's
@@ -86,14 +130,29 @@ impl EnvironmentDistribution {
         self.integral
     }
 
-    /// The texels of the environment texture: `width + 1` columns by `height` rows, radiance
-    /// in rgb, the conditional CDF in alpha, the marginal CDF in the extra column's alpha.
+    /// The texels of the environment texture: `width + 1` columns by `height +`
+    /// [`guide_rows`]`(height)` rows. The map's rows: radiance in rgb, the conditional CDF in
+    /// alpha, the marginal CDF in the extra column's alpha. Below them, texel (x, height + y /
+    /// 4) holds in channel y % 4 the guide of bucket x of row y's conditional CDF, and in the
+    /// extra column the guide of bucket y of the marginal CDF (guides as exact float
+    /// integers).
     pub fn texture_texels(&self, map: &EnvironmentMap) -> Vec<[f32; 4]> {
-        let w = self.width as usize;
-        let mut out = Vec::with_capacity((w + 1) * self.height as usize);
+        let (w, h) = (self.width as usize, self.height as usize);
+        let mut out = Vec::with_capacity((w + 1) * (h + guide_rows(self.height) as usize));
         for (y, row) in map.texels.chunks(w).enumerate() {
             out.extend(row.iter().zip(&self.conditional[y * w..(y + 1) * w]).map(|(t, c)| [t[0], t[1], t[2], *c]));
             out.push([0.0, 0.0, 0.0, self.marginal[y]]);
+        }
+        for band in 0..guide_rows(self.height) as usize {
+            let guide_at = |x: usize, channel: usize| {
+                let y = 4 * band + channel;
+                match (y < h, x < w) {
+                    (false, _) => 0.0,
+                    (true, true) => self.conditional_guide[y * w + x] as f32,
+                    (true, false) => self.marginal_guide[y] as f32,
+                }
+            };
+            out.extend((0..=w).map(|x| [guide_at(x, 0), guide_at(x, 1), guide_at(x, 2), guide_at(x, 3)]));
         }
         out
     }
@@ -112,11 +171,12 @@ impl EnvironmentDistribution {
     /// A direction drawn from the distribution with its solid-angle density (0 when the map
     /// is black): the twin of `sample_environment`.
     pub fn sample(&self, u: Vec2) -> (Vec3, f32) {
-        let y = search(&self.marginal, u.x);
+        let y = guided_search(&self.marginal, &self.marginal_guide, u.x);
         let row_start = if y == 0 { 0.0 } else { self.marginal[y - 1] };
         let fy = ((u.x - row_start) / (self.marginal[y] - row_start)).clamp(0.0, 1.0);
         let row = self.row(y);
-        let x = search(row, u.y);
+        let w = self.width as usize;
+        let x = guided_search(row, &self.conditional_guide[y * w..(y + 1) * w], u.y);
         let start = if x == 0 { 0.0 } else { row[x - 1] };
         let fx = ((u.y - start) / (row[x] - start)).clamp(0.0, 1.0);
         let uv = Vec2::new((x as f32 + fx) / self.width as f32, (y as f32 + fy) / self.height as f32);
@@ -146,4 +206,45 @@ pub fn direction_to_uv(d: Vec3) -> Vec2 {
 pub fn uv_to_direction(uv: Vec2) -> Vec3 {
     let (phi, theta) = ((uv.x - 0.5) * 2.0 * PI, uv.y * PI);
     Vec3::new(theta.sin() * phi.sin(), theta.cos(), -theta.sin() * phi.cos())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// CDFs with flat runs (zero-weight entries), steep steps and uniform parts.
+    fn cdfs() -> Vec<Vec<f32>> {
+        let mut state = 0x9e37_79b9_u32;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 17;
+            state ^= state << 5;
+            state
+        };
+        let mut out = vec![cdf(&[1.0]).0, cdf(&[0.0, 0.0, 5.0, 0.0]).0, cdf(&vec![1.0; 1000]).0];
+        for n in [2, 3, 7, 64, 513, 1024] {
+            let weights: Vec<f64> = (0..n).map(|_| if next() % 3 == 0 { 0.0 } else { f64::from(next() % 1000).powi(3) }).collect();
+            out.push(cdf(&weights).0);
+        }
+        out
+    }
+
+    #[test]
+    fn the_guided_search_finds_what_the_binary_search_finds() {
+        let mut checked = 0;
+        for table in cdfs() {
+            let g = guide(&table);
+            let n = table.len();
+            // Every bucket edge and its neighbouring floats, the CDF's own values, and a grid.
+            let mut us: Vec<f32> = (0..=n).map(|k| k as f32 / n as f32).chain(table.iter().copied()).chain((0..4096).map(|i| i as f32 / 4096.0)).collect();
+            let near: Vec<f32> = us.iter().flat_map(|&u| [f32::from_bits(u.to_bits().saturating_sub(1)), f32::from_bits(u.to_bits() + 1)]).collect();
+            us.extend(near);
+            us.push(0.999_999_94);
+            for u in us.into_iter().filter(|u| (0.0..1.0).contains(u)) {
+                assert_eq!(guided_search(&table, &g, u), search(&table, u), "n {n}, u {u}");
+                checked += 1;
+            }
+        }
+        println!("{checked} searches agree");
+    }
 }

@@ -274,15 +274,17 @@ fn upload_environment(ctx: &GpuContext, environment: &Environment) -> Result<(wg
     let (width, height, texels, color) = match environment {
         Environment::Constant(c) => (1, 1, vec![[c.x, c.y, c.z, 1.0]], Some(*c)),
         Environment::Map(map) => {
-            // One column more: the sampling tables ride in the alpha channel.
+            // One column and a quarter of the rows more: the sampling tables ride along.
             let texels = crate::environment_sampling::EnvironmentDistribution::new(map).texture_texels(map);
-            (map.width + 1, map.height, texels, None)
+            (map.width + 1, map.height + crate::environment_sampling::guide_rows(map.height), texels, None)
         }
     };
     let max = ctx.limits.max_texture_dimension_2d;
     if width > max || height > max {
         let size = match environment {
-            Environment::Map(map) => format!("{}x{} (its texture is one column wider, {width}, for the sampling tables)", map.width, map.height),
+            Environment::Map(map) => {
+                format!("{}x{} (its texture is {width}x{height}, for the sampling tables)", map.width, map.height)
+            }
             Environment::Constant(_) => format!("{width}x{height}"),
         };
         return Err(GpuError::Scene(format!("the environment map is {size}; this device allows at most {max} texels a side")));
