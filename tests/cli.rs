@@ -74,6 +74,42 @@ fn ctrl_c_writes_the_partial_image() {
 }
 
 #[test]
+fn ctrl_c_while_the_kernels_compile_ends_at_once_and_keeps_the_output() {
+    use std::io::{BufRead, Read};
+    let out = support::scratch("ctrl-c-setup").join("kept.png");
+    std::fs::write(&out, b"an earlier render").unwrap();
+    // Mesa's shader cache off: the kernels compile for seconds, as on a fresh machine.
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_caustic"))
+        .args(["render", "--size", "64x64", "--spp", "1000", "-o", out.to_str().unwrap(), "--json"])
+        .env("MESA_SHADER_CACHE_DISABLE", "true")
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("start caustic");
+    // Interrupt as soon as the device is open: the BVH build and the compilation follow.
+    let mut stderr = std::io::BufReader::new(child.stderr.take().unwrap());
+    let mut seen = String::new();
+    while !seen.contains("adapter:") {
+        assert!(stderr.read_line(&mut seen).expect("stderr") > 0, "caustic ended before opening the device: {seen}");
+    }
+    let killed_at = std::time::Instant::now();
+    let killed = std::process::Command::new("kill").args(["-INT", &child.id().to_string()]).status().expect("kill");
+    assert!(killed.success());
+    let status = child.wait().expect("caustic ends");
+    println!("ended {:.3} s after the interrupt: {status:?}", killed_at.elapsed().as_secs_f64());
+    stderr.read_to_string(&mut seen).unwrap();
+    let mut stdout = String::new();
+    child.stdout.take().unwrap().read_to_string(&mut stdout).unwrap();
+    println!("{seen}{stdout}");
+    use std::os::unix::process::ExitStatusExt;
+    assert!(status.signal() == Some(2) || status.code() == Some(130), "ended by the interrupt: {status:?}");
+    assert!(seen.contains("interrupted by Ctrl-C") && seen.contains("nothing was written"), "says so: {seen}");
+    let error: serde_json::Value = serde_json::from_str(stdout.trim()).expect("one JSON error object");
+    assert_eq!(error["kind"], "interrupted");
+    assert_eq!(std::fs::read(&out).unwrap(), b"an earlier render", "the output file is untouched");
+}
+
+#[test]
 fn same_seed_gives_the_same_image() {
     let dir = support::scratch("seed");
     let render = |name: &str, seed: &str| {

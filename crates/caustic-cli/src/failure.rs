@@ -5,6 +5,7 @@
 //! | usage | 2 | an unknown option (clap), conflicting or out-of-range options (`--spp 0`) |
 //! | runtime | 1 | a missing or malformed scene, no device, an unwritable output |
 //! | interrupted | 128 + the signal: 130 (SIGINT, Ctrl-C), 143 (SIGTERM) | a render stopped after writing its partial image |
+//! | interrupted in set-up | the signal itself ends the process (a shell shows 130, 143) | Ctrl-C while the BVH is built or the kernels compile ([`SetupWatch`]) |
 //!
 //! The message goes to stderr as `error: ...`; with `--json` one object
 //! `{"error": "...", "kind": "usage|runtime|interrupted"}` goes to stdout as well (an
@@ -124,6 +125,57 @@ fn received_signal() -> i32 {
         0 => signal_hook::consts::SIGINT,
         signal => signal as i32,
     }
+}
+
+/// Watches the interrupt flag on a thread while a render sets up (builds the BVH, compiles
+/// the kernels: calls into the driver that take 7-25 s on a cold shader cache and cannot stop
+/// at a tile). A signal there ends the process within a few hundredths of a second: nothing
+/// has been written yet, so it prints the error (and with `--json` the error object) and lets
+/// the signal's default action end the process, which skips exit handlers that could run
+/// while the driver is still compiling on the main thread. Dropping the watch ends it; a
+/// signal after that stops the render at its next tile as usual.
+pub struct SetupWatch {
+    done: Arc<AtomicBool>,
+    thread: Option<std::thread::JoinHandle<()>>,
+}
+
+impl SetupWatch {
+    /// Starts watching `flag` (from [`interrupt_flag`]); `json` as the command's `--json`.
+    pub fn start(flag: Arc<AtomicBool>, json: bool) -> SetupWatch {
+        let done = Arc::new(AtomicBool::new(false));
+        let watching = done.clone();
+        let thread = std::thread::spawn(move || {
+            while !watching.load(Ordering::SeqCst) {
+                if flag.load(Ordering::SeqCst) {
+                    end_in_setup(json);
+                }
+                std::thread::sleep(std::time::Duration::from_millis(20));
+            }
+        });
+        SetupWatch { done, thread: Some(thread) }
+    }
+}
+
+impl Drop for SetupWatch {
+    fn drop(&mut self) {
+        self.done.store(true, Ordering::SeqCst);
+        if let Some(thread) = self.thread.take() {
+            let _ = thread.join();
+        }
+    }
+}
+
+/// Says that the render was interrupted while setting up and ends the process by the signal.
+fn end_in_setup(json: bool) -> ! {
+    let error = interrupted("while the render was setting up (building the BVH, compiling the kernels); nothing was written");
+    eprintln!("error: {error:#}");
+    if json {
+        println!("{}", json_error(&format!("{error:#}"), Kind::of(&error)));
+    }
+    let signal = received_signal();
+    let _ = signal_hook::low_level::emulate_default_handler(signal);
+    // The default action of SIGINT, SIGTERM and SIGHUP ends the process; this is not reached.
+    std::process::exit(i32::from(Kind::of(&error).exit_status()))
 }
 
 /// A flag that Ctrl-C (SIGINT), SIGTERM or (on Unix) SIGHUP sets, so the render stops at the

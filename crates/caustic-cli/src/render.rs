@@ -213,7 +213,8 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let interrupted = crate::failure::interrupt_flag()?;
     let ctx = GpuContext::new(args.device.adapter.as_deref())?;
     eprintln!("adapter: {}", ctx.adapter);
-    let mut rendered = accumulate(&ctx, &scene, &settings, &budget, &interrupted)?;
+    let setup = crate::failure::SetupWatch::start(interrupted.clone(), args.device.json);
+    let mut rendered = accumulate(&ctx, &scene, &settings, &budget, &interrupted, Some(setup))?;
     // A depth pass: parts and HDR files hold the raw distances, LDR files the normalised depth.
     let depth_display = (scene.options.pass == RenderPass::Depth).then(|| {
         let (raw, display) = crate::depth::depth_images(&rendered.image);
@@ -221,6 +222,15 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         display
     });
     let interrupted = interrupted.load(Ordering::SeqCst);
+    if interrupted && rendered.counts.iter().all(|&count| count == 0) {
+        // Stopped before its first tile: an image without samples never replaces a file. No
+        // report was printed, so the JSON error object is (main prints none for interrupts).
+        let error = crate::failure::interrupted("before the first sample; nothing was written");
+        if args.device.json {
+            println!("{}", crate::failure::json_error(&format!("{error:#}"), crate::failure::Kind::of(&error)));
+        }
+        return Err(error);
+    }
     if interrupted {
         eprintln!("interrupted: writing the image accumulated so far ({} complete samples per pixel)", rendered.spp);
     }
@@ -290,8 +300,18 @@ pub struct Accumulated {
 }
 
 /// Uploads `scene`, accumulates samples with a progress bar until the budget is spent or
-/// `interrupted` is set, and reads the result back.
-pub fn accumulate(ctx: &GpuContext, scene: &Scene, settings: &RenderSettings, budget: &Budget, interrupted: &AtomicBool) -> anyhow::Result<Accumulated> {
+/// `interrupted` is set, and reads the result back. `setup`, if any, watches for an interrupt
+/// until the kernels are compiled ([`crate::failure::SetupWatch`]), then is dropped; without
+/// one (the interactive shell, which outlives a stopped render) an interrupt during set-up
+/// stops the render before its first tile.
+pub fn accumulate(
+    ctx: &GpuContext,
+    scene: &Scene,
+    settings: &RenderSettings,
+    budget: &Budget,
+    interrupted: &AtomicBool,
+    setup: Option<crate::failure::SetupWatch>,
+) -> anyhow::Result<Accumulated> {
     let gpu_scene = GpuScene::upload(ctx, scene)?;
     if let Some(note) = gpu_scene.layout_note() {
         eprintln!("{note}");
@@ -303,6 +323,7 @@ pub fn accumulate(ctx: &GpuContext, scene: &Scene, settings: &RenderSettings, bu
     let tracer = PathTracer::new(ctx, scene, &gpu_scene, settings);
     let compile_seconds = compile_start.elapsed().as_secs_f64();
     compiling.finish_and_clear();
+    drop(setup);
     let mut tracer = tracer?;
     let progress = progress_bar(budget);
     let start = Instant::now();
