@@ -264,3 +264,44 @@ fn exposures_that_would_make_every_pixel_black_or_white_are_usage_errors() {
         assert!(!out.exists(), "--exposure {value} wrote an image");
     }
 }
+
+#[test]
+fn target_error_stops_when_the_estimate_reaches_it() {
+    let dir = support::scratch("target-error");
+    let out = dir.join("t.exr");
+    let report = support::caustic_json(&["render", "--size", "48x48", "--target-error", "5e-3", "-o", out.to_str().unwrap(), "--json"]);
+    println!("--target-error 5e-3: {} spp, estimated relMSE {}, stopped by {}", report["spp"], report["estimated_relmse"], report["stopped_by"]);
+    assert_eq!(report["stopped_by"], "target_error");
+    assert_eq!(report["target_error"], 5e-3);
+    assert!(report["estimated_relmse"].as_f64().unwrap() <= 5e-3);
+    assert!(report["spp"].as_u64().unwrap() >= 8, "the first check is at 8 spp");
+    // An unreachable target within the cap: the cap's image, and a report that says so.
+    let capped = dir.join("capped.exr");
+    let report = support::caustic_json(&["render", "--size", "48x48", "--spp", "16", "--target-error", "1e-9", "-o", capped.to_str().unwrap(), "--json"]);
+    println!("--target-error 1e-9 --spp 16: estimated relMSE {}, stopped by {}", report["estimated_relmse"], report["stopped_by"]);
+    assert_eq!(report["stopped_by"], "spp");
+    assert_eq!(report["spp"], 16);
+    assert!(report["estimated_relmse"].as_f64().unwrap() > 1e-9);
+    assert!(capped.exists());
+    // A plain render reports its estimate too.
+    let plain = dir.join("plain.exr");
+    let report = support::caustic_json(&["render", "--size", "48x48", "--spp", "4", "-o", plain.to_str().unwrap(), "--json"]);
+    assert!(report["estimated_relmse"].as_f64().is_some_and(|e| e > 0.0) && report["target_error"].is_null());
+}
+
+#[test]
+fn bad_target_errors_are_refused() {
+    let out = support::scratch("target-error-bad").join("t.png");
+    for bad in ["0", "-1e-3", "nan", "inf"] {
+        let result = support::caustic(&["render", "--size", "8x8", &format!("--target-error={bad}"), "-o", out.to_str().unwrap()]);
+        let stderr = String::from_utf8_lossy(&result.stderr);
+        println!("--target-error {bad}: {}", stderr.trim());
+        assert_eq!(result.status.code(), Some(2), "a usage error");
+        assert!(stderr.contains("--target-error") && stderr.contains("positive"));
+        assert!(!out.exists());
+    }
+    let part = support::scratch("target-error-bad").join("t.exr");
+    let result = support::caustic(&["render", "--size", "8x8", "--target-error", "1e-3", "--samples", "0..8", "-o", part.to_str().unwrap()]);
+    assert_eq!(result.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&result.stderr).contains("does not combine with --samples"));
+}

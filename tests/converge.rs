@@ -41,6 +41,14 @@ fn error_falls_with_samples_and_outputs_are_written() {
     println!("log-log slope of relMSE against spp: {slope:.3} (expected about -1; accepted -1.25..-0.65)");
     assert!((-1.25..-0.65).contains(&slope));
     assert!(flip[6] < flip[0] * 0.5, "the perceptual error must fall too");
+    // The estimate from the render alone (no reference), from the point before at half the
+    // samples: absent at the first point, near the true relMSE after it.
+    assert!(points[0]["estimated_relmse"].is_null());
+    let estimated: Vec<f64> = points[1..].iter().map(|p| p["estimated_relmse"].as_f64().expect("an estimate")).collect();
+    println!("estimated relMSE by spp from 2: {estimated:?}");
+    let ratio = estimated[5] / relmse[6];
+    println!("at 64 spp: estimated / true relMSE {ratio:.3} (independent samples, 1,024 pixels; accepted 0.5..2)");
+    assert!((0.5..2.0).contains(&ratio));
     let table = std::fs::read_to_string(&csv).expect("csv");
     assert_eq!(table.lines().count(), 8, "header and 7 rows:\n{table}");
     assert!(std::fs::read_to_string(&plot).expect("svg").contains("<polyline"));

@@ -92,6 +92,11 @@ pub struct RenderArgs {
     /// Stop after this many seconds of rendering (at a whole sample pass).
     #[arg(long, value_name = "SECONDS")]
     pub time: Option<f64>,
+    /// Render until the estimated relMSE (from the render's own samples, no reference; see
+    /// docs/SAMPLING.md) is at most E, e.g. 1e-3; --spp and --time cap it (without either, at
+    /// 65536 spp). The report says which stopped it.
+    #[arg(long, value_name = "E")]
+    pub target_error: Option<f64>,
     /// Render a debug view instead of the image (docs/DEBUGGING.md): node-visits,
     /// primitive-tests, uv, albedo, material-id, bounces, nonfinite or bvh-level. Image files show it as a
     /// picture (heat map with a legend, id colours, non-finite pixels in red); .exr parts hold

@@ -7,7 +7,7 @@ use crate::plot::{Series, log_log_svg};
 use crate::preset::Preset;
 use anyhow::{Context, bail};
 use caustic_gpu::{GpuContext, GpuScene, PathTracer, RenderSettings};
-use caustic_image::metrics::{RELMSE_EPSILON, mean_absolute_error, relative_mse};
+use caustic_image::metrics::{RELMSE_EPSILON, estimated_relative_mse, mean_absolute_error, relative_mse};
 use caustic_image::perceptual::{Viewing, mean_flip_color};
 use caustic_image::{Image, write_file_atomically};
 use caustic_scene::{SceneSource, load_scene_with};
@@ -72,6 +72,9 @@ struct Point {
     /// Rendering time so far (measurements excluded).
     seconds: f64,
     relmse: f64,
+    /// relMSE estimated from the render alone ([`estimated_relative_mse`]: the image at the
+    /// earlier point nearest to half the samples, or none at the first point).
+    estimated_relmse: Option<f64>,
     flip: f64,
     mae: f64,
 }
@@ -158,6 +161,8 @@ fn measure(tracer: &mut PathTracer<'_>, reference: &Image, spp: u32, args: &Conv
     let mut rendering = Duration::ZERO;
     let mut points = Vec::new();
     let viewing = Viewing::default();
+    // The images measured so far, for the error estimate's earlier half.
+    let mut history: Vec<(u32, Image)> = Vec::new();
     for &target in &checkpoints {
         let start = Instant::now();
         let budget_left = limit.map(|l| l.saturating_sub(rendering));
@@ -170,16 +175,25 @@ fn measure(tracer: &mut PathTracer<'_>, reference: &Image, spp: u32, args: &Conv
             bail!("the time limit ended before the first sample pass");
         }
         let image = tracer.image()?;
+        let spp = tracer.samples_per_pixel();
+        let earlier = history.iter().rev().find(|(n, _)| 2 * n <= spp).or(history.last());
+        let estimated_relmse = match earlier {
+            Some((n, first)) => Some(estimated_relative_mse(first, f64::from(*n), &image, f64::from(spp), RELMSE_EPSILON)?),
+            None => None,
+        };
         let point = Point {
-            spp: tracer.samples_per_pixel(),
+            spp,
             seconds: rendering.as_secs_f64(),
             relmse: relative_mse(&image, reference, RELMSE_EPSILON)?,
+            estimated_relmse,
             flip: mean_flip_color(&image, reference, &viewing)?,
             mae: mean_absolute_error(&image, reference)?,
         };
         if !args.device.json {
-            eprintln!("{:>7} spp {:>9.2} s  relMSE {:.3e}  FLIP {:.4}", point.spp, point.seconds, point.relmse, point.flip);
+            let estimate = point.estimated_relmse.map_or(String::new(), |e| format!(" (estimated {e:.3e})"));
+            eprintln!("{:>7} spp {:>9.2} s  relMSE {:.3e}{estimate}  FLIP {:.4}", point.spp, point.seconds, point.relmse, point.flip);
         }
+        history.push((spp, image));
         let stop = point.spp < target;
         points.push(point);
         if stop {
@@ -209,9 +223,10 @@ fn seconds_to_reach(points: &[Point], target: f64) -> Option<f64> {
 }
 
 fn write_outputs(points: &[Point], args: &ConvergeArgs) -> anyhow::Result<()> {
-    let mut csv = String::from("spp,seconds,relmse,flip,mae\n");
+    let mut csv = String::from("spp,seconds,relmse,estimated_relmse,flip,mae\n");
     for p in points {
-        let _ = writeln!(csv, "{},{:.6},{:.6e},{:.6e},{:.6e}", p.spp, p.seconds, p.relmse, p.flip, p.mae);
+        let estimate = p.estimated_relmse.map_or(String::new(), |e| format!("{e:.6e}"));
+        let _ = writeln!(csv, "{},{:.6},{:.6e},{estimate},{:.6e},{:.6e}", p.spp, p.seconds, p.relmse, p.flip, p.mae);
     }
     write_file_atomically(&args.csv, csv.as_bytes())?;
     if let Some(path) = &args.plot {
@@ -258,7 +273,7 @@ mod tests {
 
     #[test]
     fn time_to_an_error_is_interpolated_in_log_log() {
-        let point = |seconds, relmse| Point { spp: 1, seconds, relmse, flip: 0.0, mae: 0.0 };
+        let point = |seconds, relmse| Point { spp: 1, seconds, relmse, estimated_relmse: None, flip: 0.0, mae: 0.0 };
         let points = [point(1.0, 1e-1), point(100.0, 1e-3)];
         let t = seconds_to_reach(&points, 1e-2).unwrap();
         assert!((t - 10.0).abs() < 1e-9, "{t}");

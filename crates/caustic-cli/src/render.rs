@@ -9,6 +9,7 @@ use anyhow::{Context, bail};
 use caustic_gpu::bloom::{Bloom, BloomSettings};
 use caustic_gpu::debug_image::{DEBUG_SAVE_OPTIONS, debug_picture};
 use caustic_gpu::{DebugView, GpuContext, GpuScene, PassOutcome, PathTracer, RenderSettings};
+use caustic_image::estimate::ErrorEstimate;
 use caustic_image::{Image, PartInfo, PartialImage};
 use caustic_scene::{LoadOptions, RenderPass, Scene, SceneSource, load_scene_with};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -61,6 +62,13 @@ pub struct RenderReport {
     /// Pixels whose estimate has a negative component (the negative lobes of Mitchell-Netravali
     /// and Lanczos ringing beside an edge); LDR output clamps them to 0.
     negative_pixels: u64,
+    /// The relMSE estimated from the render's own samples, without a reference (the later
+    /// samples' mean against the earlier ones'; docs/SAMPLING.md); absent below 2 spp.
+    estimated_relmse: Option<f64>,
+    /// `--target-error`, if given.
+    target_error: Option<f64>,
+    /// What ended the render: `spp`, `time`, `target_error` or `interrupt`.
+    stopped_by: StoppedBy,
     /// Whether Ctrl-C ended the render early (the image holds what was accumulated).
     interrupted: bool,
     /// The global sample range the output holds, [start, end) (with --resume, the earlier
@@ -94,6 +102,9 @@ impl RenderReport {
             nonfinite_samples: rendered.nonfinite.iter().map(|&c| u64::from(c)).sum(),
             nonfinite_pixels: worst_pixels(&rendered.nonfinite, width),
             negative_pixels: rendered.image.pixels.iter().filter(|p| p.iter().any(|&c| c < 0.0)).count() as u64,
+            estimated_relmse: rendered.estimated_relmse,
+            target_error: None,
+            stopped_by: rendered.stopped_by,
             interrupted,
             samples: [rendered.drawn.start, rendered.drawn.end],
             task_index: None,
@@ -110,6 +121,8 @@ pub struct Budget {
     /// Samples per pixel to draw; `None`: until the time is spent.
     spp: Option<u32>,
     seconds: Option<f64>,
+    /// Stop once the estimated relMSE is at most this (`--target-error`).
+    target_error: Option<f64>,
 }
 
 impl Budget {
@@ -123,15 +136,22 @@ impl Budget {
                 spp.or(if args.time.is_some() { None } else { Some(DEFAULT_SPP) }).map(|n| 0..n)
             }
         };
+        check_target(args.target_error)?;
+        if args.target_error.is_some() && (args.samples.is_some() || args.samples_from_env || args.resume) {
+            crate::failure::usage!("--target-error decides how many samples to draw: it does not combine with --samples, --samples-from-env or --resume");
+        }
+        let target_error = args.target_error;
         Ok(match range {
-            Some(range) => Budget { first_sample: range.start, spp: Some(range.end - range.start), seconds: args.time },
-            None => Budget { first_sample: 0, spp: None, seconds: args.time },
+            // A target renders until it is met, within --spp and --time, else within the cap.
+            Some(_) if target_error.is_some() && args.spp.is_none() => Budget { first_sample: 0, spp: Some(TARGET_SPP_CAP), seconds: args.time, target_error },
+            Some(range) => Budget { first_sample: range.start, spp: Some(range.end - range.start), seconds: args.time, target_error },
+            None => Budget { first_sample: 0, spp: None, seconds: args.time, target_error },
         })
     }
 
     /// Samples 0..`spp` (64 when there is neither `spp` nor a time limit), within `seconds`.
     pub fn from_zero(spp: Option<u32>, seconds: Option<f64>) -> Budget {
-        Budget { first_sample: 0, spp: spp.or(if seconds.is_some() { None } else { Some(DEFAULT_SPP) }), seconds }
+        Budget { first_sample: 0, spp: spp.or(if seconds.is_some() { None } else { Some(DEFAULT_SPP) }), seconds, target_error: None }
     }
 
     /// The end of the sample range, if the budget has one.
@@ -146,6 +166,20 @@ impl Budget {
     fn time_spent(&self, elapsed: f64) -> bool {
         self.seconds.is_some_and(|t| elapsed >= t)
     }
+}
+
+/// Samples per pixel a render with `--target-error` and neither `--spp` nor `--time` stops at
+/// if the target is not met: a cap, so an unreachable target never renders forever.
+pub const TARGET_SPP_CAP: u32 = 65536;
+
+/// Checks `--target-error`: a positive, finite relMSE.
+pub fn check_target(target: Option<f64>) -> anyhow::Result<()> {
+    if let Some(e) = target {
+        if !(e.is_finite() && e > 0.0) {
+            crate::failure::usage!("--target-error {e}: must be a positive relMSE (e.g. 1e-3)");
+        }
+    }
+    Ok(())
 }
 
 /// Checks --spp and --time: at least one sample, a positive, finite time.
@@ -175,6 +209,11 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         crate::failure::usage!("--shutter samples glTF animations; a scene-language file sets its shutter with the `shutter` command");
     }
     if !split && script::is_script(Path::new(&scene_arg)) {
+        if args.target_error.is_some() {
+            crate::failure::usage!(
+                "--target-error applies to one render; {scene_arg} runs as a script of renders (give it --samples 0..N to render its first scene once)"
+            );
+        }
         return script::run_file(Path::new(&scene_arg), args);
     }
     let mut scene = load_scene_with(&SceneSource::parse(&scene_arg), &LoadOptions { shutter: args.shutter, ..args.overrides.load_options() })?;
@@ -236,10 +275,12 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     }
     let mut report = RenderReport::new(&ctx, &scene, &rendered, interrupted, print.hash.clone(), output.clone());
     report.task_index = task.map(|t| t.index);
+    report.target_error = args.target_error;
     if partial {
+        let target_met = rendered.stopped_by == StoppedBy::TargetError;
         let written = write_part(&output, &scene, &print, rendered, previous)?;
         report.samples = [written.start, written.end];
-        if interrupted || written.end < budget.end().unwrap_or(written.end) {
+        if interrupted || (!target_met && written.end < budget.end().unwrap_or(written.end)) {
             eprintln!("{} holds samples {}..{}: re-run the same command with --resume to add the rest", output.display(), written.start, written.end);
         }
     } else if let Some(view) = args.debug {
@@ -277,6 +318,32 @@ fn save_debug_picture(view: DebugView, rendered: &Accumulated, output: &Path) ->
     Ok(())
 }
 
+/// What ended a render's accumulation (the report's `stopped_by`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum StoppedBy {
+    /// The samples per pixel asked for (with `--target-error`, its cap: the target was not met).
+    Spp,
+    /// `--time`.
+    Time,
+    /// The estimated relMSE reached `--target-error`.
+    TargetError,
+    /// A signal.
+    Interrupt,
+}
+
+impl StoppedBy {
+    /// The word the report uses.
+    pub fn name(self) -> &'static str {
+        match self {
+            StoppedBy::Spp => "spp",
+            StoppedBy::Time => "time",
+            StoppedBy::TargetError => "target_error",
+            StoppedBy::Interrupt => "interrupt",
+        }
+    }
+}
+
 /// One render accumulated on the device, and what it measured.
 pub struct Accumulated {
     /// The per-pixel mean.
@@ -291,6 +358,11 @@ pub struct Accumulated {
     pub seconds: f64,
     /// Seconds spent creating (compiling) the kernels before the first sample.
     pub compile_seconds: f64,
+    /// The relMSE estimated from the render's own samples (`crate::estimate`), if it has at
+    /// least 2 samples per pixel.
+    pub estimated_relmse: Option<f64>,
+    /// What ended the accumulation.
+    pub stopped_by: StoppedBy,
     /// The global sample range drawn.
     pub drawn: Range<u32>,
     triangles: usize,
@@ -328,22 +400,40 @@ pub fn accumulate(
     let progress = progress_bar(budget);
     let start = Instant::now();
     let stop = || interrupted.load(Ordering::SeqCst) || budget.time_spent(start.elapsed().as_secs_f64());
+    let mut estimate = ErrorEstimate::new(budget.target_error);
+    let mut stopped_by = StoppedBy::Spp;
     while !budget.spp_reached(tracer.samples_per_pixel()) {
         if tracer.render_sample_until(&stop)? == PassOutcome::Stopped {
+            stopped_by = if interrupted.load(Ordering::SeqCst) { StoppedBy::Interrupt } else { StoppedBy::Time };
             break;
         }
-        progress.set_position(progress_position(budget, tracer.samples_per_pixel(), start.elapsed().as_secs_f64()));
+        let spp = tracer.samples_per_pixel();
+        let met = estimate.after_pass(spp, || anyhow::Ok(tracer.image()?))?;
+        if let Some((_, e)) = estimate.latest() {
+            progress.set_message(format!("estimated relMSE {e:.2e}"));
+        }
+        progress.set_position(progress_position(budget, spp, start.elapsed().as_secs_f64()));
+        if met {
+            stopped_by = StoppedBy::TargetError;
+            break;
+        }
     }
     let seconds = start.elapsed().as_secs_f64();
     progress.finish_and_clear();
     let (image, counts) = tracer.accumulated()?;
+    let spp = tracer.samples_per_pixel();
+    if estimate.latest().is_none_or(|(n, _)| n != spp) && spp > 0 {
+        estimate.update(spp, &image)?;
+    }
     Ok(Accumulated {
         image,
         counts,
         nonfinite: tracer.nonfinite_counts()?,
-        spp: tracer.samples_per_pixel(),
+        spp,
         seconds,
         compile_seconds,
+        estimated_relmse: estimate.latest().filter(|(n, _)| *n == spp).map(|(_, e)| e),
+        stopped_by,
         drawn: tracer.drawn_range(),
         triangles: gpu_scene.triangle_count,
         lights: gpu_scene.light_count,
@@ -492,8 +582,8 @@ fn worst_pixels(counts: &[u32], width: u32) -> Vec<(u32, u32, u32)> {
 
 fn progress_bar(budget: &Budget) -> ProgressBar {
     let (length, template) = match budget.spp {
-        Some(spp) => (u64::from(spp), "{bar:40} {pos}/{len} spp  {elapsed_precise} (eta {eta})"),
-        None => ((budget.seconds.unwrap_or(0.0) * 10.0) as u64, "{bar:40} {elapsed_precise} of the time budget"),
+        Some(spp) => (u64::from(spp), "{bar:40} {pos}/{len} spp  {elapsed_precise} (eta {eta})  {msg}"),
+        None => ((budget.seconds.unwrap_or(0.0) * 10.0) as u64, "{bar:40} {elapsed_precise} of the time budget  {msg}"),
     };
     let bar = ProgressBar::new(length);
     if let Ok(style) = ProgressStyle::with_template(template) {
@@ -530,5 +620,13 @@ pub fn print_report(report: &RenderReport, json: bool) -> anyhow::Result<()> {
         if report.negative_pixels == 0 { String::new() } else { format!(", {} negative pixels (0 in LDR output)", report.negative_pixels) },
         report.output.display()
     );
+    if let Some(estimate) = report.estimated_relmse {
+        let target = match (report.target_error, report.stopped_by) {
+            (Some(t), StoppedBy::TargetError) => format!(" (target {t:.2e} met)"),
+            (Some(t), by) => format!(" (target {t:.2e} not met: stopped by {})", by.name()),
+            (None, _) => String::new(),
+        };
+        eprintln!("estimated relMSE {estimate:.3e} at {} spp{target}", report.spp);
+    }
     Ok(())
 }

@@ -49,6 +49,9 @@ pub enum GpuError {
     /// The device reported an error (validation, out of memory) or was lost.
     #[error("GPU error: {0}")]
     Runtime(String),
+    /// An image read back from the device could not be measured (mismatched sizes).
+    #[error(transparent)]
+    Image(#[from] caustic_image::ImageError),
 }
 
 /// `bytes` for a reader: "128 MiB", "3.13 GiB", "96.5 KiB", "40 bytes" (binary units, three

@@ -116,4 +116,13 @@ pub enum ImageError {
         /// The factor that was asked for.
         factor: u32,
     },
+    /// An error estimate from a render's own samples without samples on both sides of the
+    /// split ([`crate::metrics::estimated_relative_mse`]).
+    #[error("an error estimate needs samples before and after the first image's: {first} of {full} samples per pixel")]
+    SampleSplit {
+        /// Samples per pixel of the first image.
+        first: f64,
+        /// Samples per pixel of the full image.
+        full: f64,
+    },
 }

@@ -10,6 +10,7 @@
 
 mod display;
 mod error;
+pub mod estimate;
 mod film;
 mod io;
 pub mod metrics;

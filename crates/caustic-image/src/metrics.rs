@@ -24,6 +24,23 @@ pub fn relative_mse(image: &Image, reference: &Image, epsilon: f32) -> Result<f6
     mean_over_channels(image, reference, |x, r| (x - r).powi(2) / (r * r + epsilon))
 }
 
+/// An estimate of the [`relative_mse`] of `full` against the (unknown) converged image,
+/// from the render itself: `first` is the same render after its first `first_samples` of the
+/// `full_samples` samples per pixel. The later samples' mean B and the first ones' mean A are
+/// independent estimates, so (A - B)^2 n_a n_b / n^2 estimates the variance of the full mean;
+/// written with the full mean F = (n_a A + n_b B) / n that is (A - F)^2 n_a / n_b. Divided by
+/// F^2 + `epsilon` in place of the reference's square. The variance follows the 1/n law of
+/// independent samples; Owen-scrambled Sobol samples converge a little faster on simple
+/// scenes, so the estimate errs high there (docs/SAMPLING.md has the measurements).
+pub fn estimated_relative_mse(first: &Image, first_samples: f64, full: &Image, full_samples: f64, epsilon: f32) -> Result<f64, ImageError> {
+    let later = full_samples - first_samples;
+    if !(first_samples > 0.0 && later > 0.0) {
+        return Err(ImageError::SampleSplit { first: first_samples, full: full_samples });
+    }
+    let (epsilon, scale) = (f64::from(epsilon), first_samples / later);
+    mean_over_channels(first, full, |a, f| (a - f).powi(2) * scale / (f * f + epsilon))
+}
+
 /// Root mean squared error over pixels and channels, in radiance units.
 pub fn rmse(image: &Image, reference: &Image) -> Result<f64, ImageError> {
     mean_over_channels(image, reference, |x, r| (x - r).powi(2)).map(f64::sqrt)

@@ -505,6 +505,7 @@ impl ViewerApp {
             "height": height,
             "spp": stats.spp,
             "samples_per_second": stats.samples_per_second,
+            "estimated_relmse": stats.estimated_relmse,
             "frame_ms_mean": mean,
             "frame_ms_median": percentile(0.5),
             "frame_ms_p95": percentile(0.95),

@@ -232,6 +232,7 @@ impl ViewerApp {
             };
             row("samples per pixel", format!("{} / {}{converged}", stats.spp, self.controls.spp_target));
             row("samples/s", format!("{:.3} M camera paths/s", stats.samples_per_second / 1e6));
+            row("estimated relMSE", stats.estimated_relmse.map_or("from 2 spp".to_string(), |e| format!("{e:.2e} (from the render's own samples)")));
             let render_ms = self.budget.render_budget().as_secs_f64() * 1e3;
             row("frame", format!("{:.1} ms (target {:.0}, render {render_ms:.1})", self.frame_ms, self.controls.frame_ms));
             row("image", format!("{width}x{height}"));

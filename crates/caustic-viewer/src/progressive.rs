@@ -8,6 +8,7 @@ use crate::display::Display;
 use caustic_gpu::debug_image::debug_picture;
 use caustic_gpu::inspector::PathRecord;
 use caustic_gpu::{GpuContext, GpuError, GpuScene, PassOutcome, PathTracer, RenderSettings};
+use caustic_image::estimate::ErrorEstimate;
 use caustic_image::{Image, ToneMap};
 use caustic_scene::Scene;
 use std::time::{Duration, Instant};
@@ -35,6 +36,9 @@ pub struct RenderStats {
     pub kernel_ms: f64,
     /// Restarts so far.
     pub restarts: u32,
+    /// The relMSE estimated from the render's own samples (`caustic_image::estimate`),
+    /// updated at powers of two of samples per pixel; `None` below 2.
+    pub estimated_relmse: Option<f64>,
 }
 
 /// The render state of the viewer.
@@ -52,6 +56,8 @@ pub struct Progressive {
     undisplayed: bool,
     /// For a heat-map debug view, the value of its hottest colour as last shown.
     legend_range: Option<(f32, f32)>,
+    /// The error estimate of the accumulation since the last restart.
+    estimate: ErrorEstimate,
 }
 
 impl Progressive {
@@ -66,7 +72,8 @@ impl Progressive {
         let tracer = PathTracer::new(ctx, &scene, &gpu, &settings)?;
         let stats = RenderStats { kernel_ms: began.elapsed().as_secs_f64() * 1e3, ..RenderStats::default() };
         let display = Display::new(ctx, scene.resolution);
-        Ok(Progressive { ctx, scene, gpu, tracer, settings, display, stats, rendered: Duration::ZERO, undisplayed: false, legend_range: None })
+        let estimate = ErrorEstimate::new(None);
+        Ok(Progressive { ctx, scene, gpu, tracer, settings, display, stats, rendered: Duration::ZERO, undisplayed: false, legend_range: None, estimate })
     }
 
     /// The device context.
@@ -123,6 +130,7 @@ impl Progressive {
         }
         self.settings = settings;
         self.stats = RenderStats { restarts: self.stats.restarts + 1, kernel_ms: self.stats.kernel_ms, ..RenderStats::default() };
+        self.estimate = ErrorEstimate::new(None);
         self.rendered = Duration::ZERO;
         self.undisplayed = true;
         Ok(())
@@ -146,6 +154,9 @@ impl Progressive {
                 let seconds = (self.rendered + began.elapsed()).as_secs_f64();
                 self.stats.spp = spp;
                 self.stats.samples_per_second = f64::from(spp) * pixels / seconds.max(1e-9);
+                let tracer = &self.tracer;
+                self.estimate.after_pass(spp, || tracer.image())?;
+                self.stats.estimated_relmse = self.estimate.latest().map(|(_, e)| e);
             }
             if outcome == PassOutcome::Stopped || self.tracer.samples_per_pixel() >= spp_target {
                 break;

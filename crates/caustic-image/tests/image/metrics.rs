@@ -1,6 +1,6 @@
 //! Error metrics against analytic values.
 
-use caustic_image::metrics::{RELMSE_EPSILON, mean_absolute_error, mean_ratio, relative_mse, rmse};
+use caustic_image::metrics::{RELMSE_EPSILON, estimated_relative_mse, mean_absolute_error, mean_ratio, relative_mse, rmse};
 use caustic_image::{Image, ImageError};
 
 /// Half the pixels 0.5, half 2.0, in every channel.
@@ -63,4 +63,46 @@ fn size_mismatch_and_empty_images_are_errors() {
     assert!(mean_ratio(&Image::new(2, 2), &Image::new(2, 3)).is_err());
     let empty = Image::new(0, 5);
     assert!(matches!(mean_absolute_error(&empty, &empty), Err(ImageError::Empty { .. })));
+}
+
+/// Per-pixel means of `samples` noisy draws around `truth` (uniform noise of `spread`),
+/// after the first `first` of them and after all.
+fn noisy_render(truth: &Image, first: usize, samples: usize, spread: f32, seed: u64) -> (Image, Image) {
+    let mut state = seed;
+    let mut next = move || {
+        state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        ((state >> 40) as f32 / (1u64 << 24) as f32 - 0.5) * 2.0 * spread
+    };
+    let (mut early, mut full) = (truth.clone(), truth.clone());
+    for (p, (e, f)) in early.pixels.iter_mut().zip(full.pixels.iter_mut()).enumerate() {
+        let mut sum = [0.0f64; 3];
+        for i in 0..samples {
+            for (c, s) in sum.iter_mut().enumerate() {
+                *s += f64::from(truth.pixels[p][c] + next());
+            }
+            if i + 1 == first {
+                *e = [0, 1, 2].map(|c| (sum[c] / first as f64) as f32);
+            }
+        }
+        *f = [0, 1, 2].map(|c| (sum[c] / samples as f64) as f32);
+    }
+    (early, full)
+}
+
+#[test]
+fn the_error_estimate_from_the_render_itself_matches_the_true_error() {
+    let mut truth = Image::new(64, 64);
+    for (i, p) in truth.pixels.iter_mut().enumerate() {
+        let v = 0.05 + (i % 97) as f32 * 0.02;
+        *p = [v, 0.5 * v, 2.0 * v];
+    }
+    for (first, samples) in [(8, 16), (32, 64), (64, 100), (128, 256)] {
+        let (early, full) = noisy_render(&truth, first, samples, 1.5, samples as u64);
+        let estimate = estimated_relative_mse(&early, first as f64, &full, samples as f64, RELMSE_EPSILON).unwrap();
+        let actual = relative_mse(&full, &truth, RELMSE_EPSILON).unwrap();
+        println!("{first} of {samples} samples: estimated relMSE {estimate:.4e}, true {actual:.4e}, ratio {:.3}", estimate / actual);
+        assert!((estimate / actual - 1.0).abs() < 0.1, "independent samples: the estimate is within 10%");
+    }
+    assert!(estimated_relative_mse(&truth, 16.0, &truth, 16.0, RELMSE_EPSILON).is_err(), "no later samples");
+    assert!(estimated_relative_mse(&truth, 0.0, &truth, 16.0, RELMSE_EPSILON).is_err(), "no first samples");
 }

@@ -1,0 +1,138 @@
+//! A render's own error estimate, without a reference, and stopping at a target error
+//! (`caustic render --target-error`, the viewer's statistics).
+//!
+//! The images at the last two powers of two of samples per pixel are kept; the estimate at n
+//! samples compares the image with the kept one of at most n / 2 samples
+//! ([`estimated_relative_mse`]: the later samples' mean against the earlier ones', relMSE as
+//! `caustic converge` defines it). With a target the render is checked at 8 samples per pixel
+//! and then at the count the 1/n law predicts for the target (never past the next power of
+//! two, where a new image is kept), until the estimate is at most the target.
+
+use crate::Image;
+use crate::error::ImageError;
+use crate::metrics::{RELMSE_EPSILON, estimated_relative_mse};
+
+/// Samples per pixel of the first check against a target: its estimate compares the first 4
+/// samples with the last 4 (fewer give a noisy estimate and a premature stop).
+pub const FIRST_CHECK: u32 = 8;
+
+/// The estimate's state during one render.
+#[derive(Default)]
+pub struct ErrorEstimate {
+    /// The images at the last two powers of two of samples per pixel, fewest first.
+    kept: Vec<(u32, Image)>,
+    /// The latest estimate: samples per pixel and relMSE.
+    latest: Option<(u32, f64)>,
+    /// The target relMSE, if the render stops at one.
+    target: Option<f64>,
+    /// Samples per pixel of the next check against the target.
+    next_check: u32,
+}
+
+impl ErrorEstimate {
+    /// A render's estimate, stopping at `target` if given.
+    pub fn new(target: Option<f64>) -> ErrorEstimate {
+        ErrorEstimate { kept: Vec::new(), latest: None, target, next_check: FIRST_CHECK }
+    }
+
+    /// After a complete pass that brought the render to `spp` samples per pixel: at a power of
+    /// two, or at a check the target asks for, reads the image (`image` is called only then)
+    /// and updates the estimate. Returns whether the target is met.
+    pub fn after_pass<E: From<ImageError>>(&mut self, spp: u32, image: impl FnOnce() -> Result<Image, E>) -> Result<bool, E> {
+        let keep = spp.is_power_of_two();
+        let check = self.target.is_some() && spp >= self.next_check;
+        if !keep && !check {
+            return Ok(false);
+        }
+        let image = image()?;
+        self.update(spp, &image)?;
+        if keep {
+            self.kept.push((spp, image));
+            if self.kept.len() > 2 {
+                self.kept.remove(0);
+            }
+        }
+        let (Some(target), Some((_, estimate))) = (self.target, self.latest) else { return Ok(false) };
+        if !check {
+            return Ok(false);
+        }
+        if estimate <= target {
+            return Ok(true);
+        }
+        // The 1/n law's count for the target, checked there or at the next power of two.
+        let predicted = (f64::from(spp) * estimate / target).ceil().min(f64::from(u32::MAX)) as u32;
+        self.next_check = predicted.clamp(spp + 1, (spp + 1).next_power_of_two());
+        Ok(false)
+    }
+
+    /// Estimates the error of `image`, the render at `spp` samples per pixel, against the kept
+    /// image of at most half as many samples (else the one before it); nothing before 2 spp.
+    pub fn update(&mut self, spp: u32, image: &Image) -> Result<(), ImageError> {
+        let earlier = self.kept.iter().rev().find(|(n, _)| 2 * n <= spp).or_else(|| self.kept.iter().rev().find(|(n, _)| *n < spp));
+        if let Some((n, first)) = earlier {
+            self.latest = Some((spp, estimated_relative_mse(first, f64::from(*n), image, f64::from(spp), RELMSE_EPSILON)?));
+        }
+        Ok(())
+    }
+
+    /// The latest estimate and the samples per pixel it was made at.
+    pub fn latest(&self) -> Option<(u32, f64)> {
+        self.latest
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn flat(value: f32) -> Image {
+        let mut image = Image::new(4, 4);
+        image.pixels.iter_mut().for_each(|p| *p = [value; 3]);
+        image
+    }
+
+    /// Runs passes 1..=`last` with `image(spp)`, returning the counts at which the image was
+    /// read and the count at which the target was met, if it was.
+    fn run(estimate: &mut ErrorEstimate, last: u32, image: impl Fn(u32) -> Image) -> (Vec<u32>, Option<u32>) {
+        let mut reads = Vec::new();
+        for spp in 1..=last {
+            if estimate
+                .after_pass::<ImageError>(spp, || {
+                    reads.push(spp);
+                    Ok(image(spp))
+                })
+                .unwrap()
+            {
+                return (reads, Some(spp));
+            }
+        }
+        (reads, None)
+    }
+
+    #[test]
+    fn far_from_the_target_the_checks_are_at_powers_of_two() {
+        let mut estimate = ErrorEstimate::new(Some(1e-3));
+        let (reads, met) = run(&mut estimate, 40, |spp| flat(1.0 + 0.1 * spp as f32));
+        println!("images read at {reads:?}");
+        assert_eq!(reads, [1, 2, 4, 8, 16, 32]);
+        assert_eq!(met, None);
+        assert!(estimate.latest().is_some_and(|(n, e)| n == 32 && e > 1e-3));
+    }
+
+    #[test]
+    fn near_the_target_the_check_is_where_the_law_predicts() {
+        // At 8 spp the estimate is 1.12e-3: the 1/n law asks for 9, where it is 0.90e-3.
+        let mut estimate = ErrorEstimate::new(Some(1e-3));
+        let (reads, met) = run(&mut estimate, 40, |spp| flat(if spp <= 4 { 1.0 } else { 1.0348 }));
+        println!("images read at {reads:?}, estimate {:?}", estimate.latest());
+        assert_eq!(reads, [1, 2, 4, 8, 9]);
+        assert_eq!(met, Some(9));
+    }
+
+    #[test]
+    fn an_equal_image_meets_the_target_at_the_first_check() {
+        let mut estimate = ErrorEstimate::new(Some(1e-3));
+        assert_eq!(run(&mut estimate, 40, |_| flat(0.7)), (vec![1, 2, 4, 8], Some(8)));
+        assert_eq!(estimate.latest(), Some((8, 0.0)));
+    }
+}
