@@ -7,7 +7,8 @@ use crate::plot::{Series, log_log_svg};
 use crate::preset::Preset;
 use anyhow::{Context, bail};
 use caustic_gpu::{GpuContext, GpuScene, PathTracer, RenderSettings};
-use caustic_image::metrics::{RELMSE_EPSILON, estimated_relative_mse, mean_absolute_error, relative_mse};
+use caustic_image::estimate::ErrorEstimate;
+use caustic_image::metrics::{RELMSE_EPSILON, mean_absolute_error, relative_mse};
 use caustic_image::perceptual::{Viewing, mean_flip_color};
 use caustic_image::{Image, write_file_atomically};
 use caustic_scene::{SceneSource, load_scene_with};
@@ -72,8 +73,7 @@ struct Point {
     /// Rendering time so far (measurements excluded).
     seconds: f64,
     relmse: f64,
-    /// relMSE estimated from the render alone ([`estimated_relative_mse`]: the image at the
-    /// earlier point nearest to half the samples, or none at the first point).
+    /// relMSE estimated from the render alone ([`ErrorEstimate`]; none at the first point).
     estimated_relmse: Option<f64>,
     flip: f64,
     mae: f64,
@@ -161,8 +161,8 @@ fn measure(tracer: &mut PathTracer<'_>, reference: &Image, spp: u32, args: &Conv
     let mut rendering = Duration::ZERO;
     let mut points = Vec::new();
     let viewing = Viewing::default();
-    // The images measured so far, for the error estimate's earlier half.
-    let mut history: Vec<(u32, Image)> = Vec::new();
+    // The error estimate from the render alone, beside the true error.
+    let mut estimate = ErrorEstimate::new(None);
     for &target in &checkpoints {
         let start = Instant::now();
         let budget_left = limit.map(|l| l.saturating_sub(rendering));
@@ -176,11 +176,8 @@ fn measure(tracer: &mut PathTracer<'_>, reference: &Image, spp: u32, args: &Conv
         }
         let image = tracer.image()?;
         let spp = tracer.samples_per_pixel();
-        let earlier = history.iter().rev().find(|(n, _)| 2 * n <= spp).or(history.last());
-        let estimated_relmse = match earlier {
-            Some((n, first)) => Some(estimated_relative_mse(first, f64::from(*n), &image, f64::from(spp), RELMSE_EPSILON)?),
-            None => None,
-        };
+        estimate.record(spp, image.clone())?;
+        let estimated_relmse = estimate.latest().filter(|(n, _)| *n == spp).map(|(_, e)| e);
         let point = Point {
             spp,
             seconds: rendering.as_secs_f64(),
@@ -193,7 +190,6 @@ fn measure(tracer: &mut PathTracer<'_>, reference: &Image, spp: u32, args: &Conv
             let estimate = point.estimated_relmse.map_or(String::new(), |e| format!(" (estimated {e:.3e})"));
             eprintln!("{:>7} spp {:>9.2} s  relMSE {:.3e}{estimate}  FLIP {:.4}", point.spp, point.seconds, point.relmse, point.flip);
         }
-        history.push((spp, image));
         let stop = point.spp < target;
         points.push(point);
         if stop {

@@ -168,6 +168,10 @@ impl Budget {
     }
 }
 
+/// Largest image (in pixels) whose render estimates its error without `--target-error`: the
+/// estimate reads the image back at every power of two of samples and keeps two copies.
+const ESTIMATE_MAX_PIXELS: u64 = 1 << 24;
+
 /// Samples per pixel a render with `--target-error` and neither `--spp` nor `--time` stops at
 /// if the target is not met: a cap, so an unreachable target never renders forever.
 pub const TARGET_SPP_CAP: u32 = 65536;
@@ -401,6 +405,9 @@ pub fn accumulate(
     let start = Instant::now();
     let stop = || interrupted.load(Ordering::SeqCst) || budget.time_spent(start.elapsed().as_secs_f64());
     let mut estimate = ErrorEstimate::new(budget.target_error);
+    // The estimate keeps two images: past ESTIMATE_MAX_PIXELS only when a target needs it.
+    let (width, height) = scene.resolution;
+    let estimating = budget.target_error.is_some() || u64::from(width) * u64::from(height) <= ESTIMATE_MAX_PIXELS;
     let mut stopped_by = StoppedBy::Spp;
     while !budget.spp_reached(tracer.samples_per_pixel()) {
         if tracer.render_sample_until(&stop)? == PassOutcome::Stopped {
@@ -408,7 +415,7 @@ pub fn accumulate(
             break;
         }
         let spp = tracer.samples_per_pixel();
-        let met = estimate.after_pass(spp, || anyhow::Ok(tracer.image()?))?;
+        let met = estimating && estimate.after_pass(spp, || anyhow::Ok(tracer.image()?))?;
         if let Some((_, e)) = estimate.latest() {
             progress.set_message(format!("estimated relMSE {e:.2e}"));
         }
@@ -422,7 +429,7 @@ pub fn accumulate(
     progress.finish_and_clear();
     let (image, counts) = tracer.accumulated()?;
     let spp = tracer.samples_per_pixel();
-    if estimate.latest().is_none_or(|(n, _)| n != spp) && spp > 0 {
+    if estimating && estimate.latest().is_none_or(|(n, _)| n != spp) && spp > 0 {
         estimate.update(spp, &image)?;
     }
     Ok(Accumulated {
