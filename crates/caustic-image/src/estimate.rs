@@ -95,7 +95,12 @@ impl ErrorEstimate {
             }
             self.difference = Some((spp, difference));
         }
-        self.latest = Some((spp, difference / (self.doubling_gain - 1.0)));
+        // Under V(m) ~ m^-b the first n_a samples' error exceeds the whole's by
+        // V(n_a) - V(n) = V(n) ((n / n_a)^b - 1); `difference` holds that scaled by n_a / n_b
+        // (the independent samples' law, b = 1, where the two agree).
+        let (first, all) = (f64::from(*n), f64::from(spp));
+        let law = (all / first).powf(self.doubling_gain.log2()) - 1.0;
+        self.latest = Some((spp, difference * (all - first) / first / law));
         Ok(())
     }
 
@@ -168,6 +173,13 @@ mod tests {
         println!("at {spp} spp: estimate {e:.4e}, the halves' difference {difference:.4e}");
         assert_eq!(spp, 64);
         assert!((e / (difference / 3.0) - 1.0).abs() < 0.02, "divided by about 2^2 - 1 (the relative error shifts the gain a little)");
+        // A split that is not halves (32 of 96 samples): V(96) = D / ((96 / 32)^b - 1).
+        estimate.update(96, &image(96)).unwrap();
+        let (a, f) = (1.0 + 0.2 / 32.0, 1.0 + 0.2 / 96.0_f64);
+        let raw = (a - f).powi(2) / (f * f + 0.01);
+        let (_, e96) = estimate.latest().unwrap();
+        println!("at 96 spp: estimate {e96:.4e}, D / (3^2 - 1) = {:.4e}", raw / 8.0);
+        assert!((e96 / (raw / 8.0) - 1.0).abs() < 0.03, "the law applied to the split");
     }
 
     #[test]
