@@ -176,16 +176,11 @@ fn measure(tracer: &mut PathTracer<'_>, reference: &Image, spp: u32, args: &Conv
         }
         let image = tracer.image()?;
         let spp = tracer.samples_per_pixel();
-        estimate.record(spp, image.clone())?;
+        let (relmse, flip, mae) =
+            (relative_mse(&image, reference, RELMSE_EPSILON)?, mean_flip_color(&image, reference, &viewing)?, mean_absolute_error(&image, reference)?);
+        estimate.record(spp, image)?;
         let estimated_relmse = estimate.latest().filter(|(n, _)| *n == spp).map(|(_, e)| e);
-        let point = Point {
-            spp,
-            seconds: rendering.as_secs_f64(),
-            relmse: relative_mse(&image, reference, RELMSE_EPSILON)?,
-            estimated_relmse,
-            flip: mean_flip_color(&image, reference, &viewing)?,
-            mae: mean_absolute_error(&image, reference)?,
-        };
+        let point = Point { spp, seconds: rendering.as_secs_f64(), relmse, estimated_relmse, flip, mae };
         if !args.device.json {
             let estimate = point.estimated_relmse.map_or(String::new(), |e| format!(" (estimated {e:.3e})"));
             eprintln!("{:>7} spp {:>9.2} s  relMSE {:.3e}{estimate}  FLIP {:.4}", point.spp, point.seconds, point.relmse, point.flip);

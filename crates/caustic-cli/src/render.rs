@@ -324,7 +324,7 @@ fn save_debug_picture(view: DebugView, rendered: &Accumulated, output: &Path) ->
 
 /// What ended a render's accumulation (the report's `stopped_by`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
+#[serde(into = "&'static str")]
 pub enum StoppedBy {
     /// The samples per pixel asked for (with `--target-error`, its cap: the target was not met).
     Spp,
@@ -345,6 +345,12 @@ impl StoppedBy {
             StoppedBy::TargetError => "target_error",
             StoppedBy::Interrupt => "interrupt",
         }
+    }
+}
+
+impl From<StoppedBy> for &'static str {
+    fn from(stopped_by: StoppedBy) -> &'static str {
+        stopped_by.name()
     }
 }
 

@@ -54,10 +54,7 @@ impl ErrorEstimate {
             return Ok(false);
         }
         self.record(spp, image()?)?;
-        let (Some(target), Some((_, estimate))) = (self.target, self.latest) else { return Ok(false) };
-        if !check {
-            return Ok(false);
-        }
+        let (true, Some(target), Some((_, estimate))) = (check, self.target, self.latest) else { return Ok(false) };
         if estimate <= target {
             return Ok(true);
         }
@@ -85,12 +82,11 @@ impl ErrorEstimate {
     /// image of at most half as many samples (else the one before it); nothing before 2 spp.
     pub fn update(&mut self, spp: u32, image: &Image) -> Result<(), ImageError> {
         let earlier = self.kept.iter().rev().find(|(n, _)| 2 * n <= spp).or_else(|| self.kept.iter().rev().find(|(n, _)| *n < spp));
-        let Some((n, first)) = earlier else { return Ok(()) };
-        let difference = estimated_relative_mse(first, f64::from(*n), image, f64::from(spp), RELMSE_EPSILON)?;
+        let Some((n, earlier_image)) = earlier else { return Ok(()) };
+        let difference = estimated_relative_mse(earlier_image, f64::from(*n), image, f64::from(spp), RELMSE_EPSILON)?;
         if 2 * n == spp {
             // Halves at a power of two: the law's gain per doubling from this and the last.
-            if let Some((last, d)) = self.difference.filter(|(last, d)| 2 * last == spp && *d > 0.0 && difference > 0.0) {
-                debug_assert_eq!(2 * last, spp);
+            if let Some((_, d)) = self.difference.filter(|(last, d)| 2 * last == spp && *d > 0.0 && difference > 0.0) {
                 self.doubling_gain = (d / difference).clamp(2.0, 8.0);
             }
             self.difference = Some((spp, difference));
