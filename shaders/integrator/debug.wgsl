@@ -45,7 +45,7 @@ fn debug_value(ray: Ray, rng: ptr<function, Rng>) -> vec3<f32> {
         return vec3<f32>(select(0.0, -1.0, frame.debug_view == DEBUG_MATERIAL_ID));
     }
     if frame.debug_view == DEBUG_UV {
-        return vec3<f32>(fract(hit_uv(hit)), 0.0);
+        return vec3<f32>(fract(hit_uv(ray, hit)), 0.0);
     }
     let si = surface_interaction(ray, hit);
     if frame.debug_view == DEBUG_ALBEDO {
@@ -54,10 +54,13 @@ fn debug_value(ray: Ray, rng: ptr<function, Rng>) -> vec3<f32> {
     return vec3<f32>(f32(hit_material(hit)));
 }
 
-// Interpolated texture coordinates of a triangle hit (0 for shapes).
-fn hit_uv(hit: Hit) -> vec2<f32> {
+// Texture coordinates of a hit: interpolated on a triangle, a shape's own (shape_uv) where
+// the shape is at shutter open.
+fn hit_uv(ray: Ray, hit: Hit) -> vec2<f32> {
     if (hit.triangle & SHAPE_BIT) != 0u {
-        return vec2<f32>(0.0);
+        let open = ray_to_open(ray, hit_motion(hit));
+        let shape = bvh_shapes[hit.slot];
+        return shape_uv(shape.kind, shape_point_to_object(shape, open.origin + hit.t * open.direction));
     }
     let a = shading[hit.triangle];
     return (1.0 - hit.u - hit.v) * a.uv0 + hit.u * a.uv1 + hit.v * a.uv2;

@@ -166,7 +166,40 @@ fn shape_interaction(ray: Ray, hit: Hit) -> SurfaceInteraction {
     let front_face = dot(normal, ray.direction) < 0.0;
     let ng = select(-normal, normal, front_face);
     let attributes = shading[frame.triangle_count + shape.id];
-    return SurfaceInteraction(p, ng, ng, front_face, materials[attributes.material]);
+    var material = materials[attributes.material];
+    if scene_needs(REQUIRES_TEXTURES) && has_textures(material) {
+        // Level 0 of each texture: shapes have no triangle to measure a footprint on.
+        var tc: TexCoords;
+        tc.uv0 = shape_uv(shape.kind, p_object);
+        tc.uv1 = tc.uv0;
+        material = textured_material(material, tc);
+    }
+    return SurfaceInteraction(p, ng, ng, front_face, material);
+}
+
+// A shape's natural texture coordinates at object-space surface point p (v grows down the
+// image): the sphere's longitude (u = 1/2 facing +z, growing towards +x) and colatitude
+// from the +y pole; the disk's bounding square; the whole image on each box face, upright
+// on the sides; one image per object unit on the plane, x right and y up. The CPU twin is
+// caustic_bvh::GpuShape::object_uv.
+fn shape_uv(kind: u32, p: vec3<f32>) -> vec2<f32> {
+    if kind == SHAPE_SPHERE {
+        return vec2<f32>(0.5 + atan2(p.x, p.z) * (0.5 * INV_PI), acos(clamp(p.y, -1.0, 1.0)) * INV_PI);
+    }
+    if kind == SHAPE_DISK {
+        return vec2<f32>(0.5 + 0.5 * p.x, 0.5 - 0.5 * p.y);
+    }
+    if kind == SHAPE_BOX {
+        let a = abs(p);
+        if a.x >= a.y && a.x >= a.z {
+            return vec2<f32>(0.5 - sign(p.x) * p.z, 0.5 - p.y);
+        }
+        if a.y >= a.z {
+            return vec2<f32>(0.5 + p.x, 0.5 + sign(p.y) * p.z);
+        }
+        return vec2<f32>(0.5 + sign(p.z) * p.x, 0.5 - p.y);
+    }
+    return vec2<f32>(p.x, -p.y);
 }
 
 fn spawn_ray(si: SurfaceInteraction, direction: vec3<f32>) -> Ray {

@@ -120,6 +120,44 @@ impl GpuShape {
             _ => Vec3::Z,
         }
     }
+
+    /// The shape's natural texture coordinates at an object-space surface point, in the glTF
+    /// convention (v grows down the image), which a textured material reads on shapes:
+    /// - sphere: longitude and colatitude about the object's y axis, u = 1/2 facing +z and
+    ///   growing towards +x, v = 0 at the +y pole;
+    /// - disk: its bounding square, x to the right and y up;
+    /// - box: the whole image on each face, upright (top towards +y) on the four sides and
+    ///   top towards -z on the +y face, +z on the -y face, as seen from outside;
+    /// - plane: one image per object unit, x to the right and y up, repeating.
+    ///
+    /// The CPU twin of `shape_uv` in `shaders/integrator/surface.wgsl`.
+    pub fn object_uv(&self, p: Vec3) -> glam::Vec2 {
+        use glam::Vec2;
+        match self.kind {
+            0 => Vec2::new(0.5 + p.x.atan2(p.z) / std::f32::consts::TAU, p.y.clamp(-1.0, 1.0).acos() / std::f32::consts::PI),
+            1 => Vec2::new(0.5 + 0.5 * p.x, 0.5 - 0.5 * p.y),
+            2 => {
+                let a = p.abs();
+                let side = |c: f32| {
+                    if c > 0.0 {
+                        1.0
+                    } else if c < 0.0 {
+                        -1.0
+                    } else {
+                        0.0
+                    }
+                };
+                if a.x >= a.y && a.x >= a.z {
+                    Vec2::new(0.5 - side(p.x) * p.z, 0.5 - p.y)
+                } else if a.y >= a.z {
+                    Vec2::new(0.5 + p.x, 0.5 + side(p.y) * p.z)
+                } else {
+                    Vec2::new(0.5 + side(p.z) * p.x, 0.5 - p.y)
+                }
+            }
+            _ => Vec2::new(p.x, -p.y),
+        }
+    }
 }
 
 /// Nearest `t` in `(0, ray.t_max)` where `ray` meets `shape` (both sides of every surface).
@@ -191,6 +229,40 @@ mod tests {
         let inside = Ray { origin: Vec3::splat(1e5), direction: Vec3::Y, t_max: f32::INFINITY };
         let t = intersect_shape(&inside, &s).expect("hit from inside");
         assert!((t - 1.0).abs() < 1e-2, "t = {t}");
+    }
+
+    #[test]
+    fn texture_coordinates_follow_each_shapes_parameterisation() {
+        use glam::Vec2;
+        let uv = |kind: ShapeKind, p: Vec3| shape(kind, Mat4::IDENTITY).object_uv(p);
+        let close = |a: Vec2, b: Vec2| (a - b).length() < 1e-6;
+        // Sphere: the image's centre faces +z, its top at the +y pole, u growing towards +x.
+        assert!(close(uv(ShapeKind::Sphere, Vec3::Z), Vec2::new(0.5, 0.5)));
+        assert!(close(uv(ShapeKind::Sphere, Vec3::X), Vec2::new(0.75, 0.5)));
+        assert!(close(uv(ShapeKind::Sphere, Vec3::NEG_X), Vec2::new(0.25, 0.5)));
+        assert!(uv(ShapeKind::Sphere, Vec3::Y).y.abs() < 1e-6 && (uv(ShapeKind::Sphere, Vec3::NEG_Y).y - 1.0).abs() < 1e-6);
+        // Disk: the bounding square, upright.
+        assert!(close(uv(ShapeKind::Disk, Vec3::new(-1.0, 1.0, 0.0)), Vec2::ZERO));
+        assert!(close(uv(ShapeKind::Disk, Vec3::new(1.0, -1.0, 0.0)), Vec2::ONE));
+        // Box: the image's top-left corner is at each face's top-left seen from outside.
+        let corners = [
+            (Vec3::new(-0.5, 0.5, 0.5), Vec3::Z),
+            (Vec3::new(0.5, 0.5, -0.5), Vec3::NEG_Z),
+            (Vec3::new(0.5, 0.5, 0.5), Vec3::X),
+            (Vec3::new(-0.5, 0.5, -0.5), Vec3::NEG_X),
+            (Vec3::new(-0.5, 0.5, -0.5), Vec3::Y),
+            (Vec3::new(-0.5, -0.5, 0.5), Vec3::NEG_Y),
+        ];
+        for (corner, face) in corners {
+            // Nudge the corner onto the face's interior so the face is unambiguous.
+            let inside = corner * 0.98 + face * 0.01;
+            let at = uv(ShapeKind::Box, inside);
+            assert!(at.x < 0.02 && at.y < 0.02, "face {face}: top-left corner reads {at}");
+            let centre = uv(ShapeKind::Box, face * 0.5);
+            assert!(close(centre, Vec2::splat(0.5)), "face {face}: centre reads {centre}");
+        }
+        // Plane: one image per unit, upright, repeating.
+        assert!(close(uv(ShapeKind::Plane, Vec3::new(2.25, -3.5, 0.0)), Vec2::new(2.25, 3.5)));
     }
 
     #[test]

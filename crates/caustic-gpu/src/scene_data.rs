@@ -82,7 +82,7 @@ impl SceneData {
     /// Appends the extension entries after every triangle's and shape's entry, pointing each
     /// triangle's `extension` (1-based in `extensions` until now) at its entry.
     fn add_extensions(&mut self, extensions: Vec<TriangleShading>) {
-        let base = self.shading.len() as u32 - 1;
+        let base = (self.shading.len() as u32).saturating_sub(1);
         for entry in &mut self.shading {
             if entry.extension != 0 {
                 entry.extension += base;

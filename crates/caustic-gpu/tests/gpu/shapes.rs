@@ -1,12 +1,13 @@
-//! Analytic shapes on the device: the traversal agrees with its CPU twin, and each shape in a
+//! Analytic shapes on the device: the traversal agrees with its CPU twin, each shape in a
 //! white furnace (albedo 0.5, environment 1) shows exactly its albedo wherever it is seen,
-//! which fails if an intersection, a normal or the self-intersection offset is wrong.
+//! which fails if an intersection, a normal or the self-intersection offset is wrong, and a
+//! textured shape reads its texture where its CPU twin's parameterisation says.
 
 use crate::support::device;
-use caustic_bvh::{BuildOptions, Ray};
-use caustic_gpu::{GpuScene, PathTracer, RayBench, RayKind, RenderSettings, SceneData};
-use caustic_scene::{Camera, Environment, Material, NextEvent, RenderOptions, Scene, Shape};
-use glam::{Mat4, Vec3};
+use caustic_bvh::{BuildOptions, GpuShape, Ray, intersect_shape};
+use caustic_gpu::{DebugView, GpuContext, GpuScene, PathTracer, RayBench, RayKind, RenderSettings, SceneData};
+use caustic_scene::{Camera, ColorSpace, Environment, Material, MipFilter, NextEvent, RenderOptions, Scene, Shape, Texture, TextureFilter, TextureSlot};
+use glam::{Mat4, Vec2, Vec3};
 
 /// The furnace, traced by BSDF sampling alone: light-sampling the constant sky with MIS would
 /// make each sample the albedo only in expectation, not exactly.
@@ -122,5 +123,82 @@ fn device_traversal_of_shapes_matches_the_cpu_twin() {
         println!("shapes {kind:?}: {} rays, {different} differ from the CPU twin, worst relative t error {worst:.2e}", rays.len());
         assert!(different * 1000 <= rays.len(), "{different} rays disagree");
         assert!(worst < 1e-4, "t differs by {worst:.2e}");
+    }
+}
+
+/// A 4x4 linear texture whose sixteen texels all differ: texel (i, j) is (80 i, 80 j, 128).
+fn grid_texture() -> Texture {
+    let texels = (0..16u8).map(|k| [80 * (k % 4), 80 * (k / 4), 128, 255]).collect();
+    Texture { name: "grid".into(), width: 4, height: 4, color_space: ColorSpace::Linear, texels }
+}
+
+/// One pass of debug view `view` (a sample at a uniform point of each pixel).
+fn debug_image(ctx: &GpuContext, scene: &Scene, view: DebugView) -> Vec<[f32; 3]> {
+    let gpu = GpuScene::upload(ctx, scene).expect("upload");
+    let settings = RenderSettings { debug: Some(view), ..RenderSettings::default() };
+    let mut tracer = PathTracer::new(ctx, scene, &gpu, &settings).expect("tracer");
+    tracer.render_sample().expect("pass");
+    tracer.image().expect("image").pixels
+}
+
+/// The CPU twin's (face normal, texture coordinates) at a 3x3 grid of points spanning pixel
+/// (x, y), where the pixel's one sample may land; `None` unless all nine see the shape.
+fn pixel_uvs(scene: &Scene, shape: &GpuShape, x: u32, y: u32) -> Option<Vec<(Vec3, Vec2)>> {
+    let (w, h) = scene.resolution;
+    let mut points = Vec::with_capacity(9);
+    for j in 0..3 {
+        for i in 0..3 {
+            let ndc = (2.0 * (x as f32 + 0.5 * i as f32) / w as f32 - 1.0, 1.0 - 2.0 * (y as f32 + 0.5 * j as f32) / h as f32);
+            let (origin, direction) = scene.camera.ray(scene.resolution, ndc);
+            let t = intersect_shape(&Ray { origin, direction, t_max: f32::INFINITY }, shape)?;
+            let p = shape.point_to_object(origin + t * direction);
+            let face = if shape.kind == caustic_bvh::ShapeKind::Box as u32 { shape.object_normal(p) } else { Vec3::ZERO };
+            points.push((face, shape.object_uv(p)));
+        }
+    }
+    Some(points)
+}
+
+#[test]
+fn textured_shapes_read_the_texture_where_the_cpu_twin_says() {
+    let ctx = device();
+    let texture = grid_texture();
+    for (name, shape) in all_shapes() {
+        let mut scene = furnace(vec![shape]);
+        scene.textures = vec![texture.clone()];
+        scene.materials[0].base_color = Vec3::ONE;
+        scene.materials[0].base_color_texture = Some(TextureSlot { filter: TextureFilter::Nearest, mip: MipFilter::None, ..TextureSlot::new(0) });
+        let uvs = debug_image(&ctx, &scene, DebugView::Uv);
+        let albedo = debug_image(&ctx, &scene, DebugView::Albedo);
+        let twin = GpuShape::new(&SceneData::new(&scene).shapes[0], 0);
+        let (mut uv_checked, mut texel_checked, mut worst_uv, mut worst_texel) = (0, 0, 0f32, 0f32);
+        for y in 0..scene.resolution.1 {
+            for x in 0..scene.resolution.0 {
+                let Some(points) = pixel_uvs(&scene, &twin, x, y) else { continue };
+                // Only pixels within one face and one repetition of the image.
+                let (lo, hi) = points.iter().fold((Vec2::INFINITY, Vec2::NEG_INFINITY), |(lo, hi), (_, uv)| (lo.min(*uv), hi.max(*uv)));
+                if points.iter().any(|(face, _)| *face != points[0].0) || lo.floor() != hi.floor() {
+                    continue;
+                }
+                let i = (y * scene.resolution.0 + x) as usize;
+                let device = Vec2::new(uvs[i][0], uvs[i][1]);
+                let (lo, hi) = (lo - lo.floor(), hi - hi.floor());
+                let margin = 1e-4 + 0.05 * (hi - lo).max_element();
+                worst_uv = worst_uv.max((lo - device).max(device - hi).max_element() - margin);
+                uv_checked += 1;
+                // The texel, where the whole pixel lies in one.
+                if (lo * 4.0).floor() == (hi * 4.0).floor() {
+                    let expected = texture.sample((lo + hi) * 0.5, TextureFilter::Nearest).truncate();
+                    worst_texel = worst_texel.max((Vec3::from_array(albedo[i]) - expected).abs().max_element());
+                    texel_checked += 1;
+                }
+            }
+        }
+        println!(
+            "{name}: {uv_checked} pixels' uv against the twin (worst beyond the pixel's range {worst_uv:.1e}), {texel_checked} texels (worst error {worst_texel:.1e})"
+        );
+        assert!(uv_checked > 200 && texel_checked > 100, "{name}: too few pixels checked");
+        assert!(worst_uv <= 0.0, "{name}: device uv outside the CPU twin's range over the pixel by {worst_uv}");
+        assert!(worst_texel < 1e-5, "{name}: albedo differs from the texel by {worst_texel}");
     }
 }

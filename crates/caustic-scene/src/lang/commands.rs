@@ -56,8 +56,8 @@ pub const COMMANDS: &[CommandInfo] = &[
     c("save", "ldr|hdr", "save the last rendered image"),
     c("postprocess", "monochrome|blur [radius]", "apply an effect to the last rendered image"),
     // Geometry
-    c("vertex", "x y z", "add a vertex"),
-    c("vertexnormal", "x y z nx ny nz", "add a vertex with a normal (for trinormal)"),
+    c("vertex", "x y z [u v]", "add a vertex, with texture coordinates for a textured material"),
+    c("vertexnormal", "x y z nx ny nz [u v]", "add a vertex with a normal (for trinormal), with texture coordinates for a textured material"),
     c("tri", "i j k", "flat triangle of vertices i, j, k"),
     c("trinormal", "i j k", "triangle of vertexnormal vertices i, j, k with interpolated normals"),
     c("sphere", "x y z radius", "sphere"),
@@ -80,6 +80,11 @@ pub const COMMANDS: &[CommandInfo] = &[
     // Materials
     c("material", "flat|lambert|phong|blinnphong|ggx|translucent|checkers|mirror|glass", "start a fresh material of a reflection model"),
     c("brdf", "phong|ggx", "reflection model of the current material"),
+    c(
+        "texture",
+        "file [nearest|bilinear] | none",
+        "image whose colour multiplies the diffuse colour: on triangles at their vertices' u v, on shapes by their own parameterisation",
+    ),
     c("ambient", "r g b", "ambient colour (default 0.2 0.2 0.2)"),
     c("diffuse", "r g b", "diffuse colour"),
     c("specular", "r g b", "specular colour (highlight and mirror weight)"),

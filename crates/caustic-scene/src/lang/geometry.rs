@@ -8,7 +8,7 @@ use super::interpreter::MAX_TRIANGLES;
 use super::materials::material_key;
 use super::state::OpenMesh;
 use crate::{Mesh, Shape};
-use glam::{DMat3, DMat4, Vec3};
+use glam::{DMat3, DMat4, Vec2, Vec3};
 
 impl Interpreter {
     /// Executes the geometry commands (`vertex`, `tri`, `sphere`, `box`, ...).
@@ -17,18 +17,24 @@ impl Interpreter {
         let w = &mut self.world;
         match a.name {
             "vertex" => {
-                a.expect(&[3])?;
+                a.expect(&[3, 5])?;
                 let p = a.dvec3_f32(0)?.as_vec3();
+                if a.len() == 5 {
+                    w.vertex_uvs.set(w.vertices.len(), Vec2::new(a.f32(3)?, a.f32(4)?));
+                }
                 w.vertices.push(p);
                 let (base, _) = self.bases();
                 self.check_announced(a, at, false, base);
             }
             "vertexnormal" => {
-                a.expect(&[6])?;
+                a.expect(&[6, 8])?;
                 let p = a.dvec3_f32(0)?.as_vec3();
                 let n = a.dvec3_f32(3)?.as_vec3();
                 if n == Vec3::ZERO {
                     return a.fail_at(3, "the normal must not be zero");
+                }
+                if a.len() == 8 {
+                    w.normal_vertex_uvs.set(w.normal_vertices.len(), Vec2::new(a.f32(6)?, a.f32(7)?));
                 }
                 w.normal_vertices.push([p, n]);
                 let (_, base) = self.bases();
@@ -129,10 +135,12 @@ impl Interpreter {
         let known_material = w.material_index.or_else(|| w.interned.get(&material_key(&w.material)).copied());
         let open = w.open.filter(|o| Some(o.material) == known_material && o.normals == normals && o.mesh + 1 == w.scene.meshes.len());
         let identity = w.current == DMat4::IDENTITY;
+        // A textured material reads the corners' texture coordinates.
+        let textured = w.material.base_color_texture.is_some();
         let normal_matrix = if normals && !identity { w.normal_matrix() } else { DMat3::IDENTITY };
         // Each corner: an existing local vertex, or a new world-space vertex (and normal).
         // Everything is checked before anything changes.
-        let mut corners: [(Option<u32>, Vec3, Vec3); 3] = [(None, Vec3::ZERO, Vec3::ZERO); 3];
+        let mut corners: [(Option<u32>, Vec3, Vec3, Vec2); 3] = [(None, Vec3::ZERO, Vec3::ZERO, Vec2::ZERO); 3];
         for (k, &g) in global.iter().enumerate() {
             let remap = if normals { &w.remap_normals } else { &w.remap };
             if let (Some(_), Some(&(stamp, local))) = (open, remap.get(g)) {
@@ -152,7 +160,19 @@ impl Interpreter {
             if !p.is_finite() || (normals && (!n.is_finite() || n == Vec3::ZERO)) {
                 return a.fail_at(k, format!("vertex {} is not finite after the current transform (a singular or huge transform?)", g - base));
             }
-            corners[k] = (None, p, n);
+            let uvs = if normals { &w.normal_vertex_uvs } else { &w.vertex_uvs };
+            let uv = match uvs.get(g) {
+                Some(uv) => uv,
+                None if textured => {
+                    let form = if normals { "vertexnormal x y z nx ny nz u v" } else { "vertex x y z u v" };
+                    return a.fail_at(
+                        k,
+                        format!("vertex {} has no texture coordinates, which the current material's texture needs: give them as `{form}`", g - base),
+                    );
+                }
+                None => Vec2::ZERO,
+            };
+            corners[k] = (None, p, n, uv);
         }
         let material = w.material_index();
         let mesh_index = match open {
@@ -175,7 +195,7 @@ impl Interpreter {
             return a.fail("internal error: the open mesh is missing");
         };
         let mut triangle = [0u32; 3];
-        for (k, (local, p, n)) in corners.into_iter().enumerate() {
+        for (k, (local, p, n, uv)) in corners.into_iter().enumerate() {
             triangle[k] = match local {
                 Some(local) => local,
                 None => {
@@ -183,6 +203,9 @@ impl Interpreter {
                     mesh.positions.push(p);
                     if normals {
                         mesh.normals.push(n);
+                    }
+                    if textured {
+                        mesh.uvs.push(uv);
                     }
                     if let Some(entry) = remap.get_mut(global[k]) {
                         *entry = (generation, local);

@@ -4,7 +4,7 @@
 use super::Interpreter;
 use super::args::{Args, Res};
 use super::error::Location;
-use crate::{Anisotropy, Material, ShadingModel};
+use crate::{Anisotropy, ColorSpace, Material, MipFilter, ShadingModel, Texture, TextureFilter, TextureSlot};
 use glam::Vec3;
 
 /// The material state before any material command: the CSE167 defaults (ambient 0.2, all
@@ -34,7 +34,7 @@ pub(super) fn model_name(model: ShadingModel) -> &'static str {
     MODELS.iter().find(|(_, m)| *m == model).map_or("material", |(name, _)| name)
 }
 
-pub(super) const MATERIAL_KEY_LEN: usize = 35;
+pub(super) const MATERIAL_KEY_LEN: usize = 37;
 
 /// The bit patterns of every field but the name: materials with equal keys are shared.
 pub(super) fn material_key(m: &Material) -> [u32; MATERIAL_KEY_LEN] {
@@ -46,6 +46,8 @@ pub(super) fn material_key(m: &Material) -> [u32; MATERIAL_KEY_LEN] {
     let model = MODELS.iter().position(|(_, x)| *x == m.model).unwrap_or(usize::MAX) as u32;
     let a = m.anisotropy.unwrap_or(Anisotropy { rs: Vec3::ZERO, rd: Vec3::ZERO, nu: 0.0, nv: 0.0, axis: Vec3::ZERO });
     let ([r0, r1, r2], [d0, d1, d2], [x0, x1, x2]) = (v(a.rs), v(a.rd), v(a.axis));
+    let texture = m.base_color_texture.map_or(0, |slot| slot.texture + 1);
+    let nearest = m.base_color_texture.is_some_and(|slot| slot.filter == TextureFilter::Nearest);
     [
         b0,
         b1,
@@ -82,6 +84,8 @@ pub(super) fn material_key(m: &Material) -> [u32; MATERIAL_KEY_LEN] {
         x0,
         x1,
         x2,
+        texture,
+        u32::from(nearest),
     ]
 }
 
@@ -89,6 +93,10 @@ impl Interpreter {
     /// Executes the material commands (`material`, `diffuse`, `ior`, ...).
     /// Returns whether `a` is one of them.
     pub(super) fn material_command(&mut self, a: &Args, at: Location<'_>) -> Res<bool> {
+        if a.name == "texture" {
+            self.texture(a, at)?;
+            return Ok(true);
+        }
         let w = &mut self.world;
         match a.name {
             "material" => {
@@ -187,6 +195,46 @@ impl Interpreter {
             _ => return Ok(false),
         }
         Ok(true)
+    }
+}
+
+impl Interpreter {
+    /// `texture FILE [nearest|bilinear]` or `texture none`: the current material's base
+    /// colour texture. Each file is read once (within the input limits and the model's
+    /// folder, like `environment`); `nearest` reads the texel a point falls in at full
+    /// resolution (the seed's sampleTextureNearest), `bilinear` (the default) filters within
+    /// and between mip levels.
+    fn texture(&mut self, a: &Args, at: Location<'_>) -> Res<()> {
+        a.expect(&[1, 2])?;
+        if a.len() == 1 && a.text(0)? == "none" {
+            self.world.set_material(|m| m.base_color_texture = None);
+            return Ok(());
+        }
+        let nearest = a.len() == 2 && a.keyword(1, &["nearest", "bilinear"])? == 0;
+        if !self.file_access {
+            return a.fail_at(0, "reading files is disabled in this session");
+        }
+        let path = match self.input_path(at.file, a.text(0)?) {
+            Ok(path) => path,
+            Err(message) => return a.fail_at(0, message),
+        };
+        let index = match self.world.texture_files.get(&path) {
+            Some(&index) => index,
+            None => {
+                let texture = match Texture::read_file(&path, ColorSpace::Srgb, self.input_limits()) {
+                    Ok(texture) => texture,
+                    Err(message) => return a.fail_at(0, message),
+                };
+                let w = &mut self.world;
+                let index = w.scene.textures.len() as u32;
+                w.scene.textures.push(texture);
+                w.texture_files.insert(path, index);
+                index
+            }
+        };
+        let (filter, mip) = if nearest { (TextureFilter::Nearest, MipFilter::None) } else { (TextureFilter::Bilinear, MipFilter::Linear) };
+        self.world.set_material(|m| m.base_color_texture = Some(TextureSlot { filter, mip, ..TextureSlot::new(index) }));
+        Ok(())
     }
 }
 

@@ -6,7 +6,7 @@ use super::args::{Args, Res};
 use super::materials::{MATERIAL_KEY_LEN, default_material, material_key, model_name};
 use super::options::default_options;
 use crate::{Attenuation, Material, Scene};
-use glam::{DMat3, DMat4, Vec3};
+use glam::{DMat3, DMat4, Vec2, Vec3};
 use std::collections::HashMap;
 use std::path::PathBuf;
 
@@ -78,6 +78,25 @@ pub(super) struct Frame {
     pub(super) normal_base: usize,
 }
 
+/// Texture coordinates of a vertex list, stored only from the first vertex that has them:
+/// entry i belongs to vertex i, NaN for a vertex given without (the list is shorter when the
+/// last vertices have none), so scenes without texture coordinates pay nothing.
+#[derive(Clone, Debug, Default)]
+pub(super) struct VertexUvs(Vec<Vec2>);
+
+impl VertexUvs {
+    /// Records `uv` for vertex `index`, the newest vertex of its list.
+    pub(super) fn set(&mut self, index: usize, uv: Vec2) {
+        self.0.resize(index, Vec2::NAN);
+        self.0.push(uv);
+    }
+
+    /// The texture coordinates of vertex `index`, if it was given some.
+    pub(super) fn get(&self, index: usize) -> Option<Vec2> {
+        self.0.get(index).copied().filter(|uv| !uv.x.is_nan())
+    }
+}
+
 /// Everything `reset` clears.
 #[derive(Clone, Debug)]
 pub(super) struct World {
@@ -86,6 +105,13 @@ pub(super) struct World {
     pub(super) settings: LanguageSettings,
     pub(super) vertices: Vec<Vec3>,
     pub(super) normal_vertices: Vec<[Vec3; 2]>,
+    /// Texture coordinates of `vertices` given as `vertex x y z u v`.
+    pub(super) vertex_uvs: VertexUvs,
+    /// Texture coordinates of `normal_vertices` given as `vertexnormal ... u v`.
+    pub(super) normal_vertex_uvs: VertexUvs,
+    /// `texture FILE`: the scene's texture index of each image file read (by resolved path),
+    /// so a file used by several materials is decoded and uploaded once.
+    pub(super) texture_files: HashMap<PathBuf, u32>,
     pub(super) current: DMat4,
     pub(super) saved: Vec<DMat4>,
     pub(super) push_sites: Vec<Site>,
@@ -117,6 +143,9 @@ impl World {
             settings: LanguageSettings::default(),
             vertices: Vec::new(),
             normal_vertices: Vec::new(),
+            vertex_uvs: VertexUvs::default(),
+            normal_vertex_uvs: VertexUvs::default(),
+            texture_files: HashMap::new(),
             current: DMat4::IDENTITY,
             saved: Vec::new(),
             push_sites: Vec::new(),

@@ -138,3 +138,61 @@ fn mip_chains_average_in_linear_light() {
     assert!((texture_lod(2.0, 0.01, 1.0, 400.0) - (0.4f32).log2()).abs() < 1e-6, "2 x 0.01 wide, 20 texels a unit");
     assert!((texture_lod(2.0, 0.01, 0.25, 400.0) - (0.8f32).log2()).abs() < 1e-6, "a tilt by cos 1/4 doubles it");
 }
+
+#[test]
+fn scene_language_texture_command_maps_images_on_triangles_and_shapes() {
+    let dir = common::scratch_dir("lang-textures");
+    image::RgbaImage::from_pixel(2, 2, image::Rgba([200, 100, 50, 255])).save(dir.join("tile.png")).expect("write tile.png");
+    let text = "material lambert\ndiffuse 1 1 1\n\
+                vertex 0 0 0 0 1\nvertex 1 0 0 1 1\nvertex 0 1 0 0 0\nvertex 1 1 0\n\
+                texture tile.png nearest\ntri 0 1 2\nsphere 0 0 -2 1\n\
+                texture tile.png\nbox 0 0 -4 1 1 1\n\
+                texture none\ntri 1 3 2\nsphere 0 0 -6 1\n";
+    std::fs::write(dir.join("t.scene"), text).expect("scene");
+    let scene = caustic_scene::lang::load(&dir.join("t.scene")).expect("loads");
+    println!("{} textures, materials: {:?}", scene.textures.len(), scene.materials.iter().map(|m| m.base_color_texture.map(|s| s.filter)).collect::<Vec<_>>());
+    assert_eq!(scene.textures.len(), 1, "one file, read once");
+    let slot = |i: u32| scene.materials[i as usize].base_color_texture;
+    let textured = &scene.meshes[0];
+    assert_eq!(textured.uvs, vec![Vec2::new(0.0, 1.0), Vec2::new(1.0, 1.0), Vec2::ZERO]);
+    assert_eq!(slot(textured.material).map(|s| (s.texture, s.filter, s.mip)), Some((0, TextureFilter::Nearest, MipFilter::None)));
+    assert_eq!(slot(scene.shapes[0].material).map(|s| s.filter), Some(TextureFilter::Nearest));
+    assert_eq!(slot(scene.shapes[1].material).map(|s| (s.filter, s.mip)), Some((TextureFilter::Bilinear, MipFilter::Linear)));
+    // `texture none`: the untextured material again, shared with nothing textured, and
+    // vertices without texture coordinates are fine.
+    assert_eq!(slot(scene.shapes[2].material), None);
+    assert_eq!(scene.meshes[1].material, scene.shapes[2].material);
+    assert!(scene.meshes[1].uvs.is_empty());
+    assert!(scene.textures[0].sample(Vec2::splat(0.5), TextureFilter::Nearest).x > 0.5);
+}
+
+#[test]
+fn scene_language_texture_errors_name_the_line_and_the_fix() {
+    let dir = common::scratch_dir("lang-texture-errors");
+    image::RgbaImage::from_pixel(1, 1, image::Rgba([255, 255, 255, 255])).save(dir.join("white.png")).expect("write");
+    std::fs::write(dir.join("not-an-image.png"), "text").expect("write");
+    let cases = [
+        ("vertex 0 0 0\nvertex 1 0 0 1 0\nvertex 0 1 0 0 1\ntexture white.png\ntri 0 1 2\n", 5, "vertex 0 has no texture coordinates"),
+        (
+            "vertexnormal 0 0 0 0 0 1\nvertexnormal 1 0 0 0 0 1\nvertexnormal 0 1 0 0 0 1\ntexture white.png\ntrinormal 0 1 2\n",
+            5,
+            "vertexnormal x y z nx ny nz u v",
+        ),
+        ("texture missing.png\n", 1, "does not exist"),
+        ("texture not-an-image.png\n", 1, "does not decode"),
+        ("texture white.png trilinear\n", 1, "nearest"),
+        ("vertex 0 0 0 1\n", 1, "vertex"),
+        ("vertex 0 0 0 nan 1\n", 1, "finite"),
+    ];
+    for (text, line, expected) in cases {
+        std::fs::write(dir.join("bad.scene"), text).expect("scene");
+        let Err(error) = caustic_scene::lang::run_file(&dir.join("bad.scene")) else { panic!("{text:?} accepted") };
+        println!("{error}");
+        assert_eq!(error.line, line, "{text:?}");
+        assert!(error.message.contains(expected), "{text:?}: {error}");
+    }
+    let Err(error) = caustic_scene::lang::parse_str("texture white.png\n", std::path::Path::new("inline.scene")) else {
+        panic!("read a file without file access")
+    };
+    assert!(error.message.contains("disabled"), "{error}");
+}
