@@ -33,13 +33,18 @@ fn furnace_error(image: &Image, expected: f64, spp: u32) -> (f64, f64) {
     (worst, lost)
 }
 
-/// The Cornell box at 128x128 and 16 spp, seed 7: the original and the same scene scaled by
-/// 1e-4, 1e4 and 1e8 (edges of 5.6e10, where the squared length of a face's cross product
-/// overflows f32) and translated by 1e5 on every axis (camera included) use the same random
-/// numbers, so they must agree far more closely than two independent renders (seed 8) do.
-/// Metrics: relMSE against the original (the independent render's relMSE is the Monte Carlo
-/// noise level; a transformed render must stay below a tenth of it) and the per-channel mean
-/// ratio (within 0.2%).
+/// The Cornell box at 128x128 and 16 spp, seed 7: the original and the same scene (camera
+/// included) scaled by 1e-12 to 1e18 and translated by 1e5 and 1e7 on every axis, the
+/// transforms applied to the f32 vertices. With the same seed every path draws the same random
+/// numbers, so the renders differ only where rounding changes a decision: the device sees each
+/// scene rebased to its camera and rescaled by a power of two in f64 (`caustic_scene::Units`).
+/// Metrics (HDR, all pixels): RMSE against the original, at most 1e-3 for every scale; a
+/// translated box's f32 vertices are rounded at their magnitude (up to 0.004 units at 1e5, 0.5
+/// at 1e7), which moves edges and the light by itself, so its RMSE is measured against the
+/// render of those very vertices moved back in f64 (the floor the input's rounding sets, also
+/// printed against the original): at most 1e-3. relMSE against the original below a tenth of
+/// the noise level (an independent render, seed 8) except at 1e7, and the per-channel mean
+/// ratio within 0.3%.
 #[test]
 fn cornell_box_is_invariant_under_scale_and_translation() {
     let ctx = scenes::device();
@@ -50,26 +55,53 @@ fn cornell_box_is_invariant_under_scale_and_translation() {
     let noise = render(&ctx, &base, &RenderSettings { seed: 8, ..RenderSettings::default() }, spp);
     let noise_relmse = metrics::relative_mse(&noise.image, &original.image, metrics::RELMSE_EPSILON).unwrap();
     println!("original: {:.2} s; independent seed: relMSE {noise_relmse:.3e} (the noise level)", original.seconds);
+    // The f32 vertices of a translated box, moved back in f64: what a renderer exact to the
+    // last bit would show for that translation (their rounding is the input's, not ours).
+    let floor = |offset: Vec3| {
+        let mut back = scenes::transformed(&base, Mat4::from_translation(offset));
+        for p in back.meshes.iter_mut().flat_map(|m| m.positions.iter_mut()) {
+            *p = (p.as_dvec3() - offset.as_dvec3()).as_vec3();
+        }
+        back.camera = base.camera.clone();
+        render(&ctx, &back, &RenderSettings { seed: 7, ..RenderSettings::default() }, spp).image
+    };
+    let floors = [("translate 1e5", floor(Vec3::splat(1e5))), ("translate 1e7", floor(Vec3::splat(1e7)))];
+    for (name, image) in &floors {
+        println!(
+            "{name}: its f32 vertices moved back render at RMSE {:.2e} from the original (the floor their rounding sets)",
+            metrics::rmse(image, &original.image).unwrap()
+        );
+    }
     let cases = [
-        ("scale 1e-4", Mat4::from_scale(Vec3::splat(1e-4))),
-        ("scale 1e4", Mat4::from_scale(Vec3::splat(1e4))),
-        ("scale 1e8", Mat4::from_scale(Vec3::splat(1e8))),
-        ("translate 1e5", Mat4::from_translation(Vec3::splat(1e5))),
+        ("scale 1e-12", Mat4::from_scale(Vec3::splat(1e-12)), 1e-3),
+        ("scale 1e-8", Mat4::from_scale(Vec3::splat(1e-8)), 1e-3),
+        ("scale 1e-4", Mat4::from_scale(Vec3::splat(1e-4)), 1e-3),
+        ("scale 1e4", Mat4::from_scale(Vec3::splat(1e4)), 1e-3),
+        ("scale 1e8", Mat4::from_scale(Vec3::splat(1e8)), 1e-3),
+        ("scale 1e12", Mat4::from_scale(Vec3::splat(1e12)), 1e-3),
+        ("scale 1e18", Mat4::from_scale(Vec3::splat(1e18)), 1e-3),
+        ("translate 1e5", Mat4::from_translation(Vec3::splat(1e5)), 1e-3),
+        ("translate 1e7", Mat4::from_translation(Vec3::splat(1e7)), 1e-3),
     ];
     let mut failures = Vec::new();
-    for (name, matrix) in cases {
+    for (name, matrix, rmse_target) in cases {
         let moved = render(&ctx, &scenes::transformed(&base, matrix), &RenderSettings { seed: 7, ..RenderSettings::default() }, spp);
+        let floor = floors.iter().find(|(n, _)| *n == name).map(|(_, image)| image);
+        let rmse = metrics::rmse(&moved.image, floor.unwrap_or(&original.image)).unwrap();
+        let rmse_original = metrics::rmse(&moved.image, &original.image).unwrap();
         let relmse = metrics::relative_mse(&moved.image, &original.image, metrics::RELMSE_EPSILON).unwrap();
         let ratio = metrics::mean_ratio(&moved.image, &original.image).unwrap();
         let identical = moved.image.pixels.iter().zip(&original.image.pixels).filter(|(a, b)| a == b).count();
         println!(
-            "{name:>14}: relMSE {relmse:.3e} ({:.4} of the noise level), mean ratio {ratio:.5?}, {identical} of {} pixels bit-identical, {} non-finite",
+            "{name:>14}: RMSE {rmse:.2e} against {} (target {rmse_target:.0e}), {rmse_original:.2e} against the original, relMSE {relmse:.3e} ({:.4} of the noise level), mean ratio {ratio:.5?}, {identical} of {} pixels bit-identical, {} non-finite",
+            if floor.is_some() { "its floor's render" } else { "the original" },
             relmse / noise_relmse,
             original.image.pixels.len(),
             moved.nonfinite
         );
-        let ratio_ok = ratio.iter().all(|r| (r - 1.0).abs() < 2e-3);
-        if relmse > 0.1 * noise_relmse || !ratio_ok || moved.nonfinite != 0 {
+        let ratio_ok = ratio.iter().all(|r| (r - 1.0).abs() < 3e-3);
+        let relmse_ok = name == "translate 1e7" || relmse <= 0.1 * noise_relmse;
+        if rmse > rmse_target || !relmse_ok || !ratio_ok || moved.nonfinite != 0 {
             failures.push(name);
         }
     }

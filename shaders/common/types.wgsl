@@ -57,6 +57,10 @@ struct Frame {
     classic_samples_forced: u32,
     // Directions per frosted refraction (integrator/whitted.wgsl).
     classic_frost_samples: u32,
+    // The device's coordinates are (world - world_origin) / world_scale (caustic_scene::Units):
+    // the checkers cells and the depth pass are in world units.
+    world_origin: vec3<f32>,
+    world_scale: f32,
 }
 
 // How pixels are sampled: the stratified sampler's strata per axis (blocks of strata^2

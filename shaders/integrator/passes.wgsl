@@ -14,7 +14,7 @@ fn render_depth(@builtin(global_invocation_id) id: vec3<u32>) {
     let ray = pixel_ray(pixel, &rng);
     let hit = closest_hit(ray, 3.0e38);
     let covered = hit.triangle != NO_HIT;
-    let depth = select(0.0, hit.t * dot(ray.direction, frame.forward), covered);
+    let depth = select(0.0, hit.t * dot(ray.direction, frame.forward) * frame.world_scale, covered);
     record_sample(pixel, vec3<f32>(depth, select(0.0, 1.0, covered), depth));
 }
 

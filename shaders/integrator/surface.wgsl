@@ -16,7 +16,7 @@ fn surface_interaction(ray: Ray, hit: Hit) -> SurfaceInteraction {
     // then the point and normals are carried to the path's time.
     let motion = hit_motion(hit);
     var si = surface_interaction_open(ray_to_open(ray, motion), hit);
-    si.material = checkered(si.material, si.p);
+    si.material = checkered(si.material, si.p * frame.world_scale + frame.world_origin);
     si.p = point_at_ray_time(si.p, motion);
     si.ng = vector_at_ray_time(si.ng, motion);
     si.ns = vector_at_ray_time(si.ns, motion);
@@ -64,7 +64,7 @@ fn surface_interaction_open(ray: Ray, hit: Hit) -> SurfaceInteraction {
 }
 
 // The seed's `checkers` material ("a simple 3D checkered material with a wider band at the
-// main axes"): cells of one world unit at the object's point p (shutter-open frame), numbered by
+// main axes"): cells of one world unit at the object's world point p (shutter-open frame), numbered by
 // truncation towards zero, so the two cells either side of each main axis plane are one band
 // twice as wide; odd cells have CHECKER_DARK of the albedo (classic base colour and the
 // path tracer's diffuse lobe). CPU twin: caustic_gpu::gpu_types::checker_odd.

@@ -214,7 +214,7 @@ impl SceneOverrides {
         if let Some(text) = &self.environment {
             scene.environment = crate::scene_input::parse_environment(text, &self.input.limits())?;
         }
-        self.camera.apply(&mut scene.camera)?;
+        self.camera.apply(&mut scene.camera, scene.origin)?;
         let max_depth = match self.max_depth {
             None => scene.options.max_depth,
             Some(-1) => None,
@@ -269,10 +269,13 @@ pub struct CameraArgs {
 }
 
 impl CameraArgs {
-    /// Applies the overrides to `camera` and checks the result.
-    pub fn apply(&self, camera: &mut Camera) -> anyhow::Result<()> {
-        camera.eye = self.eye.unwrap_or(camera.eye);
-        camera.target = self.target.unwrap_or(camera.target);
+    /// Applies the overrides, given in world coordinates, to `camera` of a scene whose
+    /// positions are stored relative to `origin` ([`caustic_scene::Scene::origin`]), and
+    /// checks the result.
+    pub fn apply(&self, camera: &mut Camera, origin: glam::DVec3) -> anyhow::Result<()> {
+        let stored = |p: Vec3| (p.as_dvec3() - origin).as_vec3();
+        camera.eye = self.eye.map_or(camera.eye, stored);
+        camera.target = self.target.map_or(camera.target, stored);
         camera.up = self.up.unwrap_or(camera.up);
         if let Some(degrees) = self.fov {
             // Converted in f64, so the degrees `caustic view` prints give back its exact f32.
@@ -283,6 +286,7 @@ impl CameraArgs {
             camera.set_lens(self.aperture.unwrap_or(camera.aperture), focus).map_err(|e| anyhow::anyhow!("--aperture/--focus-distance: {e}"))?;
         }
         if !camera.is_valid() {
+            let camera = camera.translated(origin);
             crate::failure::usage!(
                 "--eye/--target/--up/--fov give a degenerate camera: {camera} (the eye must differ from the target, up must not be parallel to the view, the field of view must lie in (0, 180) degrees)"
             );

@@ -30,7 +30,7 @@ pub fn fingerprint(scene: &Scene, settings: &RenderSettings) -> Fingerprint {
         h.text(&program.source());
     }
     // Exhaustive destructuring: a new field that changes the image must be added here.
-    let Scene { name: _, meshes, materials, camera, resolution, environment, shapes, lights, options, textures, cameras: _ } = scene;
+    let Scene { name: _, meshes, materials, camera, resolution, environment, shapes, lights, options, textures, cameras: _, origin } = scene;
     h.u64(meshes.len() as u64);
     for mesh in meshes {
         let Mesh { name, positions, normals, uvs, indices, material, uvs1, tangents, motion } = mesh;
@@ -56,6 +56,7 @@ pub fn fingerprint(scene: &Scene, settings: &RenderSettings) -> Fingerprint {
     // All of it: what the scene file asks for is the same in every part of one render.
     h.debug(options);
     h.debug(camera);
+    h.debug(origin);
     h.debug(resolution);
     match environment {
         Environment::Constant(color) => h.debug(color),

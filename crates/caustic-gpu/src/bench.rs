@@ -135,6 +135,8 @@ pub struct RayBench<'a> {
     rays: wgpu::Buffer,
     results: wgpu::Buffer,
     ray_count: u32,
+    /// The scene's device coordinates, for [`RayBench::traced_rays`].
+    units: caustic_scene::Units,
 }
 
 /// One traced ray as the device saw it, for comparison with the CPU traversal.
@@ -154,6 +156,7 @@ impl<'a> RayBench<'a> {
     /// Compiles the kernels and allocates buffers for `size x size` rays through `camera`
     /// (the [`RayKind::Primary`] and [`RayKind::Incoherent`] sets).
     pub fn new(ctx: &'a GpuContext, gpu: &GpuScene, camera: &Camera, size: u32) -> Result<Self, GpuError> {
+        let camera = gpu.units.camera(camera);
         let (right, up, forward) = camera.frame();
         let half = (camera.fov_y * 0.5).tan();
         let params = BenchParams {
@@ -173,7 +176,7 @@ impl<'a> RayBench<'a> {
     pub fn with_rays(ctx: &'a GpuContext, gpu: &GpuScene, rays: &[ExternalRay]) -> Result<Self, GpuError> {
         let count = u32::try_from(rays.len()).map_err(|_| GpuError::Scene(format!("{} rays: a ray set holds at most {} rays", rays.len(), u32::MAX)))?;
         let packed: Vec<[f32; 8]> =
-            rays.iter().map(|r| [r.origin.x, r.origin.y, r.origin.z, f32::INFINITY, r.direction.x, r.direction.y, r.direction.z, 0.0]).collect();
+            rays.iter().map(|r| (gpu.units.point(r.origin), r.direction)).map(|(o, d)| [o.x, o.y, o.z, f32::INFINITY, d.x, d.y, d.z, 0.0]).collect();
         let params = BenchParams { width: count, height: 1, ..scene_params(gpu) };
         let mut bench = Self::with_params(ctx, gpu, params, Some(bytemuck::cast_slice(&packed)))?;
         let extent = (gpu.bounds.1 - gpu.bounds.0).max_element();
@@ -273,6 +276,7 @@ impl<'a> RayBench<'a> {
             rays: rays_buffer,
             results,
             ray_count,
+            units: gpu.units,
         };
         ctx.check()?;
         Ok(bench)
@@ -313,7 +317,8 @@ impl<'a> RayBench<'a> {
         })
     }
 
-    /// The rays of the last [`RayBench::run`] and what the device found for each.
+    /// The rays of the last [`RayBench::run`] and what the device found for each, in world
+    /// coordinates.
     pub fn traced_rays(&self) -> Result<Vec<TracedRay>, GpuError> {
         let rays: Vec<[f32; 8]> = read_buffer(self.ctx, &self.rays)?;
         let results: Vec<[u32; 4]> = read_buffer(self.ctx, &self.results)?;
@@ -321,9 +326,9 @@ impl<'a> RayBench<'a> {
             .iter()
             .zip(&results)
             .map(|(ray, result)| TracedRay {
-                origin: glam::Vec3::new(ray[0], ray[1], ray[2]),
+                origin: self.units.world_point(glam::Vec3::new(ray[0], ray[1], ray[2])),
                 direction: glam::Vec3::new(ray[4], ray[5], ray[6]),
-                t: f32::from_bits(result[0]),
+                t: self.units.world_length(f32::from_bits(result[0])),
                 triangle: (result[1] != u32::MAX).then_some(result[1]),
             })
             .collect())
@@ -348,8 +353,8 @@ impl<'a> RayBench<'a> {
 fn scene_params(gpu: &GpuScene) -> BenchParams {
     BenchParams {
         seed: 7,
-        bounds_min: gpu.bounds.0.to_array(),
-        bounds_max: gpu.bounds.1.to_array(),
+        bounds_min: gpu.units.point(gpu.bounds.0).to_array(),
+        bounds_max: gpu.units.point(gpu.bounds.1).to_array(),
         first_plane: gpu.first_plane,
         shape_count: gpu.shape_count,
         ..Default::default()

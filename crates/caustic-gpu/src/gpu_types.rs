@@ -75,6 +75,12 @@ pub struct Frame {
     pub classic_samples_forced: u32,
     /// Classic ray tracer: directions per frosted refraction.
     pub classic_frost_samples: u32,
+    /// The world point at the device's origin ([`caustic_scene::Units`]), for what is
+    /// defined in world coordinates (the seed's checkers cells).
+    pub world_origin: [f32; 3],
+    /// World units per device unit (a power of two), for what is reported in world units
+    /// (the depth pass).
+    pub world_scale: f32,
 }
 
 /// How pixels are sampled (`PixelSampling` in WGSL): the stratified sampler's strata per

@@ -7,6 +7,7 @@
 
 use crate::GpuError;
 use crate::gpu_types::{INSPECT_MAX_BOUNCES, InspectBounce, InspectRecord};
+use caustic_scene::Units;
 use glam::Vec3;
 
 const SHAPE_BIT: u32 = 0x8000_0000;
@@ -141,8 +142,9 @@ pub struct LightRecord {
 }
 
 impl PathRecord {
-    /// Decodes the kernel's record of an image `width` pixels wide.
-    pub fn decode(record: &InspectRecord, width: u32) -> Result<PathRecord, GpuError> {
+    /// Decodes the kernel's record of an image `width` pixels wide, positions and distances
+    /// converted from the device's `units` to world ones.
+    pub fn decode(record: &InspectRecord, width: u32, units: &Units) -> Result<PathRecord, GpuError> {
         let termination = match record.termination {
             1 => Termination::Escaped,
             2 => Termination::MaxDepth,
@@ -154,7 +156,7 @@ impl PathRecord {
         Ok(PathRecord {
             pixel: (record.pixel % width, record.pixel / width),
             sample: record.sample,
-            bounces: record.bounces[..kept].iter().map(BounceRecord::decode).collect(),
+            bounces: record.bounces[..kept].iter().map(|b| BounceRecord::decode(b, units)).collect(),
             ray_count: record.bounce_count,
             termination,
             radiance: Vec3::from(record.radiance),
@@ -163,11 +165,11 @@ impl PathRecord {
 }
 
 impl BounceRecord {
-    fn decode(b: &InspectBounce) -> BounceRecord {
+    fn decode(b: &InspectBounce, units: &Units) -> BounceRecord {
         let has = |flag: u32| b.flags & flag != 0;
         let hit = has(SURFACE).then(|| SurfaceRecord {
-            t: b.t,
-            point: Vec3::from(b.point),
+            t: units.world_length(b.t),
+            point: units.world_point(Vec3::from(b.point)),
             primitive: if b.primitive & SHAPE_BIT != 0 { Primitive::Shape(b.primitive & !SHAPE_BIT) } else { Primitive::Triangle(b.primitive) },
             front_face: has(FRONT_FACE),
             shading_normal: Vec3::from(b.shading_normal),
@@ -185,7 +187,7 @@ impl BounceRecord {
         });
         let bsdf = has(BSDF_SAMPLED).then(|| BsdfRecord { wi: Vec3::from(b.bsdf_wi), pdf: b.bsdf_pdf, weight: Vec3::from(b.bsdf_weight) });
         BounceRecord {
-            origin: Vec3::from(b.origin),
+            origin: units.world_point(Vec3::from(b.origin)),
             direction: Vec3::from(b.direction),
             hit,
             light,

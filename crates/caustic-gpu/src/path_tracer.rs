@@ -9,7 +9,7 @@ use crate::render_settings::RenderSettings;
 use crate::wavefront::{KernelShape, Wavefront, WavefrontProfile};
 use crate::{GpuContext, GpuError, GpuScene};
 use caustic_image::Image;
-use caustic_scene::{Integrator, NextEvent, Projection, RenderPass, Scene};
+use caustic_scene::{Integrator, NextEvent, Projection, RenderPass, Scene, Units};
 use std::time::{Duration, Instant};
 
 /// How a sample pass ended.
@@ -306,7 +306,14 @@ impl<'a> PathTracer<'a> {
         self.frame = saved;
         traced?;
         let record: Vec<InspectRecord> = read_buffer(self.ctx, &self.inspection)?;
-        PathRecord::decode(&record[0], self.frame.width)
+        PathRecord::decode(&record[0], self.frame.width, &self.units())
+    }
+
+    /// The map from the frame's device coordinates to world ones (the scene's origin included;
+    /// exact when that is zero: the device origin is then zero or the camera's f32 eye, the
+    /// scale a power of two).
+    fn units(&self) -> Units {
+        Units { origin: glam::Vec3::from(self.frame.world_origin).as_dvec3(), scale: f64::from(self.frame.world_scale) }
     }
 
     /// The render's kernel with the inspector's hooks, compiled at the first inspection of this
@@ -449,10 +456,11 @@ fn bind_group(device: &wgpu::Device, layout: &wgpu::BindGroupLayout, frame: &wgp
 
 fn frame_constants(scene: &Scene, gpu: &GpuScene, settings: &RenderSettings) -> Frame {
     let (width, height) = scene.resolution;
-    let (right, up, forward) = scene.camera.frame();
-    let (half_width, half_height) = scene.camera.half_extent(scene.resolution);
+    let camera = gpu.units.camera(&scene.camera);
+    let (right, up, forward) = camera.frame();
+    let (half_width, half_height) = camera.half_extent(scene.resolution);
     Frame {
-        eye: scene.camera.eye.to_array(),
+        eye: camera.eye.to_array(),
         width,
         right: (right * half_width).to_array(),
         height,
@@ -471,9 +479,9 @@ fn frame_constants(scene: &Scene, gpu: &GpuScene, settings: &RenderSettings) -> 
         debug_view: settings.debug.map_or(0, |view| view as u32),
         inspect_pixel: NO_PIXEL,
         transport: transport_flags(next_event(scene, settings), scene.options.importance_sampling),
-        lens_radius: scene.camera.aperture,
-        focus_distance: scene.camera.focus(),
-        projection: match scene.camera.projection {
+        lens_radius: camera.aperture,
+        focus_distance: camera.focus(),
+        projection: match camera.projection {
             Projection::Perspective => PROJECTION_PERSPECTIVE,
             Projection::Orthographic { .. } => PROJECTION_ORTHOGRAPHIC,
         },
@@ -486,6 +494,8 @@ fn frame_constants(scene: &Scene, gpu: &GpuScene, settings: &RenderSettings) -> 
         classic_samples_forced: u32::from(settings.features.light_samples_forced()),
         classic_gloss_samples: settings.features.gloss_samples(scene.options.gloss_samples),
         classic_frost_samples: settings.features.frost_samples(scene.options.frost_samples),
+        world_origin: (scene.origin + gpu.units.origin).as_vec3().to_array(),
+        world_scale: gpu.units.scale as f32,
         ..Default::default()
     }
 }

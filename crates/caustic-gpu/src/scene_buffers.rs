@@ -8,7 +8,7 @@ use crate::shadow_hull::ShadowHull;
 use crate::specialize;
 use crate::{GpuContext, GpuError};
 use caustic_bvh::{BuildOptions, BuildStats, GpuBvh};
-use caustic_scene::{Environment, Scene};
+use caustic_scene::{Environment, Scene, Units};
 use glam::Vec3;
 use wgpu::util::DeviceExt;
 
@@ -76,8 +76,13 @@ pub struct GpuScene {
     pub triangle_count: usize,
     /// BVH build statistics.
     pub bvh_stats: BuildStats,
-    /// World bounds of the scene (zero box when empty).
+    /// Bounds of the scene in its own coordinates (relative to `Scene::origin`, as its camera
+    /// is; zero box when empty).
     pub bounds: (Vec3, Vec3),
+    /// The coordinates the device works in ([`Units::for_scene`]; relative to the scene's):
+    /// every buffer holds the scene rebased and rescaled in f64, and cameras are converted as
+    /// they are set.
+    pub units: Units,
     /// For scenes of at most [`specialize::BAKE_MAX_PRIMITIVES`] primitives: a traversal
     /// with the primitives compiled in (replacing `bvh/traverse.wgsl`), which kernels may use
     /// instead of walking the BVH buffers.
@@ -146,6 +151,9 @@ impl GpuScene {
 
     /// [`GpuScene::upload_with`] with the nodes in `layout` (where the tree has that form).
     pub fn upload_with_layout(ctx: &GpuContext, scene: &Scene, options: &BuildOptions, layout: NodeLayout) -> Result<GpuScene, GpuError> {
+        let bounds = scene.bounds().unwrap_or((Vec3::ZERO, Vec3::ZERO));
+        let units = Units::for_scene(scene);
+        let scene = &*units.scene(scene);
         let data = SceneData::new(scene);
         let moving = crate::motion::primitive_motions(scene);
         let bvh = caustic_bvh::build_with_motion(&data.triangles, &data.shapes, &moving, options);
@@ -181,7 +189,8 @@ impl GpuScene {
             total_light_power: data.total_light_power,
             triangle_count: data.triangles.len(),
             bvh_stats: bvh.stats,
-            bounds: scene.bounds().unwrap_or((Vec3::ZERO, Vec3::ZERO)),
+            bounds,
+            units,
             tables: match traversal {
                 Some(_) => crate::bake::BakedTables::new(&data.shading, &data.materials, &data.lights),
                 None => crate::bake::BakedTables::materials_and_lights(&data.materials, &data.lights),
@@ -209,6 +218,7 @@ impl GpuScene {
     /// (a kernel with the tables baked in, [`GpuScene::tables`], is replaced by one reading
     /// them from the buffers).
     pub fn update_materials(&mut self, ctx: &GpuContext, scene: &Scene) -> Result<(), GpuError> {
+        let scene = &*self.units.scene(scene);
         let (lights, total_light_power) = device_lights(scene);
         let uploader = Uploader { ctx };
         let materials = device_materials(scene);

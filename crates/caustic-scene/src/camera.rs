@@ -66,12 +66,13 @@ impl std::fmt::Display for Camera {
 }
 
 impl Camera {
-    /// Orthonormal camera frame: (right, up, forward).
+    /// Orthonormal camera frame: (right, up, forward), computed in f64 so that a camera at
+    /// any scale f32 holds (eye and target 1e20 apart) has one.
     pub fn frame(&self) -> (Vec3, Vec3, Vec3) {
-        let forward = (self.target - self.eye).normalize();
-        let right = forward.cross(self.up).normalize();
+        let forward = (self.target.as_dvec3() - self.eye.as_dvec3()).normalize();
+        let right = forward.cross(self.up.as_dvec3()).normalize();
         let up = right.cross(forward);
-        (right, up, forward)
+        (right.as_vec3(), up.as_vec3(), forward.as_vec3())
     }
 
     /// A camera on the +Z side of a bounding box, looking down -Z at its centre with a 40 degree
@@ -112,7 +113,7 @@ impl Camera {
 
     /// Distance to the plane of focus: `focus_distance`, else the distance to `target`.
     pub fn focus(&self) -> f32 {
-        self.focus_distance.unwrap_or_else(|| (self.target - self.eye).length())
+        self.focus_distance.unwrap_or_else(|| self.target.as_dvec3().distance(self.eye.as_dvec3()) as f32)
     }
 
     /// Sets the thin lens, or says which value is wrong: the aperture (lens radius) must be
@@ -141,6 +142,13 @@ impl Camera {
         let aperture = number("aperture")?.unwrap_or(self.aperture);
         let focus = number("focusDistance")?;
         self.set_lens(aperture, focus).map_err(|e| format!("camera extras: {e}"))
+    }
+
+    /// The camera moved by `offset`, eye and target computed in f64: from a scene's stored
+    /// coordinates to world ones by its [`crate::Scene::origin`], or back by minus it.
+    pub fn translated(&self, offset: glam::DVec3) -> Camera {
+        let moved = |p: Vec3| (p.as_dvec3() + offset).as_vec3();
+        Camera { eye: moved(self.eye), target: moved(self.target), ..self.clone() }
     }
 
     /// Whether every field is finite and the frame is well defined.

@@ -29,8 +29,9 @@ use crate::gltf_animation::Animation;
 use crate::gltf_material::{MaterialReader, default_material};
 use crate::gltf_primitive::read_primitive;
 use crate::mesh_scene::{DEFAULT_RESOLUTION, framing_camera, scene_name, warn};
+use crate::units::FAR;
 use crate::{Attenuation, Camera, Environment, InputLimits, Light, Material, Mesh, Motion, Projection, Scene, SceneCamera, SceneError};
-use glam::{Mat4, Vec3};
+use glam::{DMat4, DVec3, Mat4, Vec3};
 use gltf::json::validation::Validate;
 use gltf::khr_lights_punctual::Kind;
 use std::collections::HashMap;
@@ -73,7 +74,8 @@ pub(crate) fn load(path: &Path, shutter: Option<(f32, f32)>, limits: &InputLimit
         lights: Vec::new(),
         animation,
     };
-    walk.walk(scene.nodes().collect())?;
+    let origin = walk.origin(scene.nodes().collect());
+    walk.walk(scene.nodes().collect(), origin)?;
     let (camera, resolution) = match walk.cameras.first() {
         Some(first) => (first.camera.clone(), first.resolution.unwrap_or(DEFAULT_RESOLUTION)),
         None => (framing_camera(path, &walk.meshes)?, DEFAULT_RESOLUTION),
@@ -89,6 +91,7 @@ pub(crate) fn load(path: &Path, shutter: Option<(f32, f32)>, limits: &InputLimit
         lights: walk.lights,
         textures: reader.textures,
         cameras: walk.cameras,
+        origin,
         ..Scene::default()
     })
 }
@@ -194,24 +197,50 @@ struct Walk<'a> {
 impl Walk<'_> {
     /// Adds the meshes, cameras and lights of the `roots` and their descendants, depth first
     /// in document order (iteratively: hierarchies may be deeper than the call stack allows).
-    fn walk(&mut self, roots: Vec<gltf::Node>) -> Result<(), SceneError> {
-        let mut stack: Vec<(gltf::Node, Mat4, Mat4)> = roots.into_iter().rev().map(|node| (node, Mat4::IDENTITY, Mat4::IDENTITY)).collect();
+    /// Node transforms are composed in f64 and moved by minus `origin` before they are rounded
+    /// to f32 and applied, so a scene far from the world origin keeps its precision.
+    fn walk(&mut self, roots: Vec<gltf::Node>, origin: DVec3) -> Result<(), SceneError> {
+        let placed = |m: DMat4| (DMat4::from_translation(-origin) * m).as_mat4();
+        let mut stack: Vec<(gltf::Node, DMat4, DMat4)> = roots.into_iter().rev().map(|node| (node, DMat4::IDENTITY, DMat4::IDENTITY)).collect();
         while let Some((node, parent, parent_at_close)) = stack.pop() {
             let (local, local_at_close) = self.local_transforms(&node);
-            let (world, world_at_close) = (parent * local, parent_at_close * local_at_close);
+            let (world, world_at_close) = (parent * local.as_dmat4(), parent_at_close * local_at_close.as_dmat4());
             if let Some(mesh) = node.mesh() {
-                self.add_mesh(&mesh, world, world_at_close)?;
+                self.add_mesh(&mesh, placed(world), placed(world_at_close))?;
             }
             if let Some(camera) = node.camera() {
-                self.add_camera(&node, &camera, world);
+                self.add_camera(&node, &camera, placed(world));
             }
             if let Some(light) = node.light() {
-                self.lights.push(punctual_light(&light, world));
+                self.lights.push(punctual_light(&light, placed(world)));
             }
             let children: Vec<gltf::Node> = node.children().collect();
             stack.extend(children.into_iter().rev().map(|child| (child, world, world_at_close)));
         }
         Ok(())
+    }
+
+    /// The point the scene is stored relative to ([`Scene::origin`]): the world position of
+    /// the first camera, else of the first mesh, in document order, rounded to whole units,
+    /// where it lies beyond [`FAR`] on some axis; else the world origin.
+    fn origin(&self, roots: Vec<gltf::Node>) -> DVec3 {
+        let mut stack: Vec<(gltf::Node, DMat4)> = roots.into_iter().rev().map(|node| (node, DMat4::IDENTITY)).collect();
+        let (mut camera, mut mesh) = (None, None);
+        while let Some((node, parent)) = stack.pop() {
+            let world = parent * self.local_transforms(&node).0.as_dmat4();
+            let at = world.w_axis.truncate();
+            if node.camera().is_some() && camera.is_none() {
+                camera = Some(at);
+            }
+            if node.mesh().is_some() && mesh.is_none() {
+                mesh = Some(at);
+            }
+            stack.extend(node.children().collect::<Vec<_>>().into_iter().rev().map(|child| (child, world)));
+        }
+        match camera.or(mesh) {
+            Some(at) if at.is_finite() && at.abs().max_element() > FAR => at.round(),
+            _ => DVec3::ZERO,
+        }
     }
 
     /// The node's local transform at shutter open and close (its own transform twice when

@@ -29,6 +29,7 @@ mod ply_loader;
 mod scene;
 mod shape;
 mod texture;
+mod units;
 
 pub use camera::{Camera, Projection, SceneCamera};
 pub use cornell::cornell_box;
@@ -48,3 +49,4 @@ pub use texture::{
     ColorSpace, MAX_TEXTURE_SIZE, MipFilter, Texture, TextureFilter, TextureSlot, WrapMode, linear_to_srgb, sample_mipmapped, srgb_to_linear, texture_lod,
     texture_transform,
 };
+pub use units::Units;

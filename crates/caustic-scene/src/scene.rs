@@ -1,7 +1,7 @@
 //! The scene: everything a render needs, as plain data.
 
 use crate::{Camera, Environment, Light, Material, Mesh, RenderOptions, SceneCamera, SceneError, Shape, Texture};
-use glam::Vec3;
+use glam::{DVec3, Vec3};
 
 /// A complete scene. Meshes are in world space; instanced meshes are expanded by the loaders.
 #[derive(Clone, Debug, PartialEq)]
@@ -29,6 +29,11 @@ pub struct Scene {
     /// Every camera the file defines, in document order; `camera` is the first (or frames
     /// the scene when there is none) until [`Scene::select_camera`] picks another.
     pub cameras: Vec<SceneCamera>,
+    /// The world point every position of the scene is stored relative to: zero, unless a
+    /// loader met a scene far from the world origin, which it then stores relative to a point
+    /// of its own (subtracted in f64 before rounding to f32, so the positions keep their
+    /// precision). A world position is `origin + stored`.
+    pub origin: DVec3,
 }
 
 impl Default for Scene {
@@ -46,6 +51,7 @@ impl Default for Scene {
             options: RenderOptions::default(),
             textures: Vec::new(),
             cameras: Vec::new(),
+            origin: DVec3::ZERO,
         }
     }
 }

@@ -230,7 +230,7 @@ impl ViewerApp {
             seed: self.controls.seed,
             features: self.controls.features,
             integrator: self.controls.integrator,
-            camera: scene.camera.clone(),
+            camera: scene.camera.translated(scene.origin),
             environment: match self.controls.environment {
                 Some(color) => Some(command::environment_color(Vec3::from(color))),
                 None => self.environment_arg.clone(),

@@ -83,6 +83,8 @@ fn mirrors() -> Vec<(&'static str, RustLayout)> {
                 classic_gloss_samples,
                 classic_samples_forced,
                 classic_frost_samples,
+                world_origin,
+                world_scale,
             }),
         ),
         ("TriangleShading", rust_layout!(TriangleShading { n0, material, n1, flags, n2, extension, uv0, uv1, uv2, _pad1 })),

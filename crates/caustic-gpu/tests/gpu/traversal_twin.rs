@@ -101,15 +101,16 @@ fn device_traversal_matches_the_cpu_twin_on_the_dragon() {
     compare_on(dragon.to_str().unwrap());
 }
 
-/// A tree the quantised layout cannot hold (a triangle spanning -3e38..3e38, whose box's
-/// extent overflows f32) is uploaded binary, says why for the front ends to report, and
-/// the Cornell box alone keeps the layout asked for.
+/// A triangle spanning -3e38..3e38, whose box's extent overflows f32 in world units (a tree
+/// the quantised layout could not hold, caustic_bvh's `to_wide` refuses it), reaches the
+/// device rescaled by a power of two (`caustic_scene::Units`): the scene keeps the four-wide
+/// layout, as the Cornell box alone does, and renders without a non-finite sample.
 #[test]
-fn a_tree_without_a_wide_form_falls_back_to_binary_and_says_why() {
+fn a_scene_whose_extent_overflows_f32_is_rescaled_and_keeps_the_wide_layout() {
     let ctx = device();
     let mut scene = caustic_scene::cornell_box();
     let plain = GpuScene::upload_with_layout(&ctx, &scene, &BuildOptions::default(), NodeLayout::Wide).expect("upload");
-    assert_eq!((plain.node_layout, plain.layout_note()), (NodeLayout::Wide, None));
+    assert_eq!((plain.node_layout, plain.layout_note(), plain.units.is_identity()), (NodeLayout::Wide, None, true));
     let mut huge = scene.meshes[0].clone();
     huge.positions = vec![glam::Vec3::new(-3e38, 0.0, 0.0), glam::Vec3::new(3e38, 0.0, 0.0), glam::Vec3::new(0.0, 3e38, 1.0)];
     huge.normals.clear();
@@ -118,9 +119,12 @@ fn a_tree_without_a_wide_form_falls_back_to_binary_and_says_why() {
     huge.tangents.clear();
     huge.indices = vec![[0, 1, 2]];
     scene.meshes.push(huge);
+    scene.resolution = (32, 32);
     let gpu = GpuScene::upload_with_layout(&ctx, &scene, &BuildOptions::default(), NodeLayout::Wide).expect("upload");
-    let note = gpu.layout_note();
-    println!("{note:?}");
-    assert_eq!((gpu.node_layout, gpu.layout_fallback.clone()), (NodeLayout::Binary, Some(caustic_bvh::WideError::Unquantisable)));
-    assert!(note.is_some_and(|n| n.contains("binary") && n.contains("too large")));
+    println!("units {:?}, layout {:?}, note {:?}", gpu.units, gpu.node_layout, gpu.layout_note());
+    assert_eq!((gpu.node_layout, gpu.layout_fallback.clone()), (NodeLayout::Wide, None));
+    assert!(gpu.units.scale >= 2f64.powi(128) && gpu.units.scale.log2().fract() == 0.0);
+    let mut tracer = caustic_gpu::PathTracer::new(&ctx, &scene, &gpu, &caustic_gpu::RenderSettings::default()).expect("tracer");
+    tracer.render_sample().expect("pass");
+    assert_eq!(tracer.nonfinite_samples().expect("counts"), 0);
 }

@@ -8,7 +8,7 @@ use super::interpreter::MAX_TRIANGLES;
 use super::materials::material_key;
 use super::state::OpenMesh;
 use crate::{Mesh, Shape};
-use glam::{DMat3, DMat4, Vec2, Vec3};
+use glam::{DMat3, DMat4, DVec3, Vec2, Vec3};
 
 impl Interpreter {
     /// Executes the geometry commands (`vertex`, `tri`, `sphere`, `box`, ...).
@@ -44,38 +44,39 @@ impl Interpreter {
             "trinormal" => self.triangle(a, at, true)?,
             "sphere" => {
                 a.expect(&[4])?;
-                let centre = a.dvec3_f32(0)?.as_vec3();
+                let centre = a.dvec3_f32(0)?;
                 let radius = a.f32_in(3, |r| r > 0.0, "> 0")?;
-                let shape = Shape::sphere(w.current.as_mat4(), centre, radius, 0);
+                let shape = Shape::sphere(w.placed_transform(w.current.transform_point3(centre)), centre.as_vec3(), radius, 0);
                 self.add_shape(a, shape)?;
             }
             "box" => {
                 a.expect(&[6])?;
-                let centre = a.dvec3_f32(0)?.as_vec3();
+                let centre = a.dvec3_f32(0)?;
                 let size = Vec3::new(a.f32_in(3, |v| v > 0.0, "> 0")?, a.f32_in(4, |v| v > 0.0, "> 0")?, a.f32_in(5, |v| v > 0.0, "> 0")?);
-                let shape = Shape::cuboid(w.current.as_mat4(), centre, size, 0);
+                let shape = Shape::cuboid(w.placed_transform(w.current.transform_point3(centre)), centre.as_vec3(), size, 0);
                 self.add_shape(a, shape)?;
             }
             "plane" => {
                 a.expect(&[6])?;
-                let point = a.dvec3_f32(0)?.as_vec3();
+                let point = a.dvec3_f32(0)?;
                 let normal = a.dvec3_f32(3)?.as_vec3();
                 if normal.normalize_or_zero() == Vec3::ZERO {
                     return a.fail_at(3, "the normal must not be zero");
                 }
                 self.check_plane_motion(a)?;
-                let shape = Shape::plane(self.world.current.as_mat4(), point, normal, 0);
+                let w = &mut self.world;
+                let shape = Shape::plane(w.placed_transform(w.current.transform_point3(point)), point.as_vec3(), normal, 0);
                 self.add_shape(a, shape)?;
             }
             "disk" => {
                 a.expect(&[7])?;
-                let centre = a.dvec3_f32(0)?.as_vec3();
+                let centre = a.dvec3_f32(0)?;
                 let normal = a.dvec3_f32(3)?.as_vec3();
                 if normal.normalize_or_zero() == Vec3::ZERO {
                     return a.fail_at(3, "the normal must not be zero");
                 }
                 let radius = a.f32_in(6, |r| r > 0.0, "> 0")?;
-                let shape = Shape::disk(w.current.as_mat4(), centre, normal, radius, 0);
+                let shape = Shape::disk(w.placed_transform(w.current.transform_point3(centre)), centre.as_vec3(), normal, radius, 0);
                 self.add_shape(a, shape)?;
             }
             _ => return Ok(false),
@@ -135,6 +136,10 @@ impl Interpreter {
         let known_material = w.material_index.or_else(|| w.interned.get(&material_key(&w.material)).copied());
         let open = w.open.filter(|o| Some(o.material) == known_material && o.normals == normals && o.mesh + 1 == w.scene.meshes.len());
         let identity = w.current == DMat4::IDENTITY;
+        // The scene's origin, set by the first corner if nothing was placed before.
+        let first = if normals { w.normal_vertices.get(global[0]).map(|v| v[0]) } else { w.vertices.get(global[0]).copied() };
+        let origin = w.origin(w.current.transform_point3(first.unwrap_or_default().as_dvec3()));
+        let untouched = identity && origin == DVec3::ZERO;
         // A textured material reads the corners' texture coordinates.
         let textured = w.material.base_color_texture.is_some();
         let normal_matrix = if normals && !identity { w.normal_matrix() } else { DMat3::IDENTITY };
@@ -155,7 +160,7 @@ impl Interpreter {
             } else {
                 (w.vertices.get(g).copied().unwrap_or_default(), Vec3::ZERO)
             };
-            let p = if identity { p } else { w.current.transform_point3(p.as_dvec3()).as_vec3() };
+            let p = if untouched { p } else { (w.current.transform_point3(p.as_dvec3()) - origin).as_vec3() };
             let n = if normals { (normal_matrix * n.as_dvec3()).normalize_or_zero().as_vec3() } else { n };
             if !p.is_finite() || (normals && (!n.is_finite() || n == Vec3::ZERO)) {
                 return a.fail_at(k, format!("vertex {} is not finite after the current transform (a singular or huge transform?)", g - base));

@@ -40,7 +40,7 @@ impl Interpreter {
             "point" => {
                 a.expect(&[6])?;
                 let p = a.dvec3_f32(0)?;
-                let position = if w.current == DMat4::IDENTITY { p } else { w.current.transform_point3(p) }.as_vec3();
+                let position = w.place(if w.current == DMat4::IDENTITY { p } else { w.current.transform_point3(p) });
                 let color = a.color(3)?;
                 if !position.is_finite() {
                     return a.fail_at(0, "the position is not finite after the current transform");
@@ -72,7 +72,7 @@ impl Interpreter {
                 } else {
                     (w.current.transform_point3(corner), w.current.transform_vector3(ab), w.current.transform_vector3(ac))
                 };
-                let (corner, edge_a, edge_b) = (corner.as_vec3(), ac.as_vec3(), ab.as_vec3());
+                let (corner, edge_a, edge_b) = (w.place(corner), ac.as_vec3(), ab.as_vec3());
                 if !(corner.is_finite() && edge_a.is_finite() && edge_b.is_finite()) {
                     return a.fail("the light is not finite after the current transform");
                 }
@@ -85,7 +85,8 @@ impl Interpreter {
             "segmentLight" => {
                 a.expect(&[12])?;
                 let (p0, p1) = (a.dvec3_f32(0)?, a.dvec3_f32(3)?);
-                let (start, end) = (w.current.transform_point3(p0).as_vec3(), w.current.transform_point3(p1).as_vec3());
+                let (p0, p1) = (w.current.transform_point3(p0), w.current.transform_point3(p1));
+                let (start, end) = (w.place(p0), w.place(p1));
                 let (color_start, color_end) = (a.color(6)?, a.color(9)?);
                 if !(start.is_finite() && end.is_finite()) {
                     return a.fail("the segment is not finite after the current transform");
@@ -119,12 +120,13 @@ impl Interpreter {
     fn shape_light(&mut self, a: &Args) -> Res<()> {
         let sphere = a.name == "sphereLight";
         a.expect(&[if sphere { 7 } else { 10 }])?;
-        let centre = a.dvec3_f32(0)?.as_vec3();
+        let centre = a.dvec3_f32(0)?;
         let radius_at = if sphere { 3 } else { 6 };
         let radius = a.f32_in(radius_at, |r| r > 0.0, "> 0 (a light needs an area)")?;
         let radiance = a.color(radius_at + 1)?;
         let w = &mut self.world;
-        let transform = w.current.as_mat4();
+        let transform = w.placed_transform(w.current.transform_point3(centre));
+        let centre = centre.as_vec3();
         let shape = if sphere {
             Shape::sphere(transform, centre, radius, 0)
         } else {

@@ -24,7 +24,7 @@ impl Interpreter {
                     translation: linear.as_vec3(),
                     axis: axis.as_vec3(),
                     angle: degrees.to_radians() as f32,
-                    pivot: w.current.transform_point3(DVec3::ZERO).as_vec3(),
+                    pivot: w.place(w.current.transform_point3(DVec3::ZERO)),
                 };
                 if !motion.translation.is_finite() || !motion.pivot.is_finite() {
                     return a.fail("the motion is not finite after the current transform (a huge transform?)");

@@ -61,8 +61,8 @@ impl Interpreter {
             }
             "camera" => {
                 a.expect(&[10])?;
-                let eye = a.dvec3_f32(0)?.as_vec3();
-                let target = a.dvec3_f32(3)?.as_vec3();
+                let eye = w.place(a.dvec3_f32(0)?);
+                let target = w.place(a.dvec3_f32(3)?);
                 let up = a.dvec3_f32(6)?.as_vec3();
                 let fovy = a.num(9)?;
                 if !(fovy > 0.0 && fovy < 180.0) {

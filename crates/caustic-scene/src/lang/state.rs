@@ -5,8 +5,9 @@
 use super::args::{Args, Res};
 use super::materials::{MATERIAL_KEY_LEN, default_material, material_key, model_name};
 use super::options::default_options;
+use crate::units::FAR;
 use crate::{Attenuation, Material, Scene};
-use glam::{DMat3, DMat4, Vec2, Vec3};
+use glam::{DMat3, DMat4, DVec3, Mat4, Vec2, Vec3};
 use std::collections::HashMap;
 use std::path::PathBuf;
 
@@ -133,6 +134,8 @@ pub(super) struct World {
     pub(super) motion: Option<crate::Motion>,
     /// `shutter open close`: the interval of time the camera sees.
     pub(super) shutter: (f32, f32),
+    /// The scene's origin ([`Scene::origin`]) once the first position was placed.
+    pub(super) anchor: Option<DVec3>,
 }
 
 impl World {
@@ -165,6 +168,7 @@ impl World {
             warned_weights: false,
             motion: None,
             shutter: super::motion::NO_SHUTTER,
+            anchor: None,
         }
     }
 
@@ -175,6 +179,31 @@ impl World {
             self.remap.iter_mut().chain(self.remap_normals.iter_mut()).for_each(|e| *e = (0, 0));
             self.generation = 1;
         }
+    }
+
+    /// The scene's origin, chosen at the first position placed (`at`): that position, rounded
+    /// to whole units, when it lies beyond [`FAR`], else the world origin.
+    pub(super) fn origin(&mut self, at: DVec3) -> DVec3 {
+        if let Some(origin) = self.anchor {
+            return origin;
+        }
+        let origin = if at.is_finite() && at.abs().max_element() > FAR { at.round() } else { DVec3::ZERO };
+        self.anchor = Some(origin);
+        self.scene.origin = origin;
+        origin
+    }
+
+    /// A world position as the scene stores it: relative to the scene's origin, subtracted in
+    /// f64 and rounded once.
+    pub(super) fn place(&mut self, p: DVec3) -> Vec3 {
+        (p - self.origin(p)).as_vec3()
+    }
+
+    /// The current transform as the scene stores an object placed by it whose world position
+    /// is `at`: moved by minus the scene's origin in f64, then rounded to f32.
+    pub(super) fn placed_transform(&mut self, at: DVec3) -> Mat4 {
+        let origin = self.origin(at);
+        (DMat4::from_translation(-origin) * self.current).as_mat4()
     }
 
     /// Inverse transpose of the current transform's linear part, cached per generation.

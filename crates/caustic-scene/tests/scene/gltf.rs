@@ -112,3 +112,23 @@ fn camera_extras_give_a_thin_lens() {
     println!("camera {:?}", scene.camera);
     assert_eq!((scene.camera.aperture, scene.camera.focus_distance), (0.1, Some(4.5)));
 }
+
+/// A scene 1e5 units from the world origin is stored relative to its camera (`Scene::origin`),
+/// the node transforms composed in f64: the triangle's corner at world 100000.3 (which f32
+/// rounds to 100000.3125) keeps its 0.3 to f32 precision of a small number.
+#[test]
+fn a_far_scene_is_stored_relative_to_its_camera() {
+    let parts = r#""scene": 0, "scenes": [{"nodes": [0]}],
+        "nodes": [{"translation": [100000, 100000, 100000], "children": [1, 2]},
+                  {"mesh": 0, "translation": [0.3, 0, 0]}, {"camera": 0, "translation": [0, 0, 5]}],
+        "cameras": [{"type": "perspective", "perspective": {"yfov": 0.5, "znear": 0.1}}],
+        "meshes": [{"name": "tri", "primitives": [{"attributes": {"POSITION": 0}}]}]"#;
+    let dir = common::scratch_dir("gltf-far");
+    let path = write_gltf(&dir, "far.gltf", &document(parts, "VEC3", 3));
+    let scene = common::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    let triangle = scene.triangles().next().expect("one triangle");
+    println!("origin {}, camera eye {}, triangle {triangle:?}", scene.origin, scene.camera.eye);
+    assert_eq!(scene.origin, glam::DVec3::new(100000.0, 100000.0, 100005.0));
+    assert_eq!(scene.camera.eye, Vec3::ZERO);
+    assert!((triangle[0] - Vec3::new(0.3, 0.0, -5.0)).abs().max_element() < 1e-6, "{triangle:?}");
+}

@@ -501,3 +501,31 @@ fn frostsamples_sets_the_classic_tracers_frost_sample_count() {
     assert_eq!(scene("frostsamples 6\n").options.frost_samples, 6);
     assert_eq!(scene("").options.frost_samples, 1, "one direction by default");
 }
+
+/// A scene-language scene far from the world origin is stored relative to its first position
+/// (`Scene::origin`, here the camera's eye), subtracted in f64: a vertex at 552.8 under
+/// `translate 1e5 1e5 1e5` keeps 552.8 to f32 precision of a small number instead of f32's
+/// 1/128 steps at 1e5, and a scene near the origin keeps the world origin.
+#[test]
+fn a_far_scene_is_stored_relative_to_its_first_position() {
+    let text = "camera 100278 100273 99200 100278 100273 100000 0 1 0 40\n\
+                translate 100000 100000 100000\n\
+                vertex 552.8 0 0\nvertex 0 0 559.2\nvertex 0 548.8 0\ntri 0 1 2\n\
+                sphere 185.5 82.5 169 82.5\npoint 278 548 279.5 1 1 1\nquadLight 343 548.8 227 0 0 105 -130 0 0 17 12 4\n";
+    let (scene, _) = caustic_scene::lang::parse_str(text, std::path::Path::new("far.scene")).expect("parses");
+    println!("origin {}, eye {}, first vertex {}", scene.origin, scene.camera.eye, scene.meshes[0].positions[0]);
+    let origin = glam::DVec3::new(100278.0, 100273.0, 99200.0);
+    assert_eq!(scene.origin, origin);
+    assert_eq!(scene.camera.eye, Vec3::ZERO);
+    let stored = |world: glam::DVec3| (world - origin).as_vec3();
+    assert_eq!(scene.meshes[0].positions[0], stored(glam::DVec3::new(100552.8, 100000.0, 100000.0)));
+    assert_eq!(scene.shapes[0].object_to_world.w_axis.truncate(), stored(glam::DVec3::new(100185.5, 100082.5, 100169.0)));
+    let caustic_scene::Light::Point { position, .. } = scene.lights[0] else { panic!("a point light") };
+    assert_eq!(position, stored(glam::DVec3::new(100278.0, 100548.0, 100279.5)));
+    let (near, _) = caustic_scene::lang::parse_str(
+        "camera 0 0 5 0 0 0 0 1 0 40\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\ntri 0 1 2\n",
+        std::path::Path::new("near.scene"),
+    )
+    .expect("parses");
+    assert_eq!(near.origin, glam::DVec3::ZERO);
+}

@@ -61,9 +61,10 @@ fn each_error_names_the_place_and_what_was_expected() {
         ("box 0 0 0 1 0 1\n", "bad.test:1:13: box: dy must be > 0, found 0"),
         ("plane 0 0 0 0 0 0\n", "bad.test:1:13: plane: the normal must not be zero"),
         ("disk 0 0 0 0 0 1 -1\n", "bad.test:1:18: disk: radius must be > 0, found -1"),
-        // A translation whose 4x4 determinant overflows (found by garbage_lines_never_panic).
+        // A transform whose scale overflows f32 (a far translation alone is now stored relative to
+        // the scene's origin, `Scene::origin`, and accepted).
         (
-            "scale 3 3 3\ndiskLight 2 -1e38 2 1 6.33 6 3 9 5 0\n",
+            "scale 1e30 1e30 1e30\ndiskLight 2 -1 2 1 6.33 6 1e10 9 5 0\n",
             "bad.test:2:1: diskLight: the light's transform is degenerate or not finite (a zero or huge scale?)",
         ),
         ("vertexnormal 0 0 0 0 0 0\n", "bad.test:1:20: vertexnormal: the normal must not be zero"),
