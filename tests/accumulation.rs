@@ -67,7 +67,7 @@ fn check(ctx: &GpuContext, start: Option<(u32, AccumTexel)>, passes: u32) {
     if let Some((_, texel)) = start {
         assert_eq!(std::mem::size_of::<AccumTexel>(), 32, "AccumTexel layout");
         let bytes: Vec<u8> = texel.sum.iter().chain(&texel.compensation).flat_map(|v| v.to_le_bytes()).collect();
-        ctx.queue.write_buffer(tracer.accumulation_buffer(), 0, &bytes);
+        ctx.queue.write_buffer(tracer.accumulation_buffer().expect("a film of one band"), 0, &bytes);
     }
     let (rss_before, began) = (resident_mib(), Instant::now());
     for _ in 0..passes {

@@ -45,7 +45,9 @@ struct Frame {
     focus_distance: f32,
     // 0 = perspective, 1 = orthographic (integrator/camera.wgsl).
     projection: u32,
-    _lens_pad: u32,
+    // First pixel of the film band bound as `accumulation` and `nonfinite_counts`
+    // (integrator/film.wgsl indexes them from it; caustic_gpu::film).
+    film_start: u32,
     // Pixel sampling and reconstruction (helper E: common/rng.wgsl, common/filter.wgsl,
     // integrator/film.wgsl, the path tracer's light samples).
     pixel_sampling: PixelSampling,

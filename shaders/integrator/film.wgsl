@@ -2,7 +2,8 @@
 // ray through a film point drawn from the reconstruction filter (common/filter.wgsl), and add
 // the weighted sample and its weight to the pixel's Kahan-compensated sums, or count it if
 // non-finite. Each pixel's mean is sum / weight sum (sum.w); with the box filter every weight
-// is 1 and sum.w counts the samples.
+// is 1 and sum.w counts the samples. The film may be split into bands of pixels
+// (caustic_gpu::film); the bound band starts at pixel frame.film_start.
 
 // The filter weight of the invocation's camera sample, set by film_sample.
 var<private> filter_weight: f32 = 1.0;
@@ -51,12 +52,12 @@ fn record_sample(pixel: u32, value: vec3<f32>) {
     if is_finite3(value) {
         accumulate(pixel, value);
     } else {
-        atomicAdd(&nonfinite_counts[pixel], 1u);
+        atomicAdd(&nonfinite_counts[pixel - frame.film_start], 1u);
     }
 }
 
 fn accumulate(pixel: u32, value: vec3<f32>) {
-    var texel = accumulation[pixel];
+    var texel = accumulation[pixel - frame.film_start];
     let y = vec4<f32>(value, 1.0) * filter_weight - texel.compensation;
     let t = texel.sum + y;
     // `opaque_one` is 1 at run time but unknown to the compiler, so (t - sum) - y cannot be
@@ -64,7 +65,7 @@ fn accumulate(pixel: u32, value: vec3<f32>) {
     let opaque_one = select(0.0, 1.0, frame.width != 0u);
     texel.compensation = (t * opaque_one - texel.sum) - y;
     texel.sum = t;
-    accumulation[pixel] = texel;
+    accumulation[pixel - frame.film_start] = texel;
 }
 
 // Whether no component is NaN or infinite, by the exponent bits (immune to fast-math folding).

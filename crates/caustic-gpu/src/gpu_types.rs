@@ -61,8 +61,9 @@ pub struct Frame {
     /// [`PROJECTION_PERSPECTIVE`] (rays from `eye`) or [`PROJECTION_ORTHOGRAPHIC`] (rays along
     /// `forward` from the film rectangle around `eye`); `camera.wgsl`.
     pub projection: u32,
-    /// Rounds the struct up to WGSL's 16-byte multiple.
-    pub _lens_pad: u32,
+    /// First pixel (row-major index) of the film band the dispatch writes
+    /// (`crate::film`): the kernels index the band's buffers from it.
+    pub film_start: u32,
     /// Pixel sampling and reconstruction (sampler strata, filter, light samples).
     pub pixel_sampling: PixelSampling,
     /// Classic ray tracer: samples per extended light with soft shadows on

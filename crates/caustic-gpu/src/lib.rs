@@ -21,6 +21,7 @@ pub mod debug_image;
 pub mod environment_sampling;
 mod error;
 pub mod features;
+mod film;
 pub mod filter;
 pub mod gpu_types;
 pub mod inspector;

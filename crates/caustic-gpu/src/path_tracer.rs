@@ -1,6 +1,7 @@
 //! The accumulating path tracer: one bounded dispatch per tile and sample pass.
 
 use crate::bindings;
+use crate::film::Film;
 use crate::gpu_types::{AccumTexel, Frame, InspectRecord, NO_PIXEL, PROJECTION_ORTHOGRAPHIC, PROJECTION_PERSPECTIVE, PixelSampling, transport_flags};
 use crate::inspector::PathRecord;
 use crate::kernel::Kernel;
@@ -24,7 +25,6 @@ pub enum PassOutcome {
 const WORKGROUP_SIZE: u32 = 64;
 const MIN_TILE_PIXELS: u32 = 4096;
 const MAX_TILE_PIXELS: u32 = WORKGROUP_SIZE * 65535;
-const TEXEL_BYTES: u64 = std::mem::size_of::<AccumTexel>() as u64;
 
 /// A progressive render of one scene: call [`PathTracer::render_sample`] repeatedly, then read
 /// the per-pixel mean with [`PathTracer::image`].
@@ -34,10 +34,10 @@ pub struct PathTracer<'a> {
     layout: wgpu::BindGroupLayout,
     /// The kernel `stages` run.
     kernel: Kernel,
-    bind_group: wgpu::BindGroup,
+    /// One bind group per band of `film`.
+    bind_groups: Vec<wgpu::BindGroup>,
     frame_buffer: wgpu::Buffer,
-    accumulation: wgpu::Buffer,
-    nonfinite_counts: wgpu::Buffer,
+    film: Film,
     /// The pixel inspector's record (`shaders/integrator/inspect.wgsl`).
     inspection: wgpu::Buffer,
     /// `kernel` with the inspector's hooks compiled in ([`Kernel::inspecting`]), once
@@ -55,7 +55,7 @@ pub struct PathTracer<'a> {
 impl<'a> PathTracer<'a> {
     /// Compiles the kernel and allocates the accumulation buffers for `scene`'s camera and size.
     pub fn new(ctx: &'a GpuContext, scene: &Scene, gpu: &GpuScene, settings: &RenderSettings) -> Result<Self, GpuError> {
-        let (accumulation, nonfinite_counts) = accumulation_buffers(ctx, scene.resolution)?;
+        let film = Film::new(ctx, scene.resolution)?;
         let frame = frame_constants(scene, gpu, settings);
         let device = &ctx.device;
         let frame_buffer = ctx.buffer_with_data("frame", bytemuck::bytes_of(&frame), wgpu::BufferUsages::STORAGE);
@@ -68,8 +68,7 @@ impl<'a> PathTracer<'a> {
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
-        let film = Film { accumulation: &accumulation, nonfinite_counts: &nonfinite_counts, inspection: &inspection };
-        let bind_group = bind_group(device, &layout, &frame_buffer, gpu, &film);
+        let bind_groups = bind_groups(device, &layout, &frame_buffer, gpu, &film, &inspection);
         ctx.check()?;
         let mut tracer = PathTracer {
             ctx,
@@ -77,10 +76,9 @@ impl<'a> PathTracer<'a> {
             layout,
             kernel,
             inspector: None,
-            bind_group,
+            bind_groups,
             frame_buffer,
-            accumulation,
-            nonfinite_counts,
+            film,
             inspection,
             frame,
             target_submit: settings.target_submit,
@@ -100,7 +98,7 @@ impl<'a> PathTracer<'a> {
         self.write_tile(0, 0);
         match &self.stages {
             Stages::Megakernel(pipeline) => self.run_megakernel(pipeline, 1),
-            Stages::Wavefront(wavefront) => wavefront.warm_up(self.ctx, &self.bind_group),
+            Stages::Wavefront(wavefront) => wavefront.warm_up(self.ctx, &self.bind_groups[0]),
         }
     }
 
@@ -120,16 +118,12 @@ impl<'a> PathTracer<'a> {
             self.kernel = wanted;
         }
         if scene.resolution == (self.frame.width, self.frame.height) {
-            let mut encoder = self.ctx.device.create_command_encoder(&Default::default());
-            encoder.clear_buffer(&self.accumulation, 0, None);
-            encoder.clear_buffer(&self.nonfinite_counts, 0, None);
-            self.ctx.queue.submit([encoder.finish()]);
+            self.film.clear(self.ctx);
         } else {
-            (self.accumulation, self.nonfinite_counts) = accumulation_buffers(self.ctx, scene.resolution)?;
+            self.film = Film::new(self.ctx, scene.resolution)?;
         }
         self.frame = frame;
-        let film = Film { accumulation: &self.accumulation, nonfinite_counts: &self.nonfinite_counts, inspection: &self.inspection };
-        self.bind_group = bind_group(&self.ctx.device, &self.layout, &self.frame_buffer, gpu, &film);
+        self.bind_groups = bind_groups(&self.ctx.device, &self.layout, &self.frame_buffer, gpu, &self.film, &self.inspection);
         self.target_submit = settings.target_submit;
         self.first_sample = settings.first_sample;
         self.complete_passes = 0;
@@ -162,7 +156,7 @@ impl<'a> PathTracer<'a> {
             if stop() {
                 return Ok(PassOutcome::Stopped);
             }
-            let tile = self.tile_pixels.min(pixels - self.next_pixel).min(self.stages.max_tile_pixels());
+            let tile = self.tile_pixels.min(self.band_left(self.next_pixel)).min(self.stages.max_tile_pixels());
             let began = Instant::now();
             self.dispatch_tile(self.next_pixel, tile)?;
             self.adapt_tile_size(tile, began.elapsed());
@@ -177,14 +171,26 @@ impl<'a> PathTracer<'a> {
         self.write_tile(start, pixels);
         match &self.stages {
             Stages::Megakernel(pipeline) => self.run_megakernel(pipeline, self.kernel.invocations(pixels).div_ceil(WORKGROUP_SIZE)),
-            Stages::Wavefront(wavefront) => wavefront.trace_tile(self.ctx, &self.bind_group, pixels, self.frame.max_depth.min(SAFETY_MAX_BOUNCES)),
+            Stages::Wavefront(wavefront) => wavefront.trace_tile(self.ctx, self.tile_bind_group(), pixels, self.frame.max_depth.min(SAFETY_MAX_BOUNCES)),
         }
     }
 
-    /// Sets the frame constants' tile and uploads them.
+    /// Pixels from `pixel` to the end of its band of the film: a tile stays within one band.
+    fn band_left(&self, pixel: u32) -> u32 {
+        let band = &self.film.bands[self.film.band_of(pixel)];
+        band.start + band.pixels - pixel
+    }
+
+    /// The bind group of the band holding the current tile.
+    fn tile_bind_group(&self) -> &wgpu::BindGroup {
+        &self.bind_groups[self.film.band_of(self.frame.tile_start)]
+    }
+
+    /// Sets the frame constants' tile (and the first pixel of its band) and uploads them.
     fn write_tile(&mut self, start: u32, pixels: u32) {
         self.frame.tile_start = start;
         self.frame.tile_pixels = pixels;
+        self.frame.film_start = self.film.bands[self.film.band_of(start)].start;
         self.ctx.queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&self.frame));
     }
 
@@ -195,7 +201,7 @@ impl<'a> PathTracer<'a> {
         {
             let mut pass = encoder.begin_compute_pass(&Default::default());
             pass.set_pipeline(pipeline);
-            pass.set_bind_group(0, &self.bind_group, &[]);
+            pass.set_bind_group(0, self.tile_bind_group(), &[]);
             pass.dispatch_workgroups(workgroups, 1, 1);
         }
         self.ctx.queue.submit([encoder.finish()]);
@@ -214,10 +220,10 @@ impl<'a> PathTracer<'a> {
         let pixels = self.frame.width * self.frame.height;
         self.frame.sample_index = self.first_sample + self.complete_passes;
         while self.next_pixel < pixels {
-            let tile = capacity.min(pixels - self.next_pixel);
+            let tile = capacity.min(self.band_left(self.next_pixel));
             self.write_tile(self.next_pixel, tile);
             if let Stages::Wavefront(wavefront) = &self.stages {
-                wavefront.trace_tile_profiled(self.ctx, &self.bind_group, tile, self.frame.max_depth.min(SAFETY_MAX_BOUNCES), &mut profile)?;
+                wavefront.trace_tile_profiled(self.ctx, self.tile_bind_group(), tile, self.frame.max_depth.min(SAFETY_MAX_BOUNCES), &mut profile)?;
             }
             self.next_pixel += tile;
         }
@@ -236,8 +242,13 @@ impl<'a> PathTracer<'a> {
     /// The film as the kernels accumulate it: one [`AccumTexel`] per pixel, row-major, its
     /// `sum[3]` counting the pixel's samples. For passes that read it on the device, such as
     /// an interactive view's display transform; valid until the next [`PathTracer::restart`].
-    pub fn accumulation_buffer(&self) -> &wgpu::Buffer {
-        &self.accumulation
+    /// `None` when the image is larger than one storage binding holds and the film is split
+    /// into bands ([`PathTracer::accumulated`] reads those).
+    pub fn accumulation_buffer(&self) -> Option<&wgpu::Buffer> {
+        match self.film.bands.as_slice() {
+            [one] => Some(&one.accumulation),
+            _ => None,
+        }
     }
 
     /// Complete sample passes so far (every pixel has at least this many samples).
@@ -270,7 +281,7 @@ impl<'a> PathTracer<'a> {
     /// negative lobes of Mitchell-Netravali and Lanczos a few samples may sum to a negative or
     /// small weight, and a flat region must stay flat.
     pub fn accumulated(&self) -> Result<(Image, Vec<u32>), GpuError> {
-        let texels: Vec<AccumTexel> = read_buffer(self.ctx, &self.accumulation)?;
+        let texels: Vec<AccumTexel> = self.film.texels(self.ctx)?;
         let rgba: Vec<[f32; 4]> = texels.iter().map(|t| weighted_mean(t.sum)).collect();
         let counts = texels.iter().map(|t| t.sum[3] as u32).collect();
         Ok((Image::from_rgba(self.frame.width, self.frame.height, &rgba), counts))
@@ -278,7 +289,7 @@ impl<'a> PathTracer<'a> {
 
     /// Samples rejected because a component was NaN or infinite, per pixel (row-major).
     pub fn nonfinite_counts(&self) -> Result<Vec<u32>, GpuError> {
-        read_buffer(self.ctx, &self.nonfinite_counts)
+        self.film.nonfinite_counts(self.ctx)
     }
 
     /// Traces sample `sample` (a global sample index) of pixel (`x`, `y`) once more with the
@@ -298,11 +309,11 @@ impl<'a> PathTracer<'a> {
         let saved = self.frame;
         self.frame.sample_index = sample;
         self.frame.inspect_pixel = pixel;
-        let film = self.save_pixel(pixel);
+        let film = self.film.save_pixel(self.ctx, pixel);
         let inspecting = self.inspecting_pipeline();
         self.write_tile(pixel, 1);
         let traced = self.run_megakernel(&inspecting, 1);
-        self.restore_pixel(pixel, &film);
+        self.film.restore_pixel(self.ctx, pixel, &film);
         self.frame = saved;
         traced?;
         let record: Vec<InspectRecord> = read_buffer(self.ctx, &self.inspection)?;
@@ -328,29 +339,6 @@ impl<'a> PathTracer<'a> {
                 pipeline
             }
         }
-    }
-
-    /// Copies pixel `pixel`'s accumulation texel and non-finite count aside.
-    fn save_pixel(&self, pixel: u32) -> wgpu::Buffer {
-        let saved = self.ctx.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("saved pixel"),
-            size: TEXEL_BYTES + 4,
-            usage: wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let mut encoder = self.ctx.device.create_command_encoder(&Default::default());
-        encoder.copy_buffer_to_buffer(&self.accumulation, u64::from(pixel) * TEXEL_BYTES, &saved, 0, TEXEL_BYTES);
-        encoder.copy_buffer_to_buffer(&self.nonfinite_counts, u64::from(pixel) * 4, &saved, TEXEL_BYTES, 4);
-        self.ctx.queue.submit([encoder.finish()]);
-        saved
-    }
-
-    /// Puts back what [`PathTracer::save_pixel`] copied aside.
-    fn restore_pixel(&self, pixel: u32, saved: &wgpu::Buffer) {
-        let mut encoder = self.ctx.device.create_command_encoder(&Default::default());
-        encoder.copy_buffer_to_buffer(saved, 0, &self.accumulation, u64::from(pixel) * TEXEL_BYTES, TEXEL_BYTES);
-        encoder.copy_buffer_to_buffer(saved, TEXEL_BYTES, &self.nonfinite_counts, u64::from(pixel) * 4, 4);
-        self.ctx.queue.submit([encoder.finish()]);
     }
 
     /// Total samples rejected as non-finite.
@@ -409,34 +397,30 @@ fn wavefront_size(frame: &Frame) -> (u32, u32) {
     ((frame.width * frame.height).clamp(1, WAVEFRONT_MAX_TILE_PIXELS), frame.pixel_sampling.light_samples.max(1))
 }
 
-/// Zeroed accumulation and non-finite count buffers for an image of `resolution`, checked
-/// against the device's storage binding limit.
-fn accumulation_buffers(ctx: &GpuContext, (width, height): (u32, u32)) -> Result<(wgpu::Buffer, wgpu::Buffer), GpuError> {
-    let pixels = u64::from(width) * u64::from(height);
-    let accumulation_bytes = pixels * std::mem::size_of::<AccumTexel>() as u64;
-    if accumulation_bytes > ctx.max_storage_binding() {
-        return Err(GpuError::Limit { what: format!("the {width}x{height} accumulation buffer"), need: accumulation_bytes, limit: ctx.max_storage_binding() });
-    }
-    let storage = |label, size| {
-        ctx.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some(label),
-            size,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        })
-    };
-    Ok((storage("accumulation", accumulation_bytes), storage("non-finite counts", pixels * 4)))
-}
-
 /// The buffers the kernels write.
-struct Film<'b> {
+struct FilmBindings<'b> {
     accumulation: &'b wgpu::Buffer,
     nonfinite_counts: &'b wgpu::Buffer,
     inspection: &'b wgpu::Buffer,
 }
 
+/// The integrators' bind groups, one per band of `film`.
+fn bind_groups(
+    device: &wgpu::Device,
+    layout: &wgpu::BindGroupLayout,
+    frame: &wgpu::Buffer,
+    gpu: &GpuScene,
+    film: &Film,
+    inspection: &wgpu::Buffer,
+) -> Vec<wgpu::BindGroup> {
+    let bind = |band: &crate::film::FilmBand| {
+        bind_group(device, layout, frame, gpu, &FilmBindings { accumulation: &band.accumulation, nonfinite_counts: &band.nonfinite_counts, inspection })
+    };
+    film.bands.iter().map(bind).collect()
+}
+
 /// The integrators' bindings: the frame constants, `gpu`'s scene buffers and the film.
-fn bind_group(device: &wgpu::Device, layout: &wgpu::BindGroupLayout, frame: &wgpu::Buffer, gpu: &GpuScene, film: &Film) -> wgpu::BindGroup {
+fn bind_group(device: &wgpu::Device, layout: &wgpu::BindGroupLayout, frame: &wgpu::Buffer, gpu: &GpuScene, film: &FilmBindings) -> wgpu::BindGroup {
     let entries = [
         wgpu::BindGroupEntry { binding: bindings::FRAME.index, resource: frame.as_entire_binding() },
         wgpu::BindGroupEntry { binding: bindings::BVH_NODES.index, resource: gpu.nodes.as_entire_binding() },

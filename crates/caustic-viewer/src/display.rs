@@ -6,7 +6,7 @@
 use bytemuck::{Pod, Zeroable};
 use caustic_gpu::debug_image::DEBUG_SAVE_OPTIONS;
 use caustic_gpu::{GpuContext, GpuError};
-use caustic_image::{Image, ToneMap, to_srgb8};
+use caustic_image::{Image, SaveOptions, ToneMap, to_srgb8};
 use wgpu::util::DeviceExt;
 
 /// The shader's uniform (`DisplayParams` in `display.wgsl`).
@@ -106,11 +106,18 @@ impl Display {
     /// film: written to the texture as 8-bit sRGB with [`DEBUG_SAVE_OPTIONS`]. Returns `true`
     /// when the texture was re-created for a new size.
     pub fn upload(&mut self, ctx: &GpuContext, picture: &Image) -> bool {
+        self.upload_with(ctx, picture, &DEBUG_SAVE_OPTIONS)
+    }
+
+    /// Shows `picture` through the display transform `options` computed on the CPU: for a film
+    /// split into bands ([`caustic_gpu::PathTracer::accumulation_buffer`] is `None`), which
+    /// [`Display::run`] cannot read. Returns `true` when the texture was re-created.
+    pub fn upload_with(&mut self, ctx: &GpuContext, picture: &Image, options: &SaveOptions) -> bool {
         let resized = self.texture.width() != picture.width || self.texture.height() != picture.height;
         if resized {
             (self.texture, self.view) = target(&ctx.device, picture.width, picture.height);
         }
-        let bytes: Vec<u8> = to_srgb8(picture, &DEBUG_SAVE_OPTIONS).into_iter().flatten().collect();
+        let bytes: Vec<u8> = to_srgb8(picture, options).into_iter().flatten().collect();
         ctx.queue.write_texture(
             self.texture.as_image_copy(),
             &bytes,

@@ -187,8 +187,13 @@ impl Progressive {
             self.legend_range = picture.legend_range;
             return Ok(self.display.upload(self.ctx, &picture.image));
         }
-        let film = self.tracer.accumulation_buffer();
-        self.display.run(self.ctx, film, self.scene.resolution, exposure, tone_map)
+        match self.tracer.accumulation_buffer() {
+            Some(film) => self.display.run(self.ctx, film, self.scene.resolution, exposure, tone_map),
+            None => {
+                let (image, _) = self.tracer.accumulated()?;
+                Ok(self.display.upload_with(self.ctx, &image, &caustic_image::SaveOptions { exposure, tone_map }))
+            }
+        }
     }
 
     /// For a heat-map debug view, the values its coldest and hottest colours stand for.

@@ -77,7 +77,7 @@ fn mirrors() -> Vec<(&'static str, RustLayout)> {
                 lens_radius,
                 focus_distance,
                 projection,
-                _lens_pad,
+                film_start,
                 pixel_sampling,
                 classic_light_samples,
                 classic_gloss_samples,
