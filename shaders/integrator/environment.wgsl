@@ -44,9 +44,9 @@ fn environment_cdf(x: u32, y: u32) -> f32 {
 }
 
 // Bucket k of the guide table of a row's conditional CDF (`row` = the row), or of the
-// marginal CDF (`row` = 0xffffffff): the first entry above k / count.
-fn environment_guide(row: u32, k: u32) -> u32 {
-    let size = environment_size();
+// marginal CDF (`row` = 0xffffffff): the first entry above k / count. `size` is
+// environment_size(), queried once per sample by the callers (a texture query per lane).
+fn environment_guide(size: vec2<u32>, row: u32, k: u32) -> u32 {
     let marginal = row == 0xffffffffu;
     let y = select(row, k, marginal);
     return u32(textureLoad(environment_map, vec2<i32>(i32(select(k, size.x, marginal)), i32(size.y + y / 4u)), 0)[y & 3u]);
@@ -56,11 +56,11 @@ fn environment_guide(row: u32, k: u32) -> u32 {
 // or down the marginal column (`row` = 0xffffffff, y varies): a binary search between the
 // guides of u's bucket's neighbours (caustic_gpu::environment_sampling::guided_search), which
 // finds what a search of the whole CDF finds.
-fn environment_search(row: u32, count: u32, u: f32) -> u32 {
+fn environment_search(size: vec2<u32>, row: u32, count: u32, u: f32) -> u32 {
     let k = min(u32(u * f32(count)), count - 1u);
-    var lo = environment_guide(row, select(k - 1u, 0u, k == 0u));
-    var hi = select(count - 1u, environment_guide(row, k + 2u), k + 2u < count);
-    let column = environment_size().x;
+    var lo = environment_guide(size, row, select(k - 1u, 0u, k == 0u));
+    var hi = select(count - 1u, environment_guide(size, row, k + 2u), k + 2u < count);
+    let column = size.x;
     let marginal = row == 0xffffffffu;
     while lo < hi {
         let mid = (lo + hi) / 2u;
@@ -75,9 +75,10 @@ fn environment_search(row: u32, count: u32, u: f32) -> u32 {
     return lo;
 }
 
-// Probability of texel (x, y): marginal x conditional, differences of the stored CDFs.
-fn environment_texel_probability(x: u32, y: u32) -> f32 {
-    let column = environment_size().x;
+// Probability of texel (x, y) of a map of `size`: marginal x conditional, differences of the
+// stored CDFs.
+fn environment_texel_probability(size: vec2<u32>, x: u32, y: u32) -> f32 {
+    let column = size.x;
     let marginal = environment_cdf(column, y) - select(0.0, environment_cdf(column, max(y, 1u) - 1u), y > 0u);
     let conditional = environment_cdf(x, y) - select(0.0, environment_cdf(max(x, 1u) - 1u, y), x > 0u);
     return marginal * conditional;
@@ -97,7 +98,7 @@ fn environment_pdf(direction: vec3<f32>) -> f32 {
     if sin_theta <= 0.0 {
         return 0.0;
     }
-    return environment_texel_probability(x, y) * f32(size.x * size.y) / (2.0 * PI * PI * sin_theta);
+    return environment_texel_probability(size, x, y) * f32(size.x * size.y) / (2.0 * PI * PI * sin_theta);
 }
 
 // A direction drawn in proportion to the map's luminance x solid angle: a row by the marginal
@@ -108,10 +109,10 @@ fn environment_sample(u: vec2<f32>) -> vec3<f32> {
         return square_to_uniform_sphere(u);
     }
     let size = environment_size();
-    let y = environment_search(0xffffffffu, size.y, u.x);
+    let y = environment_search(size, 0xffffffffu, size.y, u.x);
     let row_start = select(0.0, environment_cdf(size.x, max(y, 1u) - 1u), y > 0u);
     let fy = clamp((u.x - row_start) / (environment_cdf(size.x, y) - row_start), 0.0, 1.0);
-    let x = environment_search(y, size.x, u.y);
+    let x = environment_search(size, y, size.x, u.y);
     let start = select(0.0, environment_cdf(max(x, 1u) - 1u, y), x > 0u);
     let fx = clamp((u.y - start) / (environment_cdf(x, y) - start), 0.0, 1.0);
     let phi = ((f32(x) + fx) / f32(size.x) - 0.5) * 2.0 * PI;
