@@ -57,13 +57,19 @@ fn path_json(path: &PathRecord, scene: &Scene) -> Value {
 fn bounce_json(index: usize, bounce: &BounceRecord, scene: &Scene) -> Value {
     json!({
         "bounce": index,
-        "ray": { "origin": vec3(bounce.origin), "direction": vec3(bounce.direction) },
+        "ray": { "origin": vec3(world(scene, bounce.origin)), "direction": vec3(bounce.direction) },
         "hit": bounce.hit.as_ref().map(|h| hit_json(h, scene)),
         "light": bounce.light.as_ref().map(light_json),
         "bsdf": bounce.bsdf.as_ref().map(bsdf_json),
         "throughput": vec3(bounce.throughput),
         "radiance": vec3(bounce.radiance),
     })
+}
+
+/// A point in `scene`'s coordinates (the inspector's) as a world point: the scene's origin
+/// added in f64 (`Scene::origin`, zero unless the loader met a scene far from the origin).
+fn world(scene: &Scene, p: glam::Vec3) -> glam::Vec3 {
+    (p.as_dvec3() + scene.origin).as_vec3()
 }
 
 fn hit_json(hit: &SurfaceRecord, scene: &Scene) -> Value {
@@ -73,7 +79,7 @@ fn hit_json(hit: &SurfaceRecord, scene: &Scene) -> Value {
     };
     json!({
         "t": num(hit.t),
-        "point": vec3(hit.point),
+        "point": vec3(world(scene, hit.point)),
         "primitive": primitive,
         "front_face": hit.front_face,
         "shading_normal": vec3(hit.shading_normal),

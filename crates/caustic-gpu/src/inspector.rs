@@ -143,7 +143,8 @@ pub struct LightRecord {
 
 impl PathRecord {
     /// Decodes the kernel's record of an image `width` pixels wide, positions and distances
-    /// converted from the device's `units` to world ones.
+    /// converted from the device's `units` to the scene's coordinates (those of its camera
+    /// and meshes; world coordinates less `Scene::origin`).
     pub fn decode(record: &InspectRecord, width: u32, units: &Units) -> Result<PathRecord, GpuError> {
         let termination = match record.termination {
             1 => Termination::Escaped,

@@ -44,6 +44,8 @@ pub struct PathTracer<'a> {
     /// [`PathTracer::inspect`] has needed it.
     inspector: Option<(Kernel, wgpu::ComputePipeline)>,
     frame: Frame,
+    /// The scene's device coordinates ([`GpuScene::units`]), for the inspector's records.
+    units: Units,
     target_submit: Duration,
     tile_pixels: u32,
     first_sample: u32,
@@ -81,6 +83,7 @@ impl<'a> PathTracer<'a> {
             film,
             inspection,
             frame,
+            units: gpu.units,
             target_submit: settings.target_submit,
             tile_pixels: MIN_TILE_PIXELS,
             first_sample: settings.first_sample,
@@ -123,6 +126,7 @@ impl<'a> PathTracer<'a> {
             self.film = Film::new(self.ctx, scene.resolution)?;
         }
         self.frame = frame;
+        self.units = gpu.units;
         self.bind_groups = bind_groups(&self.ctx.device, &self.layout, &self.frame_buffer, gpu, &self.film, &self.inspection);
         self.target_submit = settings.target_submit;
         self.first_sample = settings.first_sample;
@@ -317,14 +321,7 @@ impl<'a> PathTracer<'a> {
         self.frame = saved;
         traced?;
         let record: Vec<InspectRecord> = read_buffer(self.ctx, &self.inspection)?;
-        PathRecord::decode(&record[0], self.frame.width, &self.units())
-    }
-
-    /// The map from the frame's device coordinates to world ones (the scene's origin included;
-    /// exact when that is zero: the device origin is then zero or the camera's f32 eye, the
-    /// scale a power of two).
-    fn units(&self) -> Units {
-        Units { origin: glam::Vec3::from(self.frame.world_origin).as_dvec3(), scale: f64::from(self.frame.world_scale) }
+        PathRecord::decode(&record[0], self.frame.width, &self.units)
     }
 
     /// The render's kernel with the inspector's hooks, compiled at the first inspection of this

@@ -33,10 +33,14 @@ pub fn project(camera: &Camera, (width, height): (u32, u32), p: Vec3) -> Option<
     if depth <= 1e-6 * d.length().max(1e-30) {
         return None;
     }
-    let half_height = (camera.fov_y * 0.5).tan();
-    let half_width = half_height * width as f32 / height as f32;
-    let ndc_x = d.dot(right) / (depth * half_width);
-    let ndc_y = d.dot(up) / (depth * half_height);
+    let (half_width, half_height) = camera.half_extent((width, height));
+    // A perspective film point divides by the depth; an orthographic one does not.
+    let scale = match camera.projection {
+        caustic_scene::Projection::Perspective => depth,
+        caustic_scene::Projection::Orthographic { .. } => 1.0,
+    };
+    let ndc_x = d.dot(right) / (scale * half_width);
+    let ndc_y = d.dot(up) / (scale * half_height);
     Some(((ndc_x + 1.0) * 0.5 * width as f32, (1.0 - ndc_y) * 0.5 * height as f32))
 }
 
@@ -155,19 +159,24 @@ mod tests {
     use crate::picking::camera_ray;
     use caustic_scene::cornell_box;
 
+    /// For a perspective and an orthographic camera: a point along the ray through a pixel
+    /// projects back onto that pixel, and a point behind the camera nowhere.
     #[test]
     fn projection_inverts_the_camera_ray() {
         let scene = cornell_box();
         let resolution = (320, 200);
-        let mut worst = 0f32;
-        for pixel in [(0.5, 0.5), (160.0, 100.0), (300.25, 17.75), (12.0, 190.0)] {
-            let p = scene.camera.eye + camera_ray(&scene.camera, resolution, pixel) * 700.0;
-            let (x, y) = project(&scene.camera, resolution, p).expect("in front");
-            worst = worst.max((x - pixel.0).abs()).max((y - pixel.1).abs());
+        let orthographic = Camera { projection: caustic_scene::Projection::Orthographic { half_height: 300.0 }, ..scene.camera.clone() };
+        for camera in [scene.camera.clone(), orthographic] {
+            let mut worst = 0f32;
+            for pixel in [(0.5, 0.5), (160.0, 100.0), (300.25, 17.75), (12.0, 190.0)] {
+                let (origin, direction) = camera_ray(&camera, resolution, pixel);
+                let (x, y) = project(&camera, resolution, origin + direction * 700.0).expect("in front");
+                worst = worst.max((x - pixel.0).abs()).max((y - pixel.1).abs());
+            }
+            println!("{:?}: worst projection error {worst:.2e} pixels", camera.projection);
+            assert!(worst < 1e-3);
+            let (origin, direction) = camera_ray(&camera, resolution, (10.0, 10.0));
+            assert_eq!(project(&camera, resolution, origin - direction * 10.0), None);
         }
-        println!("worst projection error {worst:.2e} pixels");
-        assert!(worst < 1e-3);
-        let behind = scene.camera.eye - camera_ray(&scene.camera, resolution, (10.0, 10.0));
-        assert_eq!(project(&scene.camera, resolution, behind), None);
     }
 }

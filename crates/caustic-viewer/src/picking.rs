@@ -63,7 +63,8 @@ impl Picker {
     /// The object seen at `pixel` (in image pixels, origin top-left) of an image of
     /// `resolution` taken by `camera`, through the pixel's centre ray; `None` for the sky.
     pub fn pick(&self, scene: &Scene, camera: &Camera, resolution: (u32, u32), pixel: (f32, f32)) -> Option<Pick> {
-        let ray = Ray { origin: camera.eye, direction: camera_ray(camera, resolution, pixel), t_max: f32::INFINITY };
+        let (origin, direction) = camera_ray(camera, resolution, pixel);
+        let ray = Ray { origin, direction, t_max: f32::INFINITY };
         let hit = self.bvh.closest_hit(&ray)?;
         if hit.triangle & SHAPE_BIT != 0 {
             let shape = (hit.triangle & !SHAPE_BIT) as usize;
@@ -83,15 +84,12 @@ impl Picker {
     }
 }
 
-/// The direction of the camera ray through `pixel`, as `shaders/integrator/camera.wgsl`
-/// computes it.
-pub fn camera_ray(camera: &Camera, (width, height): (u32, u32), (x, y): (f32, f32)) -> Vec3 {
-    let (right, up, forward) = camera.frame();
-    let half_height = (camera.fov_y * 0.5).tan();
-    let half_width = half_height * width as f32 / height as f32;
-    let ndc_x = 2.0 * x / width as f32 - 1.0;
-    let ndc_y = 1.0 - 2.0 * y / height as f32;
-    (forward + ndc_x * half_width * right + ndc_y * half_height * up).normalize()
+/// The camera ray (origin, unit direction) through `pixel`, as `shaders/integrator/camera.wgsl`
+/// makes it without a lens: from the eye for a perspective camera, along the view from the
+/// film rectangle for an orthographic one ([`Camera::ray`]).
+pub fn camera_ray(camera: &Camera, (width, height): (u32, u32), (x, y): (f32, f32)) -> (Vec3, Vec3) {
+    let ndc = (2.0 * x / width as f32 - 1.0, 1.0 - 2.0 * y / height as f32);
+    camera.ray((width, height), ndc)
 }
 
 /// A short description of a pick for the inspector.
@@ -134,6 +132,25 @@ mod tests {
             Picked::Mesh { mesh, .. } => assert_eq!(scene.meshes[mesh].name, "left_wall_red"),
             other => panic!("expected the red wall mesh, got {other:?}"),
         }
+    }
+
+    /// An orthographic camera's rays run parallel from the film rectangle: a sphere of radius
+    /// 0.5 at the view's centre is picked at the image centre and at 0.4 units off it (a
+    /// perspective ray from the eye would miss there at this width), not at 0.6.
+    #[test]
+    fn an_orthographic_camera_picks_along_parallel_rays() {
+        let mut scene = Scene::default();
+        scene.materials.push(caustic_scene::Material::diffuse("ball", Vec3::ONE));
+        scene.shapes.push(Shape::sphere(Mat4::IDENTITY, Vec3::ZERO, 0.5, 0));
+        scene.camera.projection = caustic_scene::Projection::Orthographic { half_height: 1.0 };
+        scene.resolution = (200, 200);
+        let picker = Picker::new(&scene);
+        // 100 pixels = 1 unit: pixel 100 + 100 u is u units right of the centre.
+        let pick = |u: f32| picker.pick(&scene, &scene.camera, scene.resolution, (100.0 + 100.0 * u, 100.0));
+        let centre = pick(0.0).expect("the sphere at the centre");
+        assert!((centre.distance - 4.5).abs() < 1e-4, "the eye is 5 units away: {}", centre.distance);
+        assert!(pick(0.4).is_some_and(|p| p.picked == Picked::Shape { shape: 0 }));
+        assert_eq!(pick(0.6), None);
     }
 
     #[test]

@@ -145,3 +145,33 @@ fn inspected_radiance_is_the_sample_a_render_adds() {
     }
     println!("worst relative radiance difference {:.2e}", worst.radiance);
 }
+
+/// A scene the device sees rescaled (the box scaled by 2^-30, camera included: `GpuScene::units`
+/// is not the identity) is inspected in the scene's own coordinates: each recorded camera-ray
+/// hit of the first bounce is the original box's hit scaled by 2^-30 (relative 1e-4), at the
+/// scaled distance, on the same primitive.
+#[test]
+fn a_rescaled_scene_is_inspected_in_its_own_coordinates() {
+    let (ctx, scene, settings) = setup();
+    let scale = 2f32.powi(-30);
+    let mut tiny = scene.clone();
+    tiny.meshes.iter_mut().for_each(|m| m.transform(glam::Mat4::from_scale(Vec3::splat(scale))));
+    tiny.camera.eye *= scale;
+    tiny.camera.target *= scale;
+    let first_hit = |scene: &Scene| {
+        let gpu = GpuScene::upload(&ctx, scene).expect("upload");
+        let mut tracer = PathTracer::new(&ctx, scene, &gpu, &settings).expect("tracer");
+        let hits: Vec<_> = PIXELS.iter().map(|&(x, y)| tracer.inspect(x, y, 0).expect("inspect").bounces[0].hit.clone().expect("a hit")).collect();
+        (hits, gpu.units)
+    };
+    let (original, identity) = first_hit(&scene);
+    let (scaled, units) = first_hit(&tiny);
+    println!("device units of the scaled box: {units:?}");
+    assert!(identity.is_identity() && !units.is_identity());
+    for (a, b) in original.iter().zip(&scaled) {
+        println!("original hit {} at t {}, scaled hit {} at t {}", a.point, a.t, b.point, b.t);
+        assert_eq!(a.primitive, b.primitive);
+        assert!((b.point / scale - a.point).length() <= 1e-4 * a.point.length().max(1.0), "{} vs {}", b.point / scale, a.point);
+        assert!(relative(b.t / scale, a.t) < 1e-4);
+    }
+}
