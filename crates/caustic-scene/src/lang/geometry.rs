@@ -18,7 +18,7 @@ impl Interpreter {
         match a.name {
             "vertex" => {
                 a.expect(&[3, 5])?;
-                let p = a.dvec3_f32(0)?.as_vec3();
+                let p = w.vertex_anchor.store(w.vertices.len(), a.dvec3(0)?, a.dvec3_f32(0)?.as_vec3());
                 if a.len() == 5 {
                     w.vertex_uvs.set(w.vertices.len(), Vec2::new(a.f32(3)?, a.f32(4)?));
                 }
@@ -28,7 +28,7 @@ impl Interpreter {
             }
             "vertexnormal" => {
                 a.expect(&[6, 8])?;
-                let p = a.dvec3_f32(0)?.as_vec3();
+                let p = w.normal_vertex_anchor.store(w.normal_vertices.len(), a.dvec3(0)?, a.dvec3_f32(0)?.as_vec3());
                 let n = a.dvec3_f32(3)?.as_vec3();
                 if n == Vec3::ZERO {
                     return a.fail_at(3, "the normal must not be zero");
@@ -137,8 +137,10 @@ impl Interpreter {
         let open = w.open.filter(|o| Some(o.material) == known_material && o.normals == normals && o.mesh + 1 == w.scene.meshes.len());
         let identity = w.current == DMat4::IDENTITY;
         // The scene's origin, set by the first corner if nothing was placed before.
+        let anchor = if normals { &w.normal_vertex_anchor } else { &w.vertex_anchor };
         let first = if normals { w.normal_vertices.get(global[0]).map(|v| v[0]) } else { w.vertices.get(global[0]).copied() };
-        let origin = w.origin(w.current.transform_point3(first.unwrap_or_default().as_dvec3()));
+        let (first, _) = anchor.position(global[0], first.unwrap_or_default());
+        let origin = w.origin(w.current.transform_point3(first));
         let untouched = identity && origin == DVec3::ZERO;
         // A textured material reads the corners' texture coordinates.
         let textured = w.material.base_color_texture.is_some();
@@ -160,7 +162,9 @@ impl Interpreter {
             } else {
                 (w.vertices.get(g).copied().unwrap_or_default(), Vec3::ZERO)
             };
-            let p = if untouched { p } else { (w.current.transform_point3(p.as_dvec3()) - origin).as_vec3() };
+            let anchor = if normals { &w.normal_vertex_anchor } else { &w.vertex_anchor };
+            let (exact, anchored) = anchor.position(g, p);
+            let p = if untouched && !anchored { p } else { (w.current.transform_point3(exact) - origin).as_vec3() };
             let n = if normals { (normal_matrix * n.as_dvec3()).normalize_or_zero().as_vec3() } else { n };
             if !p.is_finite() || (normals && (!n.is_finite() || n == Vec3::ZERO)) {
                 return a.fail_at(k, format!("vertex {} is not finite after the current transform (a singular or huge transform?)", g - base));

@@ -208,7 +208,9 @@ impl Interpreter {
         self.world.saved.len()
     }
 
-    /// Vertices defined with `vertex` (all files), untransformed.
+    /// Vertices defined with `vertex` (all files), untransformed, as stored: one written
+    /// beyond 16384 units from the origin on some axis is stored relative to the list's first
+    /// such vertex (rounded), so that f32 keeps its precision.
     pub fn vertices(&self) -> &[Vec3] {
         &self.world.vertices
     }

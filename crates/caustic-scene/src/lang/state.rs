@@ -98,6 +98,40 @@ impl VertexUvs {
     }
 }
 
+/// Where a vertex list's far vertices are stored from: a vertex written beyond [`FAR`] on
+/// some axis is parsed in f64 and stored, in f32, relative to the list's anchor (its first
+/// such vertex, rounded to whole units), so coordinates written out far from the origin keep
+/// their precision; other vertices are stored as parsed (f32).
+#[derive(Clone, Debug, Default)]
+pub(super) struct VertexAnchor {
+    anchor: Option<DVec3>,
+    /// Entry i: whether vertex i is stored relative to the anchor (shorter than the list
+    /// when the last vertices are not).
+    anchored: Vec<bool>,
+}
+
+impl VertexAnchor {
+    /// The f32 to store for vertex `index` (the newest of its list), written as `exact`
+    /// (parsed in f64) whose f32 parse is `parsed`.
+    pub(super) fn store(&mut self, index: usize, exact: DVec3, parsed: Vec3) -> Vec3 {
+        if !(exact.is_finite() && exact.abs().max_element() > FAR) {
+            return parsed;
+        }
+        let anchor = *self.anchor.get_or_insert(exact.round());
+        self.anchored.resize(index, false);
+        self.anchored.push(true);
+        (exact - anchor).as_vec3()
+    }
+
+    /// Vertex `index`'s position in f64 from its stored f32, and whether it was anchored.
+    pub(super) fn position(&self, index: usize, stored: Vec3) -> (DVec3, bool) {
+        match (self.anchor, self.anchored.get(index)) {
+            (Some(anchor), Some(true)) => (anchor + stored.as_dvec3(), true),
+            _ => (stored.as_dvec3(), false),
+        }
+    }
+}
+
 /// Everything `reset` clears.
 #[derive(Clone, Debug)]
 pub(super) struct World {
@@ -106,6 +140,10 @@ pub(super) struct World {
     pub(super) settings: LanguageSettings,
     pub(super) vertices: Vec<Vec3>,
     pub(super) normal_vertices: Vec<[Vec3; 2]>,
+    /// The anchor of `vertices` written far from the origin.
+    pub(super) vertex_anchor: VertexAnchor,
+    /// The anchor of `normal_vertices` written far from the origin.
+    pub(super) normal_vertex_anchor: VertexAnchor,
     /// Texture coordinates of `vertices` given as `vertex x y z u v`.
     pub(super) vertex_uvs: VertexUvs,
     /// Texture coordinates of `normal_vertices` given as `vertexnormal ... u v`.
@@ -146,6 +184,8 @@ impl World {
             settings: LanguageSettings::default(),
             vertices: Vec::new(),
             normal_vertices: Vec::new(),
+            vertex_anchor: VertexAnchor::default(),
+            normal_vertex_anchor: VertexAnchor::default(),
             vertex_uvs: VertexUvs::default(),
             normal_vertex_uvs: VertexUvs::default(),
             texture_files: HashMap::new(),

@@ -522,6 +522,15 @@ fn a_far_scene_is_stored_relative_to_its_first_position() {
     assert_eq!(scene.shapes[0].object_to_world.w_axis.truncate(), stored(glam::DVec3::new(100185.5, 100082.5, 100169.0)));
     let caustic_scene::Light::Point { position, .. } = scene.lights[0] else { panic!("a point light") };
     assert_eq!(position, stored(glam::DVec3::new(100278.0, 100548.0, 100279.5)));
+    // Coordinates written out at 1e5 are parsed in f64 and kept to the same precision (f32
+    // would read 100552.8 as 100552.796875), beside a vertex near the origin kept as parsed.
+    let written = "camera 100278 100273 99200 100278 100273 100000 0 1 0 40\n\
+                   vertex 100552.8 100000 100000\nvertex 100000 100000 100559.2\nvertex 100000 100548.8 100000\nvertex 0.1 0 0\n\
+                   tri 0 1 2\nmaterial lambert\ntri 3 1 2\n";
+    let (literal, _) = caustic_scene::lang::parse_str(written, std::path::Path::new("literal.scene")).expect("parses");
+    println!("written out: first vertex {}", literal.meshes[0].positions[0]);
+    assert_eq!(literal.meshes[0].positions[0], stored(glam::DVec3::new(100552.8, 100000.0, 100000.0)));
+    assert_eq!(literal.meshes[1].positions[0], stored(glam::DVec3::new(f64::from(0.1f32), 0.0, 0.0)));
     let (near, _) = caustic_scene::lang::parse_str(
         "camera 0 0 5 0 0 0 0 1 0 40\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\ntri 0 1 2\n",
         std::path::Path::new("near.scene"),
