@@ -20,6 +20,9 @@ struct MergeReport {
     /// stopped or samples were rejected as non-finite).
     pixel_spp: [u32; 2],
     nonfinite_samples: u64,
+    /// The merged image's relMSE as the parts estimated theirs without a reference, combined
+    /// (`caustic_image::merged_estimate`); `null` when a part has no estimate.
+    estimated_relmse: Option<f64>,
     fingerprint: String,
     output: PathBuf,
 }
@@ -53,11 +56,13 @@ pub fn run(args: &MergeArgs) -> anyhow::Result<()> {
         spp: info.range_len(),
         pixel_spp: [min, max],
         nonfinite_samples: info.nonfinite,
+        estimated_relmse: info.estimated_relmse,
         fingerprint: info.fingerprint.clone(),
         output: args.output.clone(),
     };
+    let estimate = info.estimated_relmse.map_or(String::new(), |e| format!(", estimated relMSE {e:.2e}"));
     eprintln!(
-        "merged {} part{} of {}: samples {}..{} = {} spp (per pixel {min}..={max}), {}x{}, {} non-finite samples -> {}",
+        "merged {} part{} of {}: samples {}..{} = {} spp (per pixel {min}..={max}), {}x{}, {} non-finite samples{estimate} -> {}",
         report.parts,
         if report.parts == 1 { "" } else { "s" },
         report.scene,

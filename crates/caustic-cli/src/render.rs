@@ -467,6 +467,7 @@ fn write_part(output: &Path, scene: &Scene, print: &Fingerprint, rendered: Accum
         scene: scene.name.clone(),
         version: env!("CARGO_PKG_VERSION").to_string(),
         nonfinite: rendered.nonfinite.iter().map(|&c| u64::from(c)).sum(),
+        estimated_relmse: rendered.estimated_relmse,
     };
     let part = PartialImage { info, image: rendered.image, samples: rendered.counts };
     let part = match previous {

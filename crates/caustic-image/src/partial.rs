@@ -44,9 +44,10 @@ const ATTR_SETTINGS: &str = "caustic.settings";
 const ATTR_SCENE: &str = "caustic.scene";
 const ATTR_VERSION: &str = "caustic.version";
 const ATTR_NONFINITE: &str = "caustic.nonfinite";
+const ATTR_ESTIMATE: &str = "caustic.estimatedRelMSE";
 
 /// What a partial image is a part of: its header, without the pixels.
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct PartInfo {
     /// Width in pixels.
     pub width: u32,
@@ -67,6 +68,9 @@ pub struct PartInfo {
     pub version: String,
     /// Samples rejected as NaN or infinite (not counted in `spp`).
     pub nonfinite: u64,
+    /// The relMSE the render estimated from its own samples (`crate::estimate`), if it did;
+    /// a merge combines the parts' ([`merged_estimate`]).
+    pub estimated_relmse: Option<f64>,
 }
 
 /// A partial render: per-pixel means and sample counts over [`PartInfo::range`].
@@ -123,7 +127,25 @@ impl PartInfo {
             (Ok(w), Ok(h)) if w > 0 && h > 0 => (w, h),
             _ => return Err(not_a_part(path, format!("unusable size {width}x{height}"))),
         };
-        Ok(PartInfo { width, height, range, fingerprint, settings: text(ATTR_SETTINGS)?, scene: text(ATTR_SCENE)?, version: text(ATTR_VERSION)?, nonfinite })
+        let estimated_relmse = match attributes.get(&Text::from(ATTR_ESTIMATE)) {
+            None => None,
+            Some(AttributeValue::Text(value)) => match value.to_string().parse::<f64>() {
+                Ok(e) if e.is_finite() && e >= 0.0 => Some(e),
+                _ => return Err(not_a_part(path, format!("{ATTR_ESTIMATE} '{value}' is not a relMSE"))),
+            },
+            Some(_) => return Err(not_a_part(path, format!("attribute {ATTR_ESTIMATE} is not text"))),
+        };
+        Ok(PartInfo {
+            width,
+            height,
+            range,
+            fingerprint,
+            settings: text(ATTR_SETTINGS)?,
+            scene: text(ATTR_SCENE)?,
+            version: text(ATTR_VERSION)?,
+            nonfinite,
+            estimated_relmse,
+        })
     }
 
     fn to_attributes(&self) -> HashMap<Text, AttributeValue> {
@@ -135,7 +157,8 @@ impl PartInfo {
             (ATTR_VERSION, self.version.clone()),
             (ATTR_NONFINITE, self.nonfinite.to_string()),
         ];
-        entries.into_iter().map(|(name, value)| (Text::from(name), AttributeValue::Text(latin1_text(&value)))).collect()
+        let estimate = self.estimated_relmse.map(|e| (ATTR_ESTIMATE, format!("{e:e}")));
+        entries.into_iter().chain(estimate).map(|(name, value)| (Text::from(name), AttributeValue::Text(latin1_text(&value)))).collect()
     }
 }
 
@@ -308,11 +331,25 @@ fn merge_parts<'a>(
         return Err(ImageError::Part { path: first_path.clone(), reason: format!("pixel {i} would hold more than 2^32 samples") });
     }
     let mean = sums.iter().zip(&counts).map(|(sum, &n)| if n == 0 { [0.0; 3] } else { sum.map(|s| (s / n as f64) as f32) }).collect();
+    let estimated_relmse = merged_estimate(infos);
     Ok(PartialImage {
-        info: PartInfo { range, nonfinite, ..first.clone() },
+        info: PartInfo { range, nonfinite, estimated_relmse, ..first.clone() },
         image: Image { width: first.width, height: first.height, pixels: mean },
         samples: counts.into_iter().map(|n| n as u32).collect(),
     })
+}
+
+/// The relMSE of the merge of parts whose own estimates are `infos`' (each part's error
+/// estimated from its samples without a reference): a Monte Carlo error shrinks as 1 / n, so
+/// a part of n_i samples estimating e_i says c = e_i n_i, and all n_i together reach
+/// c / sum n_i = 1 / sum (1 / e_i). `None` unless every part has an estimate; 0 if one is 0.
+pub fn merged_estimate(infos: &[PartInfo]) -> Option<f64> {
+    let estimates: Option<Vec<f64>> = infos.iter().map(|info| info.estimated_relmse).collect();
+    let estimates = estimates.filter(|e| !e.is_empty())?;
+    if estimates.contains(&0.0) {
+        return Some(0.0);
+    }
+    Some(1.0 / estimates.iter().map(|e| 1.0 / e).sum::<f64>())
 }
 
 /// Refuses `info` (from `path`) if it cannot be merged with the first part.
@@ -453,6 +490,7 @@ mod tests {
                 scene: "unit".into(),
                 version: "0".into(),
                 nonfinite: 1,
+                estimated_relmse: None,
             },
             image: Image { width, height: 2, pixels: vec![[value, 2.0 * value, 0.5]; width as usize * 2] },
             samples: vec![n; width as usize * 2],
@@ -470,6 +508,27 @@ mod tests {
         let path = dir.join(name);
         p.save(&path).unwrap();
         path
+    }
+
+    /// Parts of 16 and 48 samples estimating 4e-3 and 4e-3 / 3 (one error constant) merge
+    /// to the 64-sample error 1e-3, kept through a save and a load; a part without an
+    /// estimate leaves the merge without one.
+    #[test]
+    fn merged_parts_combine_their_error_estimates() {
+        let dir = scratch("estimates");
+        let mut a = part(0..16, "abc", 0.1, 3);
+        let mut b = part(16..64, "abc", 0.1, 3);
+        a.info.estimated_relmse = Some(4e-3);
+        b.info.estimated_relmse = Some(4e-3 / 3.0);
+        let paths = [save(&dir, "a.exr", &a), save(&dir, "b.exr", &b)];
+        assert_eq!(PartialImage::load(&paths[0]).unwrap().info.estimated_relmse, Some(4e-3));
+        let merged = PartialImage::merge(&paths, None).unwrap();
+        let estimate = merged.info.estimated_relmse.expect("an estimate");
+        println!("merged estimate {estimate:.4e}");
+        assert!((estimate - 1e-3).abs() < 1e-12);
+        let c = part(64..80, "abc", 0.1, 3);
+        let paths = [paths[0].clone(), paths[1].clone(), save(&dir, "c.exr", &c)];
+        assert_eq!(PartialImage::merge(&paths, None).unwrap().info.estimated_relmse, None);
     }
 
     #[test]
