@@ -43,6 +43,9 @@ pub struct Interrupted {
     pub signal: i32,
     /// What was stopped and written.
     pub message: String,
+    /// Whether the command printed its report (with `--json`, the report's `interrupted` says
+    /// so); if not, `main` prints the JSON error object instead.
+    pub reported: bool,
 }
 
 impl fmt::Display for Interrupted {
@@ -53,8 +56,9 @@ impl fmt::Display for Interrupted {
 
 impl std::error::Error for Interrupted {}
 
-/// The interrupted error for the signal received, naming it: `what` says what was written.
-pub fn interrupted(what: &str) -> anyhow::Error {
+/// The interrupted error for the signal received, naming it: `what` says what was written,
+/// `reported` whether the command printed its report.
+pub fn interrupted(what: &str, reported: bool) -> anyhow::Error {
     let signal = received_signal();
     let name = match signal {
         2 => "Ctrl-C (SIGINT)".to_string(),
@@ -62,7 +66,7 @@ pub fn interrupted(what: &str) -> anyhow::Error {
         1 => "SIGHUP".to_string(),
         other => format!("signal {other}"),
     };
-    anyhow::Error::new(Interrupted { signal, message: format!("interrupted by {name} {what}") })
+    anyhow::Error::new(Interrupted { signal, message: format!("interrupted by {name} {what}"), reported })
 }
 
 /// What kind of failure `error` is.
@@ -72,8 +76,8 @@ pub enum Kind {
     Usage,
     /// Anything else that went wrong.
     Runtime,
-    /// Stopped by this signal.
-    Interrupted(i32),
+    /// Stopped by this signal; `true` when the command printed its report.
+    Interrupted(i32, bool),
 }
 
 impl Kind {
@@ -84,7 +88,7 @@ impl Kind {
                 return Kind::Usage;
             }
             if let Some(interrupted) = cause.downcast_ref::<Interrupted>() {
-                return Kind::Interrupted(interrupted.signal);
+                return Kind::Interrupted(interrupted.signal, interrupted.reported);
             }
         }
         Kind::Runtime
@@ -95,7 +99,7 @@ impl Kind {
         match self {
             Kind::Usage => 2,
             Kind::Runtime => 1,
-            Kind::Interrupted(signal) => u8::try_from(128 + signal).unwrap_or(1),
+            Kind::Interrupted(signal, _) => u8::try_from(128 + signal).unwrap_or(1),
         }
     }
 
@@ -104,7 +108,7 @@ impl Kind {
         match self {
             Kind::Usage => "usage",
             Kind::Runtime => "runtime",
-            Kind::Interrupted(_) => "interrupted",
+            Kind::Interrupted(..) => "interrupted",
         }
     }
 }
@@ -167,7 +171,7 @@ impl Drop for SetupWatch {
 
 /// Says that the render was interrupted while setting up and ends the process by the signal.
 fn end_in_setup(json: bool) -> ! {
-    let error = interrupted("while the render was setting up (building the BVH, compiling the kernels); nothing was written");
+    let error = interrupted("while the render was setting up (building the BVH, compiling the kernels); nothing was written", false);
     eprintln!("error: {error:#}");
     if json {
         println!("{}", json_error(&format!("{error:#}"), Kind::of(&error)));

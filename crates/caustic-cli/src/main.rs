@@ -52,7 +52,7 @@ fn main() -> ExitCode {
         Err(error) => {
             let kind = failure::Kind::of(&error);
             eprintln!("error: {error:#}");
-            if json && !matches!(kind, failure::Kind::Interrupted(_)) {
+            if json && !matches!(kind, failure::Kind::Interrupted(_, true)) {
                 println!("{}", failure::json_error(&format!("{error:#}"), kind));
             }
             ExitCode::from(kind.exit_status())

@@ -266,13 +266,9 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     });
     let interrupted = interrupted.load(Ordering::SeqCst);
     if interrupted && rendered.counts.iter().all(|&count| count == 0) {
-        // Stopped before its first tile: an image without samples never replaces a file. No
-        // report was printed, so the JSON error object is (main prints none for interrupts).
-        let error = crate::failure::interrupted("before the first sample; nothing was written");
-        if args.device.json {
-            println!("{}", crate::failure::json_error(&format!("{error:#}"), crate::failure::Kind::of(&error)));
-        }
-        return Err(error);
+        // Stopped before its first tile: an image without samples never replaces a file, and
+        // no report is printed (main prints the JSON error object).
+        return Err(crate::failure::interrupted("before the first sample; nothing was written", false));
     }
     if interrupted {
         eprintln!("interrupted: writing the image accumulated so far ({} complete samples per pixel)", rendered.spp);
@@ -296,7 +292,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     }
     print_report(&report, args.device.json)?;
     if interrupted {
-        return Err(crate::failure::interrupted(&format!("after {} samples per pixel; the partial image was written", report.spp)));
+        return Err(crate::failure::interrupted(&format!("after {} samples per pixel; the partial image was written", report.spp), true));
     }
     Ok(())
 }

@@ -173,7 +173,7 @@ impl<'a> Host<'a> {
         self.save(hdr)?;
         print_report(&report, self.options.json)?;
         if interrupted {
-            return Err(crate::failure::interrupted(&format!("after {spp} samples per pixel; the partial image was written")));
+            return Err(crate::failure::interrupted(&format!("after {spp} samples per pixel; the partial image was written"), true));
         }
         Ok(())
     }
