@@ -81,7 +81,19 @@ impl Interpreter {
             }
             _ => return Ok(false),
         }
+        self.check_black_texture(a, at);
         Ok(true)
+    }
+
+    /// Warns once when geometry takes a textured material whose `diffuse` is 0 (what a fresh
+    /// `material` sets): the texture multiplies it, so the surface would render black.
+    fn check_black_texture(&mut self, a: &Args, at: Location<'_>) {
+        let w = &mut self.world;
+        let black = w.material.base_color_texture.is_some() && w.material.base_color == Vec3::ZERO;
+        if black && !w.warned_black_texture && !a.name.starts_with("vertex") {
+            w.warned_black_texture = true;
+            self.warn(at, a.name_column(), "the texture multiplies the diffuse colour, which is 0 0 0 (a fresh `material` sets it so): this renders black; add `diffuse 1 1 1` before the geometry");
+        }
     }
 }
 

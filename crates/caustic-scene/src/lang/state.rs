@@ -168,6 +168,8 @@ pub(super) struct World {
     pub(super) warned_max_verts: bool,
     pub(super) warned_max_vert_norms: bool,
     pub(super) warned_weights: bool,
+    /// Whether the black-texture warning (a texture over a zero `diffuse`) was given.
+    pub(super) warned_black_texture: bool,
     /// `motion`: the motion of the objects that follow (over one unit of time), if any.
     pub(super) motion: Option<crate::Motion>,
     /// `shutter open close`: the interval of time the camera sees.
@@ -206,6 +208,7 @@ impl World {
             warned_max_verts: false,
             warned_max_vert_norms: false,
             warned_weights: false,
+            warned_black_texture: false,
             motion: None,
             shutter: super::motion::NO_SHUTTER,
             anchor: None,

@@ -166,6 +166,20 @@ fn scene_language_texture_command_maps_images_on_triangles_and_shapes() {
     assert!(scene.textures[0].sample(Vec2::splat(0.5), TextureFilter::Nearest).x > 0.5);
 }
 
+/// A texture over a zero `diffuse` (a fresh `material` sets it so) would render black: the
+/// first geometry that takes such a material gets one warning naming the fix.
+#[test]
+fn a_texture_over_a_black_diffuse_warns_once() {
+    let dir = common::scratch_dir("lang-black-texture");
+    image::RgbaImage::from_pixel(1, 1, image::Rgba([255, 255, 255, 255])).save(dir.join("white.png")).expect("write");
+    std::fs::write(dir.join("t.scene"), "material lambert\ntexture white.png\nsphere 0 0 0 1\nsphere 3 0 0 1\ndiffuse 1 1 1\nsphere 6 0 0 1\n").expect("scene");
+    let (_, interpreter) = caustic_scene::lang::run_file(&dir.join("t.scene")).unwrap_or_else(|e| panic!("{e}"));
+    let warnings: Vec<String> = interpreter.warnings().iter().map(ToString::to_string).collect();
+    println!("{warnings:?}");
+    assert_eq!(warnings.len(), 1);
+    assert!(warnings[0].contains("t.scene:3:") && warnings[0].contains("diffuse 1 1 1"), "{}", warnings[0]);
+}
+
 #[test]
 fn scene_language_texture_errors_name_the_line_and_the_fix() {
     let dir = common::scratch_dir("lang-texture-errors");
