@@ -108,6 +108,17 @@ fn cornell_box_is_invariant_under_scale_and_translation() {
     assert!(failures.is_empty(), "not invariant: {failures:?}");
 }
 
+/// Writes `contents` as `file` in `dir` and renders it with `caustic render` at 128x128,
+/// 16 spp, seed 7 (the far-scene tests' common settings); the image read back.
+fn render_file(dir: &std::path::Path, file: &str, contents: &str) -> Image {
+    let path = dir.join(file);
+    std::fs::write(&path, contents).expect("write the scene");
+    let out = path.with_extension("exr");
+    let args = ["render", path.to_str().unwrap(), "--size", "128x128", "--spp", "16", "--seed", "7", "-o", out.to_str().unwrap(), "--json"];
+    crate::support::caustic_json(&args);
+    Image::load(&out).expect("rendered image")
+}
+
 /// The reference Cornell box as a glTF file (`../shared/references/cornell/scene.gltf`), its
 /// nodes (camera included) put under one root node that translates them by 1e5 or 1e7 or
 /// scales them by 1e-8 or 1e8, rendered by `caustic render` at 128x128, 16 spp, seed 7, as
@@ -131,12 +142,7 @@ fn reference_gltf_moved_far_or_scaled_renders_like_the_original() {
             list.push(node);
             json["scenes"][0]["nodes"] = serde_json::json!([list.len() - 1]);
         }
-        let file = dir.join(format!("{name}.gltf"));
-        std::fs::write(&file, json.to_string()).expect("write variant");
-        let out = dir.join(format!("{name}.exr"));
-        let args = ["render", file.to_str().unwrap(), "--size", "128x128", "--spp", "16", "--seed", "7", "-o", out.to_str().unwrap(), "--json"];
-        crate::support::caustic_json(&args);
-        Image::load(&out).expect("rendered image")
+        render_file(&dir, &format!("{name}.gltf"), &json.to_string())
     };
     let original = render("original", None);
     let variants = [
@@ -187,14 +193,7 @@ fn reference_scene_text_written_far_renders_as_written_near() {
         };
         text.lines().map(line).collect()
     };
-    let render = |name: &str, contents: &str| {
-        let file = dir.join(format!("{name}.txt"));
-        std::fs::write(&file, contents).expect("write the scene");
-        let out = dir.join(format!("{name}.exr"));
-        let args = ["render", file.to_str().unwrap(), "--size", "128x128", "--spp", "16", "--seed", "7", "-o", out.to_str().unwrap(), "--json"];
-        crate::support::caustic_json(&args);
-        Image::load(&out).expect("rendered image")
-    };
+    let render = |name: &str, contents: &str| render_file(&dir, &format!("{name}.txt"), contents);
     let far = render("far", &moved([1e5; 3]));
     let near = render("near", &moved([-278.0, -273.0, 800.0]));
     let original = render("original", &text);

@@ -149,10 +149,15 @@ impl Interpreter {
         let open = w.open.filter(|o| Some(o.material) == known_material && o.normals == normals && o.mesh + 1 == w.scene.meshes.len());
         let identity = w.current == DMat4::IDENTITY;
         // The scene's origin, set by the first corner if nothing was placed before.
-        let anchor = if normals { &w.normal_vertex_anchor } else { &w.vertex_anchor };
-        let first = if normals { w.normal_vertices.get(global[0]).map(|v| v[0]) } else { w.vertices.get(global[0]).copied() };
-        let (first, _) = anchor.position(global[0], first.unwrap_or_default());
-        let origin = w.origin(w.current.transform_point3(first));
+        let origin = match w.anchor {
+            Some(origin) => origin,
+            None => {
+                let anchor = if normals { &w.normal_vertex_anchor } else { &w.vertex_anchor };
+                let first = if normals { w.normal_vertices.get(global[0]).map(|v| v[0]) } else { w.vertices.get(global[0]).copied() };
+                let (first, _) = anchor.position(global[0], first.unwrap_or_default());
+                w.origin(w.current.transform_point3(first))
+            }
+        };
         let untouched = identity && origin == DVec3::ZERO;
         // A textured material reads the corners' texture coordinates.
         let textured = w.material.base_color_texture.is_some();
