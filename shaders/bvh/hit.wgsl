@@ -67,3 +67,18 @@ fn occluded(ray: Ray, t_max: f32) -> bool {
     var cost = TraversalCost(0u, 0u);
     return trace(ray, t_max, true, &cost).triangle != NO_HIT;
 }
+
+// What `trace_pair` returns: whether the shadow ray was blocked (false when there was none)
+// and the other ray's closest hit.
+struct PairHit {
+    occluded: bool,
+    hit: Hit,
+}
+
+// `trace_pair` as two walks in turn: the shadow ray's (when `shadowing`), then the closest
+// hit's. The binary walk and the generated traversal answer trace_pair with it; the four-wide
+// walk (bvh/traverse_wide.wgsl) interleaves the two in one loop and answers the same.
+fn trace_in_turn(shadow: Ray, shadow_t_max: f32, shadowing: bool, ray: Ray, t_max: f32, cost: ptr<function, TraversalCost>) -> PairHit {
+    let occluded = shadowing && trace(shadow, shadow_t_max, true, cost).triangle != NO_HIT;
+    return PairHit(occluded, trace(ray, t_max, false, cost));
+}

@@ -78,3 +78,11 @@ fn trace(ray: Ray, t_max: f32, any_hit: bool, cost: ptr<function, TraversalCost>
     }
     return intersect_planes(ray, hit, any_hit);
 }
+
+// The path tracer traces shadow rays at once (trace_pair would walk them apart anyway).
+const PAIR_WALK: bool = false;
+
+// A shadow ray's any hit, then a ray's closest hit (bvh/hit.wgsl, trace_in_turn).
+fn trace_pair(shadow: Ray, shadow_t_max: f32, shadowing: bool, ray: Ray, t_max: f32, cost: ptr<function, TraversalCost>) -> PairHit {
+    return trace_in_turn(shadow, shadow_t_max, shadowing, ray, t_max, cost);
+}

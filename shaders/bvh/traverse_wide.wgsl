@@ -62,6 +62,27 @@ fn push_farther_children(order: WideOrder, sp: u32) -> u32 {
     return base + entered.w + entered.z + entered.y;
 }
 
+// Visits interior node `*current` (tree level `*level`) of a walk whose stack top is `*sp`:
+// pushes its entered children but the nearest, and moves to the nearest one level down.
+// Returns false, moving nowhere, when the ray enters no child.
+fn descend_wide_node(r: TraversalRay, t_max: f32, current: ptr<function, u32>, level: ptr<function, u32>, sp: ptr<function, u32>, cost: ptr<function, TraversalCost>) -> bool {
+    let order = order_wide_children(r, *current, t_max);
+    (*cost).nodes += 1u;
+    if BVH_LEVELS {
+        let base = min(*sp, WIDE_STACK_SIZE);
+        stack_level[base] = *level + 1u;
+        stack_level[base + 1u] = *level + 1u;
+        stack_level[base + 2u] = *level + 1u;
+    }
+    *sp = push_farther_children(order, *sp);
+    if order.t.x < CHILD_MISSED {
+        *current = order.child.x;
+        *level += 1u;
+        return true;
+    }
+    return false;
+}
+
 // Closest hit along the ray in (0, t_max); with `any_hit` it returns at the first hit found.
 // One loop that visits a node or a leaf per turn ("if-if"): on Mesa 25 it ran incoherent
 // rays 5-10% faster than the while-while shape the binary walk keeps, which Mesa 22.3 had
@@ -82,18 +103,7 @@ fn trace(ray: Ray, t_max: f32, any_hit: bool, cost: ptr<function, TraversalCost>
                 return hit;
             }
         } else {
-            let order = order_wide_children(r, current, hit.t);
-            (*cost).nodes += 1u;
-            if BVH_LEVELS {
-                let base = min(sp, WIDE_STACK_SIZE);
-                stack_level[base] = level + 1u;
-                stack_level[base + 1u] = level + 1u;
-                stack_level[base + 2u] = level + 1u;
-            }
-            sp = push_farther_children(order, sp);
-            if order.t.x < CHILD_MISSED {
-                current = order.child.x;
-                level++;
+            if descend_wide_node(r, hit.t, &current, &level, &sp, cost) {
                 continue;
             }
         }
@@ -107,4 +117,58 @@ fn trace(ray: Ray, t_max: f32, any_hit: bool, cost: ptr<function, TraversalCost>
         }
     }
     return intersect_planes(ray, hit, any_hit);
+}
+
+// This walk traces a shadow ray and a closest-hit ray in one loop (trace_pair), so the path
+// tracer defers shadow rays to walk them with the path's next ray (integrator/path.wgsl).
+const PAIR_WALK: bool = true;
+
+// `shadow` tested for any hit in (0, shadow_t_max) when `shadowing`, then `ray`'s closest hit
+// in (0, t_max), in one loop: a lane whose shadow ray ends goes on with its closest-hit ray in
+// the next turn, so a SIMD packet runs as many turns as its slowest lane's two walks together
+// rather than its slowest shadow walk and then its slowest closest-hit walk. Each walk visits
+// what `trace` visits, so the answers are trace's (trace_in_turn, bvh/hit.wgsl).
+fn trace_pair(shadow: Ray, shadow_t_max: f32, shadowing: bool, ray: Ray, t_max: f32, cost: ptr<function, TraversalCost>) -> PairHit {
+    var any_hit = shadowing;
+    var walked = ray;
+    if shadowing {
+        walked = shadow;
+    }
+    var r = prepare_ray(walked);
+    var hit = begin_trace(select(t_max, shadow_t_max, shadowing));
+    var occluded = false;
+    var sp = 0u;
+    var current = 0u;
+    var level = 0u;
+    loop {
+        var found = false;
+        if is_leaf(current) {
+            found = intersect_leaf(walked, r, current, any_hit, level, &hit, cost);
+        } else {
+            if descend_wide_node(r, hit.t, &current, &level, &sp, cost) {
+                continue;
+            }
+        }
+        if !found && sp != 0u {
+            sp--;
+            current = stack_child[sp];
+            if BVH_LEVELS {
+                level = stack_level[sp];
+            }
+            continue;
+        }
+        if !any_hit {
+            break;
+        }
+        // The shadow walk ended: its planes, then the closest-hit walk from the root.
+        occluded = intersect_planes(shadow, hit, true).triangle != NO_HIT;
+        any_hit = false;
+        walked = ray;
+        r = prepare_ray(ray);
+        hit = begin_trace(t_max);
+        sp = 0u;
+        current = 0u;
+        level = 0u;
+    }
+    return PairHit(occluded, intersect_planes(ray, hit, false));
 }

@@ -32,6 +32,15 @@ fn test_shape(ray: Ray, hit: Hit, slot: u32) -> Hit {
     return hit;
 }
 
+// The path tracer traces shadow rays at once (trace_pair would walk them apart anyway).
+const PAIR_WALK: bool = false;
+
+// A shadow ray's any hit, then a ray's closest hit (bvh/hit.wgsl, trace_in_turn): the
+// generated `trace` has no loop to share.
+fn trace_pair(shadow: Ray, shadow_t_max: f32, shadowing: bool, ray: Ray, t_max: f32, cost: ptr<function, TraversalCost>) -> PairHit {
+    return trace_in_turn(shadow, shadow_t_max, shadowing, ray, t_max, cost);
+}
+
 // `span` (entry and exit distance) of the ray clipped to the half-space
 // dot(plane.xyz, x) <= plane.w; a ray parallel to the plane keeps its span inside the
 // half-space and loses it on or outside the plane. Twin of convex_occluder::clip_to_plane.

@@ -114,10 +114,17 @@ fn inspect_light_result(weight: f32, contribution: vec3<f32>) -> vec3<f32> {
     return contribution;
 }
 
-// The path ended for `reason` (END_*) with `radiance` as the sample's estimate.
-fn inspect_end(reason: u32, radiance: vec3<f32>) {
+// The path ended for `reason` (END_*).
+fn inspect_end(reason: u32) {
     if scene_needs(REQUIRES_INSPECTOR) && inspecting {
         inspection.termination = reason;
+    }
+}
+
+// The path's sample is final: `radiance` is its estimate (with the light of a shadow ray that
+// was still waiting when the path ended, integrator/path.wgsl).
+fn inspect_radiance(radiance: vec3<f32>) {
+    if scene_needs(REQUIRES_INSPECTOR) && inspecting {
         inspection.radiance = radiance;
     }
 }

@@ -86,15 +86,65 @@ fn light_sample_count() -> u32 {
     return max(frame.pixel_sampling.light_samples, 1u);
 }
 
-// Direct light at a surface: the mean of light_sample_count() light samples, each weighted by
-// the multi-sample power heuristic against the one BSDF sample (Veach: counts times pdfs).
-fn next_events(si: SurfaceInteraction, local: Frame3, wo: vec3<f32>, rng: ptr<function, Rng>) -> vec3<f32> {
+// Direct light at a surface, the mean of light_sample_count() light samples, each weighted by
+// the multi-sample power heuristic against the one BSDF sample (Veach: counts times pdfs),
+// waiting for its last shadow ray: the megakernel traces that ray in one walk with the path's
+// next ray (trace_pair, bvh/traverse_wide.wgsl), where a SIMD packet's lanes that finish one
+// go on with the other. `pending` says whether a shadow ray waits; the path's radiance gains
+// `lit` if it arrives unoccluded, else `unlit` (both already times the vertex's throughput, in
+// the order the sum is formed without waiting, so the image is the same to the bit).
+struct DeferredLight {
+    shadow: ShadowRay,
+    lit: vec3<f32>,
+    unlit: vec3<f32>,
+    pending: bool,
+    // The last sample's MIS weight and contribution, for the inspector.
+    weight: f32,
+    contribution: vec3<f32>,
+}
+
+fn no_deferred_light() -> DeferredLight {
+    return DeferredLight(ShadowRay(Ray(vec3<f32>(0.0), vec3<f32>(0.0, 0.0, 1.0)), 0.0), vec3<f32>(0.0), vec3<f32>(0.0), false, 0.0, vec3<f32>(0.0));
+}
+
+// Draws the vertex's light samples: all but the last are traced at once, the last is deferred
+// where the traversal walks two rays in one loop (PAIR_WALK, bvh/traverse_wide.wgsl), else
+// traced at once too (the binary and generated traversals would walk the two in turn anyway,
+// and the waiting state cost the Cornell box's kernel 5%); one that carries nothing whatever
+// the visibility is added at once.
+fn defer_next_events(path: ptr<function, PathState>, si: SurfaceInteraction, local: Frame3, wo: vec3<f32>, rng: ptr<function, Rng>) -> DeferredLight {
     let count = light_sample_count();
     var sum = vec3<f32>(0.0);
-    for (var i = 0u; i < count; i++) {
+    for (var i = 0u; i + 1u < count; i++) {
         sum += next_event(si, local, wo, rng);
     }
-    return sum / f32(count);
+    let last = light_connection(si, local, wo, rng);
+    let unlit = (*path).throughput * ((sum + vec3<f32>(0.0)) / f32(count));
+    if !last.connects {
+        (*path).radiance += unlit;
+        return no_deferred_light();
+    }
+    let lit = (*path).throughput * ((sum + last.contribution) / f32(count));
+    let light = DeferredLight(last.shadow, lit, unlit, true, last.weight, last.contribution);
+    if PAIR_WALK {
+        return light;
+    }
+    resolve_light(path, light, occluded(last.shadow.ray, last.shadow.t_max));
+    return no_deferred_light();
+}
+
+// Adds a deferred light sample's share once its shadow ray was traced.
+fn resolve_light(path: ptr<function, PathState>, light: DeferredLight, occluded: bool) {
+    if !light.pending {
+        return;
+    }
+    if occluded {
+        inspect_light_occluded();
+        (*path).radiance += light.unlit;
+    } else {
+        _ = inspect_light_result(light.weight, light.contribution);
+        (*path).radiance += light.lit;
+    }
 }
 
 // Weight of emission a BSDF-sampled ray found (an emitter or the environment), which light
@@ -134,7 +184,7 @@ fn escape_path(path: ptr<function, PathState>) {
     let direction = (*path).ray.direction;
     let pdf_light = environment_light_pdf(direction);
     (*path).radiance += (*path).throughput * environment_radiance(direction) * emission_weight((*path).bounce, (*path).after_delta, (*path).bsdf_pdf, pdf_light);
-    inspect_end(END_ESCAPED, (*path).radiance);
+    inspect_end(END_ESCAPED);
 }
 
 // The surface a path's ray reached: attenuates the throughput by the medium crossed and adds
@@ -154,7 +204,7 @@ fn arrive_at_surface(path: ptr<function, PathState>, hit: Hit) -> SurfaceInterac
 // Whether the path may scatter at its current vertex (the depth limit is not reached).
 fn may_scatter(path: ptr<function, PathState>) -> bool {
     if (*path).bounce >= min(frame.max_depth, SAFETY_MAX_BOUNCES) {
-        inspect_end(END_MAX_DEPTH, (*path).radiance);
+        inspect_end(END_MAX_DEPTH);
         return false;
     }
     return true;
@@ -181,7 +231,7 @@ fn scatter(path: ptr<function, PathState>, si: SurfaceInteraction, sf: Scatterin
     let wi = frame_to_world(sf.local, bs.wi);
     inspect_bsdf(wi, bs.pdf, bs.weight);
     if bs.pdf <= 0.0 || !same_side(si, wi, bs.wi.z) {
-        inspect_end(END_ABSORBED, (*path).radiance);
+        inspect_end(END_ABSORBED);
         return false;
     }
     (*path).throughput *= bs.weight;
@@ -192,7 +242,7 @@ fn scatter(path: ptr<function, PathState>, si: SurfaceInteraction, sf: Scatterin
         let t = (*path).throughput;
         let survive = min(max(t.x, max(t.y, t.z)) * (*path).eta_scale, 0.95);
         if next_f32(rng) >= survive {
-            inspect_end(END_ROULETTE, (*path).radiance);
+            inspect_end(END_ROULETTE);
             return false;
         }
         (*path).throughput /= survive;
@@ -202,12 +252,18 @@ fn scatter(path: ptr<function, PathState>, si: SurfaceInteraction, sf: Scatterin
     return true;
 }
 
-// Traces the path's next ray and scatters where it lands: emission found, next-event
-// estimation, a BSDF sample, Russian roulette. Returns false when the path has ended (its
-// radiance is then final).
-fn extend_path(path: ptr<function, PathState>, rng: ptr<function, Rng>) -> bool {
+// Traces the path's next ray (with `deferred`'s shadow ray) and scatters where it lands:
+// emission found, next-event estimation (its last shadow ray left in `deferred` for the next
+// call), a BSDF sample, Russian roulette. Returns false when the path has ended (its radiance
+// is then final: a path that ends by scattering traces its waiting shadow ray alone).
+fn extend_path(path: ptr<function, PathState>, deferred: ptr<function, DeferredLight>, rng: ptr<function, Rng>) -> bool {
     let ray = (*path).ray;
-    let hit = closest_hit(ray, 3.0e38);
+    let light = *deferred;
+    var cost = TraversalCost(0u, 0u);
+    let traced = trace_pair(light.shadow.ray, light.shadow.t_max, light.pending, ray, 3.0e38, &cost);
+    resolve_light(path, light, traced.occluded);
+    *deferred = no_deferred_light();
+    let hit = traced.hit;
     inspect_ray((*path).bounce, ray, hit, (*path).throughput, (*path).radiance);
     if hit.triangle == NO_HIT {
         escape_path(path);
@@ -218,15 +274,22 @@ fn extend_path(path: ptr<function, PathState>, rng: ptr<function, Rng>) -> bool 
         return false;
     }
     let sf = scattering_frame(si, ray);
-    (*path).radiance += (*path).throughput * next_events(si, sf.local, sf.wo, rng);
-    return scatter(path, si, sf, rng);
+    let next = defer_next_events(path, si, sf.local, sf.wo, rng);
+    if !scatter(path, si, sf, rng) {
+        resolve_light(path, next, next.pending && occluded(next.shadow.ray, next.shadow.t_max));
+        return false;
+    }
+    *deferred = next;
+    return true;
 }
 
 // The radiance one path starting with `primary` carries to the camera.
 fn trace_path(primary: Ray, rng: ptr<function, Rng>) -> vec3<f32> {
     var path = begin_path(primary);
-    while extend_path(&path, rng) {
+    var deferred = no_deferred_light();
+    while extend_path(&path, &deferred, rng) {
     }
+    inspect_radiance(path.radiance);
     return path.radiance;
 }
 
@@ -257,10 +320,12 @@ fn render_sample(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_work
     var pixel = begin_pixel(local);
     var rng: Rng;
     var path = begin_sample(pixel, &rng);
+    var deferred = no_deferred_light();
     loop {
-        if extend_path(&path, &rng) {
+        if extend_path(&path, &deferred, &rng) {
             continue;
         }
+        inspect_radiance(path.radiance);
         record_sample(pixel, path.radiance);
         local += stride;
         if PATHS_PER_INVOCATION == 1u || local >= frame.tile_pixels {

@@ -127,7 +127,7 @@ fn wavefront_extend(@builtin(global_invocation_id) id: vec3<u32>) {
     wavefront_hits[p] = closest_hit(ray, 3.0e38);
 }
 
-// Writes the vertex's light samples (as next_events draws them) for connect, and queues the
+// Writes the vertex's light samples (as defer_next_events draws them) for connect, and queues the
 // path if any may carry light.
 fn queue_light_samples(p: u32, si: SurfaceInteraction, sf: ScatteringFrame, rng: ptr<function, Rng>) {
     let count = light_sample_count();
