@@ -6,6 +6,7 @@ mod scenes;
 mod support;
 
 mod accumulation;
+mod aovs;
 mod bench;
 mod classic_cli;
 mod classic_scenes;

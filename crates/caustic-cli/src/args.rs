@@ -103,6 +103,13 @@ pub struct RenderArgs {
     /// the raw values.
     #[arg(long, value_name = "VIEW", value_parser = parse_debug_view)]
     pub debug: Option<DebugView>,
+    /// Arbitrary output variables written as layers of the .exr output beside the image
+    /// (docs/FEATURES.md): a comma-separated list of albedo (`albedo.R/G/B`), normal
+    /// (`N.X/Y/Z`), depth (`Z`), position (`P.X/Y/Z`), variance (`variance.R/G/B`) and spp
+    /// (`spp`, always written). Whole renders only: not with sample ranges, --resume or a
+    /// script.
+    #[arg(long, value_name = "LIST", value_parser = crate::aovs::parse_aovs)]
+    pub aovs: Option<crate::aovs::AovList>,
     /// Bloom on the finished linear image (docs/FEATURES.md): the fraction 0..=1 of the light
     /// above THRESHOLD (luminance, default 1) spread into Gaussians of RADIUS, 2 RADIUS and
     /// 4 RADIUS pixels (default 2); total energy is kept. Not for partial .exr outputs.

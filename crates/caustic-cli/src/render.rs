@@ -1,5 +1,6 @@
 //! `caustic render`: load, upload, accumulate, write.
 
+use crate::aovs::AovLayer;
 use crate::args::RenderArgs;
 use crate::fingerprint::{Fingerprint, fingerprint};
 use crate::preset::Preset;
@@ -10,7 +11,7 @@ use caustic_gpu::bloom::{Bloom, BloomSettings};
 use caustic_gpu::debug_image::{DEBUG_SAVE_OPTIONS, debug_picture};
 use caustic_gpu::{DebugView, GpuContext, GpuScene, PassOutcome, PathTracer, RenderSettings};
 use caustic_image::estimate::ErrorEstimate;
-use caustic_image::{Image, PartInfo, PartialImage};
+use caustic_image::{ExtraChannel, Image, PartInfo, PartialImage};
 use caustic_scene::{LoadOptions, RenderPass, Scene, SceneSource, load_scene_with};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
@@ -213,9 +214,10 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         crate::failure::usage!("--shutter samples glTF animations; a scene-language file sets its shutter with the `shutter` command");
     }
     if !split && script::is_script(Path::new(&scene_arg)) {
-        if args.target_error.is_some() {
+        if args.target_error.is_some() || args.aovs.is_some() {
+            let option = if args.aovs.is_some() { "--aovs" } else { "--target-error" };
             crate::failure::usage!(
-                "--target-error applies to one render; {scene_arg} runs as a script of renders (give it --samples 0..N to render its first scene once)"
+                "{option} applies to one render; {scene_arg} runs as a script of renders (give it --samples 0..N to render its first scene once)"
             );
         }
         return script::run_file(Path::new(&scene_arg), args);
@@ -229,6 +231,18 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
             "--bloom applies to finished images: -o {} is a partial image for `caustic merge`; write .hdr or .png instead",
             output.display()
         );
+    }
+    let aovs: &[AovLayer] = args.aovs.as_ref().map_or(&[], |list| &list.0);
+    if !aovs.is_empty() {
+        if !partial {
+            crate::failure::usage!("--aovs writes layers beside the image in an EXR: -o {} must end in .exr", output.display());
+        }
+        if args.samples.is_some() || args.samples_from_env || args.resume || args.debug.is_some() {
+            crate::failure::usage!("--aovs is written by whole renders: not with --samples, --samples-from-env, --resume or --debug");
+        }
+        if aovs.contains(&AovLayer::Variance) && budget.end().is_some_and(|end| end < 2) {
+            crate::failure::usage!("the variance AOV needs at least 2 samples per pixel: give --spp 2 or more");
+        }
     }
     if !partial && (args.samples_from_env || args.resume) {
         let option = if args.resume { "--resume" } else { "--samples-from-env" };
@@ -257,7 +271,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let ctx = GpuContext::new(args.device.adapter.as_deref())?;
     eprintln!("adapter: {}", ctx.adapter);
     let setup = crate::failure::SetupWatch::start(interrupted.clone(), args.device.json);
-    let mut rendered = accumulate(&ctx, &scene, &settings, &budget, &interrupted, Some(setup))?;
+    let mut rendered = accumulate(&ctx, &scene, &settings, &budget, &interrupted, Some(setup), aovs)?;
     // A depth pass: parts and HDR files hold the raw distances, LDR files the normalised depth.
     let depth_display = (scene.options.pass == RenderPass::Depth).then(|| {
         let (raw, display) = crate::depth::depth_images(&rendered.image);
@@ -369,6 +383,9 @@ pub struct Accumulated {
     pub estimated_relmse: Option<f64>,
     /// What ended the accumulation.
     pub stopped_by: StoppedBy,
+    /// The `--aovs` layers' channels, written beside the image in the partial EXR (none when
+    /// the render was interrupted).
+    pub aov_channels: Vec<ExtraChannel>,
     /// The global sample range drawn.
     pub drawn: Range<u32>,
     triangles: usize,
@@ -389,6 +406,7 @@ pub fn accumulate(
     budget: &Budget,
     interrupted: &AtomicBool,
     setup: Option<crate::failure::SetupWatch>,
+    aovs: &[AovLayer],
 ) -> anyhow::Result<Accumulated> {
     let gpu_scene = GpuScene::upload(ctx, scene)?;
     if let Some(note) = gpu_scene.layout_note() {
@@ -409,7 +427,7 @@ pub fn accumulate(
     let mut estimate = ErrorEstimate::new(budget.target_error);
     // The estimate keeps two images: past ESTIMATE_MAX_PIXELS only when a target needs it.
     let (width, height) = scene.resolution;
-    let estimating = budget.target_error.is_some() || u64::from(width) * u64::from(height) <= ESTIMATE_MAX_PIXELS;
+    let estimating = budget.target_error.is_some() || aovs.contains(&AovLayer::Variance) || u64::from(width) * u64::from(height) <= ESTIMATE_MAX_PIXELS;
     let mut stopped_by = StoppedBy::Spp;
     while !budget.spp_reached(tracer.samples_per_pixel()) {
         if tracer.render_sample_until(&stop)? == PassOutcome::Stopped {
@@ -434,6 +452,12 @@ pub fn accumulate(
     if estimating && estimate.latest().is_none_or(|(n, _)| n != spp) && spp > 0 {
         estimate.update(spp, &image)?;
     }
+    let aov_channels = if aovs.is_empty() || interrupted.load(Ordering::SeqCst) {
+        Vec::new()
+    } else {
+        let beauty = crate::aovs::Beauty { spp, variance: estimate.pixel_variance(spp, &image) };
+        crate::aovs::channels(ctx, scene, &gpu_scene, settings, aovs, beauty, &|| interrupted.load(Ordering::SeqCst))?
+    };
     Ok(Accumulated {
         image,
         counts,
@@ -443,6 +467,7 @@ pub fn accumulate(
         compile_seconds,
         estimated_relmse: estimate.latest().filter(|(n, _)| *n == spp).map(|(_, e)| e),
         stopped_by,
+        aov_channels,
         drawn: tracer.drawn_range(),
         triangles: gpu_scene.triangle_count,
         lights: gpu_scene.light_count,
@@ -466,6 +491,7 @@ fn write_part(output: &Path, scene: &Scene, print: &Fingerprint, rendered: Accum
         estimated_relmse: rendered.estimated_relmse,
     };
     let part = PartialImage { info, image: rendered.image, samples: rendered.counts };
+    let extra = rendered.aov_channels;
     let part = match previous {
         Some(previous) => {
             let parts = [(output.to_path_buf(), previous), (PathBuf::from("(the resumed samples)"), part)];
@@ -473,7 +499,7 @@ fn write_part(output: &Path, scene: &Scene, print: &Fingerprint, rendered: Accum
         }
         None => part,
     };
-    part.save(output)?;
+    part.save_with_channels(output, &extra)?;
     Ok(part.info.range.clone())
 }
 

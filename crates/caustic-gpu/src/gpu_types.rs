@@ -47,7 +47,8 @@ pub struct Frame {
     pub shape_count: u32,
     /// Scene triangles; shape `i`'s shading entry is at `triangle_count + i`.
     pub triangle_count: u32,
-    /// Debug view shown by `render_debug` ([`crate::DebugView`] as a number; 0 = none).
+    /// Debug view shown by `render_debug` ([`crate::DebugView`] as a number; 0 = none), or
+    /// the AOV `render_aov` accumulates ([`crate::Aov`] as a number).
     pub debug_view: u32,
     /// The pixel (row-major index) whose path the inspector records; [`NO_PIXEL`] = none.
     pub inspect_pixel: u32,

@@ -48,6 +48,9 @@ pub fn wgsl_constants() -> String {
     for kind in LightKind::ALL {
         text.push_str(&format!("const {}: u32 = {}u;\n", kind.wgsl_name(), kind as u32));
     }
+    for (name, aov) in crate::aov::Aov::ALL {
+        text.push_str(&format!("const {name}: u32 = {}u;\n", aov as u32));
+    }
     for (name, value) in SHARED_CONSTANTS {
         text.push_str(&format!("const {name}: u32 = {value:#x}u;\n"));
     }
@@ -72,6 +75,7 @@ mod tests {
             .map(|(name, _)| *name)
             .chain(SHARED_FLOATS.iter().map(|(name, _)| *name))
             .chain(LightKind::ALL.iter().map(|kind| kind.wgsl_name()))
+            .chain(crate::aov::Aov::ALL.iter().map(|(name, _)| *name))
             .collect();
         names.sort_unstable();
         let count = names.len();

@@ -197,6 +197,9 @@ fn entry_point(settings: &RenderSettings) -> &'static str {
     if settings.debug.is_some() {
         return "render_debug";
     }
+    if settings.aov.is_some() {
+        return "render_aov";
+    }
     match (settings.pass, settings.integrator) {
         (RenderPass::Depth, _) => "render_depth",
         (RenderPass::Normals, _) => "render_normals",

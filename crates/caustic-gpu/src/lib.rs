@@ -7,6 +7,7 @@
 //! raw traversal throughput. For debugging, [`PathTracer::inspect`] records one pixel's path
 //! ([`inspector`]) and [`debug_image`] turns the debug views into pictures.
 
+pub mod aov;
 pub mod bake;
 mod bench;
 pub mod bindings;
@@ -42,6 +43,7 @@ pub mod shadow_hull;
 pub mod specialize;
 pub mod wavefront;
 
+pub use aov::{Aov, AovImages, render_aovs};
 pub use bench::{BenchResult, ExternalRay, RayBench, RayKind, TracedRay, Walk, is_coherent};
 pub use context::{AdapterSummary, GpuContext};
 pub use error::GpuError;

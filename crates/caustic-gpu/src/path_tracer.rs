@@ -457,7 +457,7 @@ fn frame_constants(scene: &Scene, gpu: &GpuScene, settings: &RenderSettings) -> 
         first_plane: gpu.first_plane,
         shape_count: gpu.shape_count,
         triangle_count: gpu.triangle_count as u32,
-        debug_view: settings.debug.map_or(0, |view| view as u32),
+        debug_view: settings.debug.map(|view| view as u32).or(settings.aov.map(|aov| aov as u32)).unwrap_or(0),
         inspect_pixel: NO_PIXEL,
         transport: transport_flags(next_event(scene, settings), scene.options.importance_sampling),
         lens_radius: camera.aperture,

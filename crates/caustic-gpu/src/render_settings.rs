@@ -1,6 +1,7 @@
 //! What a render asks of the path tracer: [`RenderSettings`] and the choices it is made of
 //! (sampler, data path, debug view, kernel shape).
 
+use crate::aov::Aov;
 use crate::features::ClassicFeatures;
 use crate::filter::PixelFilter;
 use crate::wavefront::KernelShape;
@@ -17,6 +18,8 @@ pub struct RenderSettings {
     pub pass: RenderPass,
     /// A debug view to accumulate instead of the pass, if any.
     pub debug: Option<DebugView>,
+    /// An AOV to accumulate instead of the pass ([`crate::aov`]), if any (a debug view wins).
+    pub aov: Option<Aov>,
     /// Maximum number of bounces (scattering events); `None` = unbounded, paths end by Russian
     /// roulette. 0 shows only emitters and the environment seen directly.
     pub max_depth: Option<u32>,
@@ -121,6 +124,7 @@ impl Default for RenderSettings {
             integrator: Integrator::PathTracer,
             pass: RenderPass::Image,
             debug: None,
+            aov: None,
             max_depth: None,
             seed: 0,
             rr_start: 5,

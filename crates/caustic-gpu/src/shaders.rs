@@ -87,7 +87,7 @@ pub fn ray_bench_source(layout: crate::NodeLayout, words_64: bool, packet_walk: 
     source
 }
 
-const PATH_TRACER: [ShaderFile; 27] = [
+const PATH_TRACER: [ShaderFile; 28] = [
     shader_file!("integrator/bindings.wgsl"),
     shader_file!("integrator/camera.wgsl"),
     shader_file!("integrator/environment.wgsl"),
@@ -115,6 +115,7 @@ const PATH_TRACER: [ShaderFile; 27] = [
     shader_file!("integrator/passes.wgsl"),
     shader_file!("integrator/debug.wgsl"),
     shader_file!("integrator/inspect.wgsl"),
+    shader_file!("integrator/aov.wgsl"),
 ];
 
 const RAY_BENCH: [ShaderFile; 2] = [shader_file!("bench/rays.wgsl"), shader_file!("bench/opaque.wgsl")];
@@ -165,7 +166,7 @@ pub enum Program {
     /// The integrators' kernels: `integrator/path.wgsl` (`render_sample`),
     /// `integrator/whitted.wgsl` (`render_classic`) and `integrator/passes.wgsl`
     /// (`render_depth`, `render_normals`, `render_analytic_direct`), `integrator/debug.wgsl`
-    /// (`render_debug`).
+    /// (`render_debug`), `integrator/aov.wgsl` (`render_aov`).
     PathTracer,
     /// `bench/rays.wgsl`: ray generation and closest-hit throughput.
     RayBench,

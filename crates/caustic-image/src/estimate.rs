@@ -81,9 +81,10 @@ impl ErrorEstimate {
     /// Estimates the error of `image`, the render at `spp` samples per pixel, against the kept
     /// image of at most half as many samples (else the one before it); nothing before 2 spp.
     pub fn update(&mut self, spp: u32, image: &Image) -> Result<(), ImageError> {
-        let earlier = self.kept.iter().rev().find(|(n, _)| 2 * n <= spp).or_else(|| self.kept.iter().rev().find(|(n, _)| *n < spp));
-        let Some((n, earlier_image)) = earlier else { return Ok(()) };
-        let difference = estimated_relative_mse(earlier_image, f64::from(*n), image, f64::from(spp), RELMSE_EPSILON)?;
+        let Some(index) = self.earlier(spp) else { return Ok(()) };
+        let (n, earlier_image) = &self.kept[index];
+        let n = *n;
+        let difference = estimated_relative_mse(earlier_image, f64::from(n), image, f64::from(spp), RELMSE_EPSILON)?;
         if 2 * n == spp {
             // Halves at a power of two: the law's gain per doubling from this and the last.
             if let Some((_, d)) = self.difference.filter(|(last, d)| 2 * last == spp && *d > 0.0 && difference > 0.0) {
@@ -94,10 +95,35 @@ impl ErrorEstimate {
         // Under V(m) ~ m^-b the first n_a samples' error exceeds the whole's by
         // V(n_a) - V(n) = V(n) ((n / n_a)^b - 1); `difference` holds that scaled by n_a / n_b
         // (the independent samples' law, b = 1, where the two agree).
-        let (first, all) = (f64::from(*n), f64::from(spp));
-        let law = (all / first).powf(self.doubling_gain.log2()) - 1.0;
-        self.latest = Some((spp, difference * (all - first) / first / law));
+        let (first, all) = (f64::from(n), f64::from(spp));
+        self.latest = Some((spp, difference * (all - first) / first / self.law(first, all)));
         Ok(())
+    }
+
+    /// Index in `kept` of the image an estimate at `spp` compares with: of at most half as
+    /// many samples, else the one before it.
+    fn earlier(&self, spp: u32) -> Option<usize> {
+        let last = |fits: &dyn Fn(u32) -> bool| self.kept.iter().rposition(|(n, _)| fits(*n));
+        last(&|n| 2 * n <= spp).or_else(|| last(&|n| n < spp))
+    }
+
+    /// (all / first)^b - 1: how much the first samples' error exceeds the whole's, in units of
+    /// the whole's, under the law V(n) ~ n^-b ([`Self::update`]).
+    fn law(&self, first: f64, all: f64) -> f64 {
+        (all / first).powf(self.doubling_gain.log2()) - 1.0
+    }
+
+    /// Per pixel and channel, the estimated variance of `image`'s mean, the render at `spp`
+    /// samples per pixel (the `variance` AOV): the kept earlier image A against it, F, as
+    /// [`Self::update`] compares them but without the relative scaling, (A - F)^2 / ((n /
+    /// n_a)^b - 1), which for independent samples is (A - F)^2 n_a / n_b. One pixel's value is
+    /// a single draw (a chi-square of one degree of freedom about the true variance); its
+    /// mean over pixels is the mean variance. `None` before a kept image of fewer samples.
+    pub fn pixel_variance(&self, spp: u32, image: &Image) -> Option<Vec<[f32; 3]>> {
+        let (n, earlier) = &self.kept[self.earlier(spp)?];
+        let law = self.law(f64::from(*n), f64::from(spp));
+        let variance = earlier.pixels.iter().zip(&image.pixels).map(|(a, f)| [0, 1, 2].map(|c| ((f64::from(a[c]) - f64::from(f[c])).powi(2) / law) as f32));
+        Some(variance.collect())
     }
 
     /// The latest estimate and the samples per pixel it was made at.
@@ -176,6 +202,46 @@ mod tests {
         let (_, e96) = estimate.latest().unwrap();
         println!("at 96 spp: estimate {e96:.4e}, D / (3^2 - 1) = {:.4e}", raw / 8.0);
         assert!((e96 / (raw / 8.0) - 1.0).abs() < 0.03, "the law applied to the split");
+    }
+
+    #[test]
+    fn pixel_variance_is_the_variance_of_the_mean() {
+        // Independent samples of variance s^2 per pixel: after 32 of them the mean's variance
+        // is s^2 / 32, which the per-pixel estimate (kept image at 16) matches on average.
+        let (width, height, sigma) = (64u32, 64u32, 0.5f64);
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut gaussian = move || {
+            let mut uniform = || {
+                state ^= state << 13;
+                state ^= state >> 7;
+                state ^= state << 17;
+                (state >> 11) as f64 / (1u64 << 53) as f64
+            };
+            let (u, v) = (uniform().max(1e-300), uniform());
+            (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos()
+        };
+        let mut sums = vec![[0.0f64; 3]; (width * height) as usize];
+        let mut estimate = ErrorEstimate::new(None);
+        for spp in 1..=32u32 {
+            for sum in &mut sums {
+                for c in sum.iter_mut() {
+                    *c += 1.0 + sigma * gaussian();
+                }
+            }
+            let mut image = Image::new(width, height);
+            for (p, sum) in image.pixels.iter_mut().zip(&sums) {
+                *p = sum.map(|c| (c / f64::from(spp)) as f32);
+            }
+            estimate.after_pass::<ImageError>(spp, || Ok(image.clone())).unwrap();
+            if spp == 32 {
+                let variance = estimate.pixel_variance(spp, &image).expect("a kept image of 16 samples");
+                let mean = variance.iter().flatten().map(|&v| f64::from(v)).sum::<f64>() / (variance.len() * 3) as f64;
+                let truth = sigma * sigma / 32.0;
+                println!("mean per-pixel variance {mean:.4e}, truth {truth:.4e}");
+                assert!((mean / truth - 1.0).abs() < 0.1, "the per-pixel estimate averages to the mean's variance");
+            }
+        }
+        assert!(ErrorEstimate::new(None).pixel_variance(4, &flat(1.0)).is_none(), "nothing to compare with yet");
     }
 
     #[test]

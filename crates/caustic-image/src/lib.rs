@@ -23,5 +23,5 @@ pub use display::{SaveOptions, linear_to_srgb, srgb_to_linear, to_srgb8};
 pub use error::{ImageError, SUPPORTED_EXTENSIONS};
 pub use film::Image;
 pub use io::{check_output_path, write_file_atomically};
-pub use partial::{PartInfo, PartialImage, SAMPLE_COUNT_CHANNEL, merged_estimate, parse_range};
+pub use partial::{ExtraChannel, PartInfo, PartialImage, SAMPLE_COUNT_CHANNEL, merged_estimate, parse_range};
 pub use tonemap::{ParseToneMapError, ToneMap};

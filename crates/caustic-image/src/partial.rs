@@ -38,6 +38,21 @@ use crate::io::{check_output_path, write_atomically};
 /// Name of the per-pixel sample-count channel.
 pub const SAMPLE_COUNT_CHANNEL: &str = "spp";
 
+/// A channel written beside a partial image's own ([`PartialImage::save_with_channels`]): 32-bit
+/// floats, one per pixel in row order.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ExtraChannel {
+    /// The channel's name, e.g. `albedo.R`.
+    pub name: String,
+    /// One value per pixel.
+    pub values: Vec<f32>,
+}
+
+/// Whether `name` is one of the channels a partial image writes itself.
+fn is_image_channel(name: &str) -> bool {
+    matches!(name, "R" | "G" | "B") || name == SAMPLE_COUNT_CHANNEL
+}
+
 const ATTR_SAMPLES: &str = "caustic.samples";
 const ATTR_FINGERPRINT: &str = "caustic.fingerprint";
 const ATTR_SETTINGS: &str = "caustic.settings";
@@ -222,13 +237,27 @@ impl PartialImage {
     /// Writes the partial image atomically (temporary file, then rename), as
     /// a ZIP-compressed, lossless EXR. The path must end in `.exr`.
     pub fn save(&self, path: &Path) -> Result<(), ImageError> {
+        self.save_with_channels(path, &[])
+    }
+
+    /// [`PartialImage::save`] with `extra` channels after the image's (AOV layers such as
+    /// `albedo.R`, `N.X`, `Z`: OpenEXR's layer convention, a prefix before the last dot). The
+    /// file stays a partial image; [`PartialImage::load`] and merges read the image's channels
+    /// and leave the others. Each extra channel must hold one value per pixel.
+    pub fn save_with_channels(&self, path: &Path, extra: &[ExtraChannel]) -> Result<(), ImageError> {
         let extension = path.extension().map(|e| e.to_string_lossy().to_lowercase());
         if extension.as_deref() != Some("exr") {
             return Err(ImageError::Part { path: path.to_path_buf(), reason: "a partial image is written as .exr".into() });
         }
         check_output_path(path)?;
         self.check_consistent()?;
-        let bytes = self.encode().map_err(|source| exr_error(path, "encode", source))?;
+        if let Some(channel) = extra.iter().find(|c| c.values.len() != self.samples.len() || is_image_channel(&c.name)) {
+            return Err(ImageError::Part {
+                path: path.to_path_buf(),
+                reason: format!("extra channel '{}' clashes with the image's or has the wrong size", channel.name),
+            });
+        }
+        let bytes = self.encode(extra).map_err(|source| exr_error(path, "encode", source))?;
         write_atomically(path, |writer| writer.write_all(&bytes).map_err(image::ImageError::IoError))
     }
 
@@ -245,14 +274,16 @@ impl PartialImage {
         Ok(())
     }
 
-    fn encode(&self) -> exr::error::Result<Vec<u8>> {
+    fn encode(&self, extra: &[ExtraChannel]) -> exr::error::Result<Vec<u8>> {
         let plane = |c: usize| FlatSamples::F32(self.image.pixels.iter().map(|p| p[c]).collect());
-        let channels: SmallVec<[AnyChannel<FlatSamples>; 4]> = SmallVec::from_vec(vec![
+        let mut list = vec![
             AnyChannel::new("R", plane(0)),
             AnyChannel::new("G", plane(1)),
             AnyChannel::new("B", plane(2)),
             AnyChannel::new(SAMPLE_COUNT_CHANNEL, FlatSamples::U32(self.samples.clone())),
-        ]);
+        ];
+        list.extend(extra.iter().map(|c| AnyChannel::new(c.name.as_str(), FlatSamples::F32(c.values.clone()))));
+        let channels: SmallVec<[AnyChannel<FlatSamples>; 4]> = SmallVec::from_vec(list);
         let attributes = LayerAttributes { other: self.info.to_attributes(), ..LayerAttributes::default() };
         let size = (self.info.width as usize, self.info.height as usize);
         let layer = exr::prelude::Layer::new(size, attributes, Encoding::SMALL_LOSSLESS, AnyChannels::sort(channels));

@@ -7,6 +7,7 @@ mod common;
 mod support;
 
 mod anisotropic;
+mod aovs;
 mod ashikhmin_gpu;
 mod assets_render;
 mod bloom;

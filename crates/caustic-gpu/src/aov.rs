@@ -1,0 +1,94 @@
+//! Arbitrary output variables: the per-pixel quantities besides the beauty image that
+//! denoisers and compositors read (`caustic render --aovs`). The device renders four of them
+//! with `render_aov` (`shaders/integrator/aov.wgsl`) through the beauty pass's film, so they
+//! are filtered as the beauty is and their samples are its camera rays; the variance and the
+//! sample counts come from the beauty render itself.
+
+use crate::render_settings::RenderSettings;
+use crate::wavefront::KernelShape;
+use crate::{GpuContext, GpuError, GpuScene, PathTracer};
+use caustic_image::Image;
+use caustic_scene::Scene;
+
+/// An AOV the device renders. The discriminants are `frame.debug_view`'s values for
+/// `render_aov` (generated into the WGSL as `AOV_*`), apart from the debug views' 1-8.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Aov {
+    /// The reflectance of the first non-specular vertex (mean of its BSDF sample's weight),
+    /// times the weights of the delta bounces before it: a denoiser's albedo guide.
+    Albedo = 16,
+    /// The world-space shading normal of the first non-specular vertex, towards the ray.
+    Normal = 17,
+    /// Camera depth of the first hit (distance along the view direction), world units.
+    Depth = 18,
+    /// World position of the first hit (the scene's coordinates).
+    Position = 19,
+}
+
+impl Aov {
+    /// Every device AOV with its WGSL constant name.
+    pub const ALL: [(&'static str, Aov); 4] =
+        [("AOV_ALBEDO", Aov::Albedo), ("AOV_NORMAL", Aov::Normal), ("AOV_DEPTH", Aov::Depth), ("AOV_POSITION", Aov::Position)];
+}
+
+/// The device AOVs of one render, each per pixel; depth and position are the means over the
+/// samples that hit something (infinite depth and zero position where none did).
+#[derive(Clone, Debug, Default)]
+pub struct AovImages {
+    /// [`Aov::Albedo`], if asked for.
+    pub albedo: Option<Image>,
+    /// [`Aov::Normal`] (the filtered mean, not renormalised), if asked for.
+    pub normal: Option<Image>,
+    /// [`Aov::Depth`], if asked for.
+    pub depth: Option<Vec<f32>>,
+    /// [`Aov::Position`], if asked for.
+    pub position: Option<Image>,
+}
+
+/// Renders the AOVs in `wanted` for `scene` with `samples` samples per pixel (the beauty
+/// render's first ones: the same camera rays), with the beauty's `settings` (sampler, filter,
+/// seed). `stop` is polled between passes; a stopped render returns what it has.
+pub fn render_aovs(
+    ctx: &GpuContext,
+    scene: &Scene,
+    gpu: &GpuScene,
+    settings: &RenderSettings,
+    wanted: &[Aov],
+    samples: u32,
+    stop: &dyn Fn() -> bool,
+) -> Result<AovImages, GpuError> {
+    let render = |aov: Aov| -> Result<Image, GpuError> {
+        let aov_settings = RenderSettings { aov: Some(aov), debug: None, first_sample: 0, shape: KernelShape::Megakernel, ..*settings };
+        let mut tracer = PathTracer::new(ctx, scene, gpu, &aov_settings)?;
+        while tracer.samples_per_pixel() < samples.max(1) && !stop() {
+            tracer.render_sample()?;
+        }
+        tracer.image()
+    };
+    let mut images = AovImages::default();
+    let needs_coverage = wanted.iter().any(|a| matches!(a, Aov::Depth | Aov::Position));
+    let depth = if needs_coverage { Some(render(Aov::Depth)?) } else { None };
+    let origin = scene.origin;
+    for &aov in wanted {
+        match aov {
+            Aov::Albedo => images.albedo = Some(render(aov)?),
+            Aov::Normal => images.normal = Some(render(aov)?),
+            Aov::Depth => images.depth = depth.as_ref().map(|d| d.pixels.iter().map(|p| covered_mean(p[0], p[1])).collect()),
+            Aov::Position => {
+                let coverage = depth.as_ref().expect("rendered for position");
+                let mut position = render(aov)?;
+                for (p, d) in position.pixels.iter_mut().zip(&coverage.pixels) {
+                    *p = if d[1] > 0.0 { [0, 1, 2].map(|k| (f64::from(p[k] / d[1]) + origin[k]) as f32) } else { [0.0; 3] };
+                }
+                images.position = Some(position);
+            }
+        }
+    }
+    Ok(images)
+}
+
+/// A covered pixel's mean over its covered samples (`sum_over_all / covered_fraction`), or
+/// infinity where no sample hit.
+fn covered_mean(mean: f32, covered: f32) -> f32 {
+    if covered > 0.0 { mean / covered } else { f32::INFINITY }
+}
