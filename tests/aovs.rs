@@ -95,3 +95,37 @@ fn bad_aov_requests_are_refused_with_what_is_wrong() {
     }
     assert!(!exr.exists() && !png.exists(), "nothing is written");
 }
+
+#[test]
+fn denoise_writes_the_filtered_image_and_keeps_the_samples_of_an_exr() {
+    let dir = scratch("denoise");
+    let exr = dir.join("cornell.exr");
+    let hdr = dir.join("cornell.hdr");
+    for out in [&exr, &hdr] {
+        let output = caustic(&["render", "cornell", "--size", "48x48", "--spp", "8", "--denoise", "-o", out.to_str().unwrap()]);
+        assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    }
+    let layers = channels(&exr);
+    let mut names: Vec<&str> = layers.keys().map(String::as_str).collect();
+    names.sort_unstable();
+    assert_eq!(names, ["B", "G", "R", "denoised.B", "denoised.G", "denoised.R", "spp"], "the denoised image beside the samples, no unasked layers");
+    // The HDR file holds the denoised image: the EXR's denoised layer, not its samples.
+    let image = caustic_image::Image::load(&hdr).expect("written image");
+    let (mut to_denoised, mut to_samples) = (0.0f64, 0.0f64);
+    for (i, p) in image.pixels.iter().enumerate() {
+        for (c, name) in ["R", "G", "B"].into_iter().enumerate() {
+            to_denoised += f64::from((p[c] - layers[&format!("denoised.{name}")][i]).abs());
+            to_samples += f64::from((p[c] - layers[name][i]).abs());
+        }
+    }
+    println!("HDR against the EXR's denoised layer: {to_denoised:.3e}; against its samples: {to_samples:.3e}");
+    assert!(to_denoised * 20.0 < to_samples, "the HDR is the denoised image (RGBE rounding aside)");
+    // Smoother: on the back wall above the blocks (rows 11-18, columns 12-35), the differences
+    // of horizontal neighbours fall.
+    let roughness =
+        |name: &str| -> f32 { (11..19).flat_map(|y| (12..35).map(move |x| y * 48 + x)).map(|i| (layers[name][i] - layers[name][i + 1]).abs()).sum() };
+    println!("neighbour differences, green: samples {}, denoised {}", roughness("G"), roughness("denoised.G"));
+    assert!(roughness("denoised.G") < roughness("G") / 2.0);
+    let refused = caustic(&["render", "cornell", "--size", "16x16", "--denoise", "--samples", "0..4", "-o", exr.to_str().unwrap()]);
+    assert!(!refused.status.success() && String::from_utf8_lossy(&refused.stderr).contains("--denoise applies to whole renders"));
+}

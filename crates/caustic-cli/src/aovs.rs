@@ -4,9 +4,14 @@
 //! normal), `Z` (camera depth), `P.X/Y/Z` (world position), `variance.R/G/B` (the estimated
 //! variance of the pixel's mean) and `spp` (samples per pixel, the partial image's count
 //! channel, always written). The device AOVs ([`caustic_gpu::aov`]) are rendered after the
-//! beauty with its first [`AOV_SAMPLES`] samples' camera rays and its filter.
+//! beauty with its first [`AOV_SAMPLES`] samples' camera rays and its filter. `--denoise`
+//! renders the guides it needs (albedo, normal, depth) whether or not they are written, and
+//! the denoised image ([`caustic_gpu::denoise`]) replaces the image in LDR and HDR files and
+//! goes beside it in an EXR (`denoised.R/G/B`), whose own channels stay the mergeable
+//! samples.
 
-use caustic_gpu::{Aov, AovImages, GpuContext, GpuScene, RenderSettings};
+use caustic_gpu::denoise::{DenoiseInput, DenoiseSettings, Denoiser};
+use caustic_gpu::{Aov, GpuContext, GpuScene, RenderSettings};
 use caustic_image::{ExtraChannel, Image};
 use caustic_scene::Scene;
 
@@ -76,38 +81,80 @@ pub fn parse_aovs(text: &str) -> Result<AovList, String> {
     Ok(AovList(layers))
 }
 
-/// What the beauty render gives the AOVs: its samples per pixel and the estimated variance of
-/// its pixel means ([`caustic_image::estimate::ErrorEstimate::pixel_variance`]; `None` before
-/// 2 spp).
-pub struct Beauty {
+/// What `--aovs` and `--denoise` ask of a render.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct AovRequest {
+    /// The layers written beside the image.
+    pub layers: Vec<AovLayer>,
+    /// Whether the image is denoised ([`caustic_gpu::denoise`]), guided by albedo, normal,
+    /// depth and variance whether or not they are written.
+    pub denoise: bool,
+}
+
+impl AovRequest {
+    /// Whether nothing is asked.
+    pub fn is_empty(&self) -> bool {
+        self.layers.is_empty() && !self.denoise
+    }
+
+    /// Whether the render's variance estimate is needed.
+    pub fn needs_variance(&self) -> bool {
+        self.denoise || self.layers.contains(&AovLayer::Variance)
+    }
+}
+
+/// What the beauty render gives the AOVs: its image, samples per pixel and the estimated
+/// variance of its pixel means ([`caustic_image::estimate::ErrorEstimate::pixel_variance`];
+/// `None` before 2 spp).
+pub struct Beauty<'a> {
+    /// The per-pixel mean.
+    pub image: &'a Image,
     /// Complete samples per pixel.
     pub spp: u32,
     /// Per pixel and channel, the variance of the mean.
     pub variance: Option<Vec<[f32; 3]>>,
 }
 
-/// The extra channels of `layers` for a render of `scene`: renders the device AOVs with the
-/// beauty's first samples (stopping early when `stop` says so) and lays out the beauty's
-/// variance (left out, with a warning, before 2 spp).
-pub fn channels(
+/// What the AOVs add to a render: the layers' channels (with `denoised.R/G/B` when denoising)
+/// and the denoised image.
+#[derive(Default)]
+pub struct AovOutput {
+    /// Channels written beside the image in an EXR.
+    pub channels: Vec<ExtraChannel>,
+    /// The denoised image, when asked for.
+    pub denoised: Option<Image>,
+}
+
+/// Renders the device AOVs `request` needs with the beauty's first samples (stopping early
+/// when `stop` says so), lays out the layers asked for (the beauty's variance left out, with a
+/// warning, before 2 spp) and denoises the image if asked.
+pub fn finish(
     ctx: &GpuContext,
     scene: &Scene,
     gpu: &GpuScene,
     settings: &RenderSettings,
-    layers: &[AovLayer],
+    request: &AovRequest,
     beauty: Beauty,
     stop: &dyn Fn() -> bool,
-) -> anyhow::Result<Vec<ExtraChannel>> {
-    let wanted: Vec<Aov> = layers.iter().filter_map(|l| l.device()).collect();
-    let Beauty { spp, variance } = beauty;
+) -> anyhow::Result<AovOutput> {
+    let guides = [Aov::Albedo, Aov::Normal, Aov::Depth];
+    let mut wanted: Vec<Aov> = request.layers.iter().filter_map(|l| l.device()).collect();
+    if request.denoise {
+        for guide in guides {
+            if !wanted.contains(&guide) {
+                wanted.push(guide);
+            }
+        }
+    }
+    let Beauty { image, spp, variance } = beauty;
     let images = caustic_gpu::render_aovs(ctx, scene, gpu, settings, &wanted, spp.min(AOV_SAMPLES), stop)?;
     let mut channels = Vec::new();
-    for &layer in layers {
+    for &layer in &request.layers {
         match layer {
             AovLayer::Albedo => channels.extend(rgb("albedo", ["R", "G", "B"], images.albedo.as_ref())),
             AovLayer::Normal => channels.extend(rgb("N", ["X", "Y", "Z"], images.normal.as_ref())),
             AovLayer::Position => channels.extend(rgb("P", ["X", "Y", "Z"], images.position.as_ref())),
-            AovLayer::Depth => channels.extend(depth(&images)),
+            AovLayer::Depth => channels.extend(images.depth.as_ref().map(|z| ExtraChannel { name: "Z".into(), values: z.clone() })),
             AovLayer::Variance => match &variance {
                 Some(variance) => {
                     let image = Image { width: scene.resolution.0, height: scene.resolution.1, pixels: variance.clone() };
@@ -119,15 +166,20 @@ pub fn channels(
             AovLayer::Spp => {}
         }
     }
-    Ok(channels)
+    let denoised = match (&images.albedo, &images.normal, &images.depth, request.denoise) {
+        (Some(albedo), Some(normal), Some(depth), true) => {
+            let input = DenoiseInput::new(image, albedo, normal, depth, variance.as_deref())?;
+            let denoised = Denoiser::new(ctx)?.apply(ctx, &input, &DenoiseSettings::default())?;
+            channels.extend(rgb("denoised", ["R", "G", "B"], Some(&denoised)));
+            Some(denoised)
+        }
+        _ => None,
+    };
+    Ok(AovOutput { channels, denoised })
 }
 
 /// The three channels `layer.X` of `image`.
 fn rgb(layer: &str, names: [&str; 3], image: Option<&Image>) -> Vec<ExtraChannel> {
     let Some(image) = image else { return Vec::new() };
     (0..3).map(|c| ExtraChannel { name: format!("{layer}.{}", names[c]), values: image.pixels.iter().map(|p| p[c]).collect() }).collect()
-}
-
-fn depth(images: &AovImages) -> Option<ExtraChannel> {
-    images.depth.as_ref().map(|z| ExtraChannel { name: "Z".into(), values: z.clone() })
 }

@@ -37,6 +37,8 @@ pub enum Command {
     /// Trace one sample of one pixel and print its path (rays, hits, BSDF and light samples,
     /// throughput) as JSON.
     DebugPixel(DebugPixelArgs),
+    /// Measure an image against a reference: relMSE, the FLIP-like perceptual error, MAE.
+    Compare(crate::compare::CompareArgs),
 }
 
 /// Options every command that opens a device shares.
@@ -110,6 +112,12 @@ pub struct RenderArgs {
     /// script.
     #[arg(long, value_name = "LIST", value_parser = crate::aovs::parse_aovs)]
     pub aovs: Option<crate::aovs::AovList>,
+    /// Denoise the image (docs/SAMPLING.md): an edge-avoiding a-trous filter guided by the
+    /// albedo, normal, depth and variance AOVs. LDR and HDR outputs hold the denoised image;
+    /// an .exr keeps the samples for merging and adds it as `denoised.R/G/B`. Whole renders
+    /// only.
+    #[arg(long)]
+    pub denoise: bool,
     /// Bloom on the finished linear image (docs/FEATURES.md): the fraction 0..=1 of the light
     /// above THRESHOLD (luminance, default 1) spread into Gaussians of RADIUS, 2 RADIUS and
     /// 4 RADIUS pixels (default 2); total energy is kept. Not for partial .exr outputs.

@@ -4,6 +4,7 @@
 mod aovs;
 mod args;
 mod bench;
+mod compare;
 mod converge;
 mod debug_pixel;
 mod depth;
@@ -47,6 +48,7 @@ fn main() -> ExitCode {
         args::Command::Shell(shell_args) => shell::run(&shell_args),
         args::Command::Converge(converge_args) => converge::run(&converge_args),
         args::Command::DebugPixel(debug_args) => debug_pixel::run(&debug_args),
+        args::Command::Compare(compare_args) => compare::run(&compare_args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,6 +1,6 @@
 //! `caustic render`: load, upload, accumulate, write.
 
-use crate::aovs::AovLayer;
+use crate::aovs::{AovLayer, AovOutput, AovRequest};
 use crate::args::RenderArgs;
 use crate::fingerprint::{Fingerprint, fingerprint};
 use crate::preset::Preset;
@@ -214,8 +214,14 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         crate::failure::usage!("--shutter samples glTF animations; a scene-language file sets its shutter with the `shutter` command");
     }
     if !split && script::is_script(Path::new(&scene_arg)) {
-        if args.target_error.is_some() || args.aovs.is_some() {
-            let option = if args.aovs.is_some() { "--aovs" } else { "--target-error" };
+        if args.target_error.is_some() || args.aovs.is_some() || args.denoise {
+            let option = if args.aovs.is_some() {
+                "--aovs"
+            } else if args.denoise {
+                "--denoise"
+            } else {
+                "--target-error"
+            };
             crate::failure::usage!(
                 "{option} applies to one render; {scene_arg} runs as a script of renders (give it --samples 0..N to render its first scene once)"
             );
@@ -232,15 +238,16 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
             output.display()
         );
     }
-    let aovs: &[AovLayer] = args.aovs.as_ref().map_or(&[], |list| &list.0);
+    let aovs = AovRequest { layers: args.aovs.as_ref().map_or_else(Vec::new, |list| list.0.clone()), denoise: args.denoise };
     if !aovs.is_empty() {
-        if !partial {
+        let option = if aovs.layers.is_empty() { "--denoise" } else { "--aovs" };
+        if !partial && !aovs.layers.is_empty() {
             crate::failure::usage!("--aovs writes layers beside the image in an EXR: -o {} must end in .exr", output.display());
         }
         if args.samples.is_some() || args.samples_from_env || args.resume || args.debug.is_some() {
-            crate::failure::usage!("--aovs is written by whole renders: not with --samples, --samples-from-env, --resume or --debug");
+            crate::failure::usage!("{option} applies to whole renders: not with --samples, --samples-from-env, --resume or --debug");
         }
-        if aovs.contains(&AovLayer::Variance) && budget.end().is_some_and(|end| end < 2) {
+        if aovs.layers.contains(&AovLayer::Variance) && budget.end().is_some_and(|end| end < 2) {
             crate::failure::usage!("the variance AOV needs at least 2 samples per pixel: give --spp 2 or more");
         }
     }
@@ -271,7 +278,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let ctx = GpuContext::new(args.device.adapter.as_deref())?;
     eprintln!("adapter: {}", ctx.adapter);
     let setup = crate::failure::SetupWatch::start(interrupted.clone(), args.device.json);
-    let mut rendered = accumulate(&ctx, &scene, &settings, &budget, &interrupted, Some(setup), aovs)?;
+    let mut rendered = accumulate(&ctx, &scene, &settings, &budget, &interrupted, Some(setup), &aovs)?;
     // A depth pass: parts and HDR files hold the raw distances, LDR files the normalised depth.
     let depth_display = (scene.options.pass == RenderPass::Depth).then(|| {
         let (raw, display) = crate::depth::depth_images(&rendered.image);
@@ -302,7 +309,8 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     } else if let (Some(display), false) = (&depth_display, script::is_linear(&output)) {
         display.save_gamma(&output, 1.0)?;
     } else {
-        apply_bloom(&ctx, rendered.image, args.bloom.as_ref())?.save(&output, &args.display.save_options())?;
+        let image = rendered.denoised.unwrap_or(rendered.image);
+        apply_bloom(&ctx, image, args.bloom.as_ref())?.save(&output, &args.display.save_options())?;
     }
     print_report(&report, args.device.json)?;
     if interrupted {
@@ -386,6 +394,8 @@ pub struct Accumulated {
     /// The `--aovs` layers' channels, written beside the image in the partial EXR (none when
     /// the render was interrupted).
     pub aov_channels: Vec<ExtraChannel>,
+    /// The `--denoise` image (none when the render was interrupted).
+    pub denoised: Option<Image>,
     /// The global sample range drawn.
     pub drawn: Range<u32>,
     triangles: usize,
@@ -406,7 +416,7 @@ pub fn accumulate(
     budget: &Budget,
     interrupted: &AtomicBool,
     setup: Option<crate::failure::SetupWatch>,
-    aovs: &[AovLayer],
+    aovs: &AovRequest,
 ) -> anyhow::Result<Accumulated> {
     let gpu_scene = GpuScene::upload(ctx, scene)?;
     if let Some(note) = gpu_scene.layout_note() {
@@ -427,7 +437,7 @@ pub fn accumulate(
     let mut estimate = ErrorEstimate::new(budget.target_error);
     // The estimate keeps two images: past ESTIMATE_MAX_PIXELS only when a target needs it.
     let (width, height) = scene.resolution;
-    let estimating = budget.target_error.is_some() || aovs.contains(&AovLayer::Variance) || u64::from(width) * u64::from(height) <= ESTIMATE_MAX_PIXELS;
+    let estimating = budget.target_error.is_some() || aovs.needs_variance() || u64::from(width) * u64::from(height) <= ESTIMATE_MAX_PIXELS;
     let mut stopped_by = StoppedBy::Spp;
     while !budget.spp_reached(tracer.samples_per_pixel()) {
         if tracer.render_sample_until(&stop)? == PassOutcome::Stopped {
@@ -452,11 +462,11 @@ pub fn accumulate(
     if estimating && estimate.latest().is_none_or(|(n, _)| n != spp) && spp > 0 {
         estimate.update(spp, &image)?;
     }
-    let aov_channels = if aovs.is_empty() || interrupted.load(Ordering::SeqCst) {
-        Vec::new()
+    let aov_output = if aovs.is_empty() || interrupted.load(Ordering::SeqCst) {
+        AovOutput::default()
     } else {
-        let beauty = crate::aovs::Beauty { spp, variance: estimate.pixel_variance(spp, &image) };
-        crate::aovs::channels(ctx, scene, &gpu_scene, settings, aovs, beauty, &|| interrupted.load(Ordering::SeqCst))?
+        let beauty = crate::aovs::Beauty { image: &image, spp, variance: estimate.pixel_variance(spp, &image) };
+        crate::aovs::finish(ctx, scene, &gpu_scene, settings, aovs, beauty, &|| interrupted.load(Ordering::SeqCst))?
     };
     Ok(Accumulated {
         image,
@@ -467,7 +477,8 @@ pub fn accumulate(
         compile_seconds,
         estimated_relmse: estimate.latest().filter(|(n, _)| *n == spp).map(|(_, e)| e),
         stopped_by,
-        aov_channels,
+        aov_channels: aov_output.channels,
+        denoised: aov_output.denoised,
         drawn: tracer.drawn_range(),
         triangles: gpu_scene.triangle_count,
         lights: gpu_scene.light_count,

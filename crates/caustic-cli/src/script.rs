@@ -151,7 +151,7 @@ impl<'a> Host<'a> {
         let budget = Budget::from_zero(self.options.spp.or(scene.options.spp), self.options.time);
         settings.sampler = self.options.sampler.for_samples(budget.end());
         self.interrupted.store(false, Ordering::SeqCst);
-        let rendered = accumulate(self.ctx, &scene, &settings, &budget, &self.interrupted, None, &[])?;
+        let rendered = accumulate(self.ctx, &scene, &settings, &budget, &self.interrupted, None, &Default::default())?;
         let (interrupted, spp) = (self.interrupted.load(Ordering::SeqCst), rendered.spp);
         let print = fingerprint(&scene, &settings);
         let report = RenderReport::new(self.ctx, &scene, &rendered, interrupted, print.hash, output);

@@ -19,6 +19,7 @@ mod context;
 pub mod convex_occluder;
 pub mod convex_solid;
 pub mod debug_image;
+pub mod denoise;
 pub mod environment_sampling;
 mod error;
 pub mod features;

@@ -127,6 +127,9 @@ const PACKET_WALK: ShaderFile = shader_file!("bench/packet.wgsl");
 /// `post/bloom.wgsl`: the bloom post-process ([`crate::bloom`]), a program on its own.
 pub const BLOOM: ShaderFile = shader_file!("post/bloom.wgsl");
 
+/// `post/denoise.wgsl`: the denoiser's a-trous pass ([`crate::denoise`]), a program on its own.
+pub const DENOISE: ShaderFile = shader_file!("post/denoise.wgsl");
+
 /// The files every program shares (types, random numbers, sampling warps, rays, ray-triangle
 /// and ray-box tests): no bindings, so kernel tests ([`crate::kernel_test`]) can run their
 /// functions alone.

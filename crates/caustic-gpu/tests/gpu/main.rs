@@ -17,6 +17,7 @@ mod classic_features;
 mod classic_frosted;
 mod debug_bvh_level;
 mod debug_views;
+mod denoise;
 mod depth_of_field;
 mod device_errors;
 mod device_limits;

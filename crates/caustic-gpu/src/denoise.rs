@@ -1,0 +1,357 @@
+//! Denoising for previews and for users who want it (`caustic render --denoise`): the
+//! edge-avoiding a-trous wavelet filter of Dammertz et al. 2010 ("Edge-Avoiding A-Trous
+//! Wavelet Transform for fast Global Illumination Filtering"), with the variance-guided
+//! luminance term of Schied et al. 2017 (SVGF), guided by the render's AOVs ([`crate::aov`]).
+//!
+//! The colour is demodulated by the albedo (divided, so texture and material edges stay sharp
+//! and only the irradiance is smoothed), filtered by [`DENOISE_ITERATIONS`] passes of a 5x5
+//! B3-spline stencil whose taps lie 1, 2, 4, ... pixels apart (`shaders/post/denoise.wgsl`,
+//! on the device; [`denoise_cpu`] is its CPU twin), each tap weighted by how alike its normal,
+//! depth and luminance are to the centre's, then multiplied by the albedo again. The
+//! luminance term's scale is the standard deviation of the pixel's mean, from the render's
+//! own variance estimate, so the filter smooths noise and keeps differences the noise cannot
+//! explain.
+
+use crate::readback::read_buffer;
+use crate::shaders::DENOISE;
+use crate::{GpuContext, GpuError};
+use bytemuck::{Pod, Zeroable};
+use caustic_image::Image;
+
+/// Filter passes: the stencil's taps are 1, 2, 4, 8 and 16 pixels apart, so a pixel gathers
+/// from up to 62 pixels away.
+pub const DENOISE_ITERATIONS: u32 = 5;
+const WORKGROUP_SIZE: u32 = 64;
+const MAX_GROUPS_X: u32 = 32_768;
+/// The B3 spline's taps at offsets -2..=2 (`B3` in WGSL).
+const B3: [f32; 5] = [0.0625, 0.25, 0.375, 0.25, 0.0625];
+/// Below this an albedo channel does not demodulate (emitters, black surfaces, escaped rays).
+const MIN_ALBEDO: f32 = 1e-3;
+/// The luminance variance of pixels without an estimate: the luminance term then weighs 1.
+const UNKNOWN_VARIANCE: f32 = 1e30;
+
+/// The edge-stopping functions' parameters (SVGF's defaults).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DenoiseSettings {
+    /// Exponent of the normals' cosine.
+    pub sigma_normal: f32,
+    /// Depth differences tolerated, in units of the local depth gradient times distance.
+    pub sigma_depth: f32,
+    /// Luminance differences tolerated, in standard deviations of the pixel's mean.
+    pub sigma_luminance: f32,
+}
+
+impl Default for DenoiseSettings {
+    fn default() -> Self {
+        DenoiseSettings { sigma_normal: 128.0, sigma_depth: 1.0, sigma_luminance: 4.0 }
+    }
+}
+
+/// A noisy image and its guides, prepared for the filter: what both the device and the CPU
+/// twin filter.
+#[derive(Clone, Debug)]
+pub struct DenoiseInput {
+    width: u32,
+    height: u32,
+    /// Unit normal (zero where the pixel has no non-specular vertex) and depth (negative
+    /// where nothing was hit).
+    guides: Vec<[f32; 4]>,
+    /// The largest depth difference to a covered 4-neighbour.
+    gradient: Vec<f32>,
+    /// Demodulated colour and the (prefiltered) luminance variance of its mean.
+    irradiance: Vec<[f32; 4]>,
+    /// The albedo the colour was divided by (1 in channels below [`MIN_ALBEDO`]).
+    albedo: Vec<[f32; 3]>,
+}
+
+impl DenoiseInput {
+    /// Prepares `color` with its AOVs: `albedo`, `normal`, `depth` (infinite where no sample
+    /// hit) and the per-channel `variance` of each pixel's mean (`None`: unknown, and the
+    /// luminance term is off). Fails if a size differs from the image's.
+    pub fn new(color: &Image, albedo: &Image, normal: &Image, depth: &[f32], variance: Option<&[[f32; 3]]>) -> Result<DenoiseInput, GpuError> {
+        let n = color.pixels.len();
+        let sizes = [albedo.pixels.len(), normal.pixels.len(), depth.len(), variance.map_or(n, <[_]>::len)];
+        if sizes.iter().any(|&s| s != n) || (albedo.width, albedo.height, normal.width, normal.height) != (color.width, color.height, color.width, color.height)
+        {
+            return Err(GpuError::Scene(format!("the denoiser's guides are not all {}x{} pixels", color.width, color.height)));
+        }
+        let albedo: Vec<[f32; 3]> = albedo.pixels.iter().map(|a| a.map(|c| if c > MIN_ALBEDO { c } else { 1.0 })).collect();
+        let guides: Vec<[f32; 4]> = normal
+            .pixels
+            .iter()
+            .zip(depth)
+            .map(|(n, &z)| {
+                let length = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+                let unit = if length > 1e-3 { n.map(|c| c / length) } else { [0.0; 3] };
+                [unit[0], unit[1], unit[2], if z.is_finite() { z } else { -1.0 }]
+            })
+            .collect();
+        let (w, h) = (color.width as usize, color.height as usize);
+        let gradient = (0..n)
+            .map(|i| {
+                let z = guides[i][3];
+                let (x, y) = (i % w, i / w);
+                let neighbours = [(x > 0).then(|| i - 1), (x + 1 < w).then(|| i + 1), (y > 0).then(|| i - w), (y + 1 < h).then(|| i + w)];
+                neighbours.into_iter().flatten().filter(|&q| z >= 0.0 && guides[q][3] >= 0.0).map(|q| (guides[q][3] - z).abs()).fold(0.0, f32::max)
+            })
+            .collect();
+        let luminance_variance: Vec<f32> = match variance {
+            Some(variance) => variance
+                .iter()
+                .zip(&albedo)
+                .map(|(v, a)| {
+                    let deviation: f32 = (0..3).map(|c| LUMINANCE[c] * v[c].max(0.0).sqrt() / a[c]).sum();
+                    deviation * deviation
+                })
+                .collect(),
+            None => vec![UNKNOWN_VARIANCE; n],
+        };
+        let variance = prefilter(&luminance_variance, w, h);
+        let irradiance = color.pixels.iter().zip(&albedo).zip(&variance).map(|((c, a), &v)| [c[0] / a[0], c[1] / a[1], c[2] / a[2], v]).collect();
+        Ok(DenoiseInput { width: color.width, height: color.height, guides, gradient, irradiance, albedo })
+    }
+
+    /// The filtered irradiance multiplied by the albedo again.
+    fn finish(&self, filtered: &[[f32; 4]]) -> Image {
+        let pixels = filtered.iter().zip(&self.albedo).map(|(f, a)| [f[0] * a[0], f[1] * a[1], f[2] * a[2]]).collect();
+        Image { width: self.width, height: self.height, pixels }
+    }
+}
+
+/// Rec. 709 luminance weights, as `denoise_luminance` in WGSL.
+const LUMINANCE: [f32; 3] = [0.2126, 0.7152, 0.0722];
+
+fn luminance(c: &[f32; 4]) -> f32 {
+    LUMINANCE[0] * c[0] + LUMINANCE[1] * c[1] + LUMINANCE[2] * c[2]
+}
+
+/// `values` blurred by a 3x3 binomial kernel (1 2 1 / 4 per axis), renormalised at the
+/// borders: SVGF's prefilter of the variance, whose per-pixel estimates are single draws.
+fn prefilter(values: &[f32], w: usize, h: usize) -> Vec<f32> {
+    let tap = [0.25f32, 0.5, 0.25];
+    (0..w * h)
+        .map(|i| {
+            let (x, y) = ((i % w) as i64, (i / w) as i64);
+            let (mut sum, mut total) = (0.0f32, 0.0f32);
+            for (dy, ty) in (-1..=1).zip(tap) {
+                for (dx, tx) in (-1..=1).zip(tap) {
+                    let (qx, qy) = (x + dx, y + dy);
+                    if qx >= 0 && qy >= 0 && qx < w as i64 && qy < h as i64 {
+                        sum += tx * ty * values[qy as usize * w + qx as usize];
+                        total += tx * ty;
+                    }
+                }
+            }
+            sum / total
+        })
+        .collect()
+}
+
+/// How alike pixel q's surface is to pixel p's, `distance` pixels apart (`surface_weight` in
+/// WGSL).
+fn surface_weight(p: &[f32; 4], q: &[f32; 4], gradient: f32, distance: f32, settings: &DenoiseSettings) -> f32 {
+    let normal = |g: &[f32; 4]| g[0] * g[0] + g[1] * g[1] + g[2] * g[2] > 0.25;
+    let (p_covered, p_normal) = (p[3] >= 0.0, normal(p));
+    if p_covered != (q[3] >= 0.0) || p_normal != normal(q) {
+        return 0.0;
+    }
+    let mut w = 1.0f32;
+    if p_normal {
+        w *= (p[0] * q[0] + p[1] * q[1] + p[2] * q[2]).max(0.0).powf(settings.sigma_normal);
+    }
+    if p_covered {
+        w *= (-(p[3] - q[3]).abs() / (settings.sigma_depth * gradient * distance + 1e-3 * p[3] + 1e-6)).exp();
+    }
+    w
+}
+
+/// One a-trous pass with taps `step` pixels apart (`denoise_atrous` in WGSL).
+fn atrous_pass(input: &DenoiseInput, source: &[[f32; 4]], step: i64, settings: &DenoiseSettings) -> Vec<[f32; 4]> {
+    let (w, h) = (i64::from(input.width), i64::from(input.height));
+    (0..(w * h) as usize)
+        .map(|i| {
+            let (x, y) = (i as i64 % w, i as i64 / w);
+            let centre = &source[i];
+            let l_p = luminance(centre);
+            let scale = settings.sigma_luminance * centre[3].max(0.0).sqrt() + 1e-6;
+            let (mut sum, mut variance, mut total) = ([0.0f32; 3], 0.0f32, 0.0f32);
+            for dy in -2..=2i64 {
+                let qy = y + dy * step;
+                if qy < 0 || qy >= h {
+                    continue;
+                }
+                for dx in -2..=2i64 {
+                    let qx = x + dx * step;
+                    if qx < 0 || qx >= w {
+                        continue;
+                    }
+                    let q = (qy * w + qx) as usize;
+                    let tap = &source[q];
+                    let distance = step as f32 * ((dx * dx + dy * dy) as f32).sqrt();
+                    let similar = surface_weight(&input.guides[i], &input.guides[q], input.gradient[i], distance, settings);
+                    let weight = B3[(dx + 2) as usize] * B3[(dy + 2) as usize] * similar * (-(l_p - luminance(tap)).abs() / scale).exp();
+                    for c in 0..3 {
+                        sum[c] += weight * tap[c];
+                    }
+                    variance += weight * weight * tap[3];
+                    total += weight;
+                }
+            }
+            [sum[0] / total, sum[1] / total, sum[2] / total, variance / (total * total)]
+        })
+        .collect()
+}
+
+/// The CPU twin of [`Denoiser::apply`]: the same passes in the same order of operations.
+pub fn denoise_cpu(input: &DenoiseInput, settings: &DenoiseSettings) -> Image {
+    let mut current = input.irradiance.clone();
+    for iteration in 0..DENOISE_ITERATIONS {
+        current = atrous_pass(input, &current, 1 << iteration, settings);
+    }
+    input.finish(&current)
+}
+
+/// `DenoiseParams` in `shaders/post/denoise.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+struct DenoiseParams {
+    width: u32,
+    height: u32,
+    step: u32,
+    _pad: u32,
+    sigma_normal: f32,
+    sigma_depth: f32,
+    sigma_luminance: f32,
+    _pad2: f32,
+}
+
+/// The filter's kernel, compiled once; [`Denoiser::apply`] runs it on an image.
+pub struct Denoiser {
+    layout: wgpu::BindGroupLayout,
+    pipeline: wgpu::ComputePipeline,
+}
+
+impl Denoiser {
+    /// Compiles `shaders/post/denoise.wgsl`.
+    pub fn new(ctx: &GpuContext) -> Result<Denoiser, GpuError> {
+        let device = &ctx.device;
+        let layout = bind_group_layout(device);
+        let pipeline_layout =
+            device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("denoise"), bind_group_layouts: &[Some(&layout)], immediate_size: 0 });
+        let module =
+            device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("denoise"), source: wgpu::ShaderSource::Wgsl(DENOISE.source.into()) });
+        let pipeline = ctx.compute_pipeline(&pipeline_layout, &module, "denoise_atrous");
+        ctx.check()?;
+        Ok(Denoiser { layout, pipeline })
+    }
+
+    /// Filters `input` on the device and returns the denoised image.
+    pub fn apply(&self, ctx: &GpuContext, input: &DenoiseInput, settings: &DenoiseSettings) -> Result<Image, GpuError> {
+        let pixels = input.irradiance.len();
+        let bytes = (pixels * 16) as u64;
+        if bytes > ctx.max_storage_binding() {
+            return Err(GpuError::Limit { what: "the denoiser's image".into(), need: bytes, limit: ctx.max_storage_binding() });
+        }
+        if pixels == 0 {
+            return Ok(input.finish(&[]));
+        }
+        let storage = wgpu::BufferUsages::STORAGE;
+        let guides = ctx.buffer_with_data("denoise guides", bytemuck::cast_slice(&input.guides), storage);
+        let gradient = ctx.buffer_with_data("denoise depth gradient", bytemuck::cast_slice(&input.gradient), storage);
+        let usage = storage | wgpu::BufferUsages::COPY_SRC;
+        let ping = ctx.buffer_with_data("denoise ping", bytemuck::cast_slice(&input.irradiance), usage);
+        let pong = ctx.device.create_buffer(&wgpu::BufferDescriptor { label: Some("denoise pong"), size: bytes, usage, mapped_at_creation: false });
+        let groups = (pixels as u32).div_ceil(WORKGROUP_SIZE);
+        let mut encoder = ctx.device.create_command_encoder(&Default::default());
+        for iteration in 0..DENOISE_ITERATIONS {
+            let params = DenoiseParams {
+                width: input.width,
+                height: input.height,
+                step: 1 << iteration,
+                sigma_normal: settings.sigma_normal,
+                sigma_depth: settings.sigma_depth,
+                sigma_luminance: settings.sigma_luminance,
+                ..Default::default()
+            };
+            let uniform = ctx.buffer_with_data("denoise params", bytemuck::bytes_of(&params), wgpu::BufferUsages::UNIFORM);
+            let (source, target) = if iteration.is_multiple_of(2) { (&ping, &pong) } else { (&pong, &ping) };
+            let resources = [&uniform, &guides, &gradient, source, target];
+            let entries: Vec<_> =
+                resources.iter().enumerate().map(|(i, b)| wgpu::BindGroupEntry { binding: i as u32, resource: b.as_entire_binding() }).collect();
+            let bind_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("denoise"), layout: &self.layout, entries: &entries });
+            let mut pass = encoder.begin_compute_pass(&Default::default());
+            pass.set_pipeline(&self.pipeline);
+            pass.set_bind_group(0, &bind_group, &[]);
+            pass.dispatch_workgroups(groups.min(MAX_GROUPS_X), groups.div_ceil(MAX_GROUPS_X), 1);
+        }
+        ctx.queue.submit([encoder.finish()]);
+        ctx.check()?;
+        let result = if DENOISE_ITERATIONS.is_multiple_of(2) { &ping } else { &pong };
+        let filtered: Vec<[f32; 4]> = read_buffer(ctx, result)?;
+        Ok(input.finish(&filtered))
+    }
+}
+
+fn bind_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
+    let entry = |binding, ty| wgpu::BindGroupLayoutEntry { binding, visibility: wgpu::ShaderStages::COMPUTE, ty, count: None };
+    let buffer = |ty| wgpu::BindingType::Buffer { ty, has_dynamic_offset: false, min_binding_size: None };
+    let read = buffer(wgpu::BufferBindingType::Storage { read_only: true });
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("denoise"),
+        entries: &[
+            entry(0, buffer(wgpu::BufferBindingType::Uniform)),
+            entry(1, read),
+            entry(2, read),
+            entry(3, read),
+            entry(4, buffer(wgpu::BufferBindingType::Storage { read_only: false })),
+        ],
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A 32x32 image: left half value 0.2, right half 0.8, each pixel plus noise of standard
+    /// deviation 0.05 (a fixed pseudo-random sequence); the halves' normals differ by 90
+    /// degrees; depth 1 everywhere; albedo 0.5.
+    fn two_halves() -> (Image, Image, Image, Vec<f32>, Vec<[f32; 3]>) {
+        let (w, h) = (32u32, 32u32);
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut noise = move || {
+            state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+            ((state >> 40) as f32 / (1u64 << 24) as f32 - 0.5) * 0.05 * 12f32.sqrt()
+        };
+        let left = |i: usize| (i % w as usize) < 16;
+        let pixels = (0..(w * h) as usize).map(|i| [if left(i) { 0.2 } else { 0.8 } + noise(); 3]).collect();
+        let color = Image { width: w, height: h, pixels };
+        let albedo = Image { width: w, height: h, pixels: vec![[0.5; 3]; (w * h) as usize] };
+        let normal = Image { width: w, height: h, pixels: (0..(w * h) as usize).map(|i| if left(i) { [1.0, 0.0, 0.0] } else { [0.0, 0.0, 1.0] }).collect() };
+        (color, albedo, normal, vec![1.0; (w * h) as usize], vec![[0.0025; 3]; (w * h) as usize])
+    }
+
+    #[test]
+    fn noise_is_smoothed_within_a_surface_and_no_light_crosses_its_edge() {
+        let (color, albedo, normal, depth, variance) = two_halves();
+        let input = DenoiseInput::new(&color, &albedo, &normal, &depth, Some(&variance)).unwrap();
+        let denoised = denoise_cpu(&input, &DenoiseSettings::default());
+        let deviation = |image: &Image, left: bool, mean: f32| {
+            let values: Vec<f32> = image.pixels.iter().enumerate().filter(|(i, _)| ((i % 32) < 16) == left).map(|(_, p)| p[0]).collect();
+            (values.iter().map(|v| (v - mean).powi(2)).sum::<f32>() / values.len() as f32).sqrt()
+        };
+        let before = (deviation(&color, true, 0.2), deviation(&color, false, 0.8));
+        let after = (deviation(&denoised, true, 0.2), deviation(&denoised, false, 0.8));
+        println!("deviation from each half's value: before {before:?}, after {after:?}");
+        assert!(after.0 < before.0 / 4.0 && after.1 < before.1 / 4.0, "the noise falls within each half");
+        let worst_left = denoised.pixels.iter().enumerate().filter(|(i, _)| i % 32 < 16).map(|(_, p)| p[0]).fold(0.0, f32::max);
+        assert!(worst_left < 0.35, "the bright half does not bleed across the normal edge: {worst_left}");
+    }
+
+    #[test]
+    fn guides_of_another_size_are_refused() {
+        let (color, albedo, normal, depth, _) = two_halves();
+        let small = Image::new(8, 8);
+        assert!(DenoiseInput::new(&color, &small, &normal, &depth, None).is_err());
+        assert!(DenoiseInput::new(&color, &albedo, &normal, &depth[1..], None).is_err());
+    }
+}
