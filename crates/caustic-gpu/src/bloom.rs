@@ -245,3 +245,14 @@ fn bind_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
         ],
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_parameters_match_the_wgsl_struct() {
+        let host = crate::interface::host_layout!(BloomParams { width, height, taps, weight_offset, threshold, strength, level_scale, _pad });
+        assert_eq!(crate::interface::wgsl_struct_layout(BLOOM.source, "BloomParams"), host);
+    }
+}

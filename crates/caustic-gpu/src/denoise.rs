@@ -348,6 +348,12 @@ mod tests {
     }
 
     #[test]
+    fn the_parameters_match_the_wgsl_struct() {
+        let host = crate::interface::host_layout!(DenoiseParams { width, height, step, _pad, sigma_normal, sigma_depth, sigma_luminance, _pad2 });
+        assert_eq!(crate::interface::wgsl_struct_layout(DENOISE.source, "DenoiseParams"), host);
+    }
+
+    #[test]
     fn guides_of_another_size_are_refused() {
         let (color, albedo, normal, depth, _) = two_halves();
         let small = Image::new(8, 8);

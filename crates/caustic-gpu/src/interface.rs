@@ -4,7 +4,8 @@
 //! the inspector's sentinel).
 //!
 //! The struct layouts and bindings are checked against the shaders by naga reflection in
-//! `crates/caustic-gpu/tests/gpu/wgsl_validation.rs`; the override constants (requirement bits,
+//! `crates/caustic-gpu/tests/gpu/wgsl_validation.rs` (the post-processes' parameter structs by
+//! the unit tests beside them, with `wgsl_struct_layout`); the override constants (requirement bits,
 //! classic features) are set through the pipeline and checked where they are declared.
 
 use crate::gpu_types::{
@@ -63,6 +64,33 @@ pub fn wgsl_constants() -> String {
 
 /// [`wgsl_constants`], made once per process.
 pub(crate) static INTERFACE_SOURCE: LazyLock<String> = LazyLock::new(wgsl_constants);
+
+/// The members of WGSL struct `name` in `source` as (name, offset, size), padding (`_`
+/// names) left out, and the struct's size: for checking a host mirror by naga reflection.
+#[cfg(test)]
+pub(crate) fn wgsl_struct_layout(source: &str, name: &str) -> (usize, Vec<(String, usize, usize)>) {
+    let module = naga::front::wgsl::parse_str(source).unwrap_or_else(|e| panic!("{}", e.emit_to_string(source)));
+    let (_, ty) = module.types.iter().find(|(_, t)| t.name.as_deref() == Some(name)).unwrap_or_else(|| panic!("no WGSL struct {name}"));
+    let naga::TypeInner::Struct { members, span } = &ty.inner else { panic!("{name} is not a struct") };
+    let fields = members
+        .iter()
+        .map(|m| (m.name.clone().unwrap_or_default(), m.offset as usize, module.types[m.ty].inner.size(module.to_ctx()) as usize))
+        .filter(|(name, ..)| !name.starts_with('_'))
+        .collect();
+    (*span as usize, fields)
+}
+
+/// The layout of `$t` with the fields listed, as [`wgsl_struct_layout`] gives a WGSL struct's.
+#[cfg(test)]
+macro_rules! host_layout {
+    ($t:ty { $($field:ident),* $(,)? }) => {{
+        let zero: $t = bytemuck::Zeroable::zeroed();
+        let fields: Vec<(String, usize, usize)> = vec![$((stringify!($field).to_string(), std::mem::offset_of!($t, $field), size_of_val(&zero.$field))),*];
+        (size_of::<$t>(), fields.into_iter().filter(|(name, ..)| !name.starts_with('_')).collect::<Vec<_>>())
+    }};
+}
+#[cfg(test)]
+pub(crate) use host_layout;
 
 #[cfg(test)]
 mod tests {
