@@ -115,8 +115,7 @@ pub struct Beauty<'a> {
     pub variance: Option<Vec<[f32; 3]>>,
 }
 
-/// What the AOVs add to a render: the layers' channels (with `denoised.R/G/B` when denoising)
-/// and the denoised image.
+/// What the AOVs add to a render: the layers' channels and the denoised image.
 #[derive(Default)]
 pub struct AovOutput {
     /// Channels written beside the image in an EXR.
@@ -169,17 +168,16 @@ pub fn finish(
     let denoised = match (&images.albedo, &images.normal, &images.depth, request.denoise) {
         (Some(albedo), Some(normal), Some(depth), true) => {
             let input = DenoiseInput::new(image, albedo, normal, depth, variance.as_deref())?;
-            let denoised = Denoiser::new(ctx)?.apply(ctx, &input, &DenoiseSettings::default())?;
-            channels.extend(rgb("denoised", ["R", "G", "B"], Some(&denoised)));
-            Some(denoised)
+            Some(Denoiser::new(ctx)?.apply(ctx, &input, &DenoiseSettings::default())?)
         }
         _ => None,
     };
     Ok(AovOutput { channels, denoised })
 }
 
-/// The three channels `layer.X` of `image`.
-fn rgb(layer: &str, names: [&str; 3], image: Option<&Image>) -> Vec<ExtraChannel> {
+/// The three channels `layer.X` of `image` (`rgb("denoised", ["R", "G", "B"], ...)` is how
+/// an EXR holds the denoised image beside its samples).
+pub fn rgb(layer: &str, names: [&str; 3], image: Option<&Image>) -> Vec<ExtraChannel> {
     let Some(image) = image else { return Vec::new() };
     (0..3).map(|c| ExtraChannel { name: format!("{layer}.{}", names[c]), values: image.pixels.iter().map(|p| p[c]).collect() }).collect()
 }

@@ -391,8 +391,8 @@ pub struct Accumulated {
     pub estimated_relmse: Option<f64>,
     /// What ended the accumulation.
     pub stopped_by: StoppedBy,
-    /// The `--aovs` layers' channels, written beside the image in the partial EXR (none when
-    /// the render was interrupted).
+    /// The `--aovs` layers' channels, written beside the image in the partial EXR with the
+    /// denoised image's (none when the render was interrupted).
     pub aov_channels: Vec<ExtraChannel>,
     /// The `--denoise` image (none when the render was interrupted).
     pub denoised: Option<Image>,
@@ -502,7 +502,8 @@ fn write_part(output: &Path, scene: &Scene, print: &Fingerprint, rendered: Accum
         estimated_relmse: rendered.estimated_relmse,
     };
     let part = PartialImage { info, image: rendered.image, samples: rendered.counts };
-    let extra = rendered.aov_channels;
+    let mut extra = rendered.aov_channels;
+    extra.extend(crate::aovs::rgb("denoised", ["R", "G", "B"], rendered.denoised.as_ref()));
     let part = match previous {
         Some(previous) => {
             let parts = [(output.to_path_buf(), previous), (PathBuf::from("(the resumed samples)"), part)];

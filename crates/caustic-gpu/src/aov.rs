@@ -57,9 +57,18 @@ pub fn render_aovs(
     samples: u32,
     stop: &dyn Fn() -> bool,
 ) -> Result<AovImages, GpuError> {
-    let render = |aov: Aov| -> Result<Image, GpuError> {
+    // One tracer for every AOV: they share the kernel (`render_aov`; the AOV is a frame
+    // constant), so a restart switches between them without compiling again.
+    let mut tracer: Option<PathTracer> = None;
+    let mut render = |aov: Aov| -> Result<Image, GpuError> {
         let aov_settings = RenderSettings { aov: Some(aov), debug: None, first_sample: 0, shape: KernelShape::Megakernel, ..*settings };
-        let mut tracer = PathTracer::new(ctx, scene, gpu, &aov_settings)?;
+        let tracer = match tracer.as_mut() {
+            Some(tracer) => {
+                tracer.restart(scene, gpu, &aov_settings)?;
+                tracer
+            }
+            None => tracer.insert(PathTracer::new(ctx, scene, gpu, &aov_settings)?),
+        };
         while tracer.samples_per_pixel() < samples.max(1) && !stop() {
             tracer.render_sample()?;
         }
