@@ -305,3 +305,28 @@ fn bad_target_errors_are_refused() {
     assert_eq!(result.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&result.stderr).contains("does not combine with --samples"));
 }
+
+#[test]
+fn adaptive_sampling_spends_a_mean_budget_per_pixel_and_reports_its_rounds() {
+    let dir = support::scratch("adaptive");
+    let out = dir.join("a.exr");
+    let report = support::caustic_json(&["render", "--size", "48x48", "--spp", "48", "--adaptive", "-o", out.to_str().unwrap(), "--json"]);
+    println!("--adaptive --spp 48: {} spp, adaptive {}, stopped by {}", report["spp"], report["adaptive"], report["stopped_by"]);
+    let adaptive = &report["adaptive"];
+    assert_eq!(report["stopped_by"], "spp");
+    assert!(adaptive["rounds"].as_u64().unwrap() >= 1);
+    let (min, mean, max) = (adaptive["spp_min"].as_u64().unwrap(), adaptive["spp_mean"].as_f64().unwrap(), adaptive["spp_max"].as_u64().unwrap());
+    assert!(min >= 16, "the uniform start");
+    assert!(mean <= 48.0 * 1.125 && mean > 32.0, "the mean budget, up to the rounding of the last round: {mean}");
+    assert!(max > min, "some pixels got more samples than others");
+    assert_eq!(report["samples"][1].as_u64(), Some(max), "the range drawn reaches the most samples of a pixel");
+    assert!(report["estimated_relmse"].as_f64().is_some_and(|e| e > 0.0));
+    let target =
+        support::caustic_json(&["render", "--size", "48x48", "--target-error", "5e-3", "--adaptive", "-o", dir.join("t.exr").to_str().unwrap(), "--json"]);
+    println!("--adaptive --target-error 5e-3: {} spp, estimated {}, adaptive {}", target["spp"], target["estimated_relmse"], target["adaptive"]);
+    assert_eq!(target["stopped_by"], "target_error");
+    assert!(target["estimated_relmse"].as_f64().unwrap() <= 5e-3);
+    let result = support::caustic(&["render", "--size", "8x8", "--adaptive", "--samples", "0..32", "-o", dir.join("p.exr").to_str().unwrap()]);
+    assert_eq!(result.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&result.stderr).contains("--adaptive gives each pixel its own samples"));
+}

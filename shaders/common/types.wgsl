@@ -63,6 +63,12 @@ struct Frame {
     // the checkers cells and the depth pass are in world units.
     world_origin: vec3<f32>,
     world_scale: f32,
+    // 1: the tile indexes pixel_queue (adaptive sampling, integrator/film.wgsl); 0: the tile
+    // is frame.tile_pixels consecutive pixels from tile_start.
+    queued_tile: u32,
+    _queue_pad0: u32,
+    _queue_pad1: u32,
+    _queue_pad2: u32,
 }
 
 // How pixels are sampled: the stratified sampler's strata per axis (blocks of strata^2

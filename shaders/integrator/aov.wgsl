@@ -44,16 +44,12 @@ fn guide_sample(camera: Ray, rng: ptr<function, Rng>) -> GuideSample {
     return GuideSample(vec3<f32>(0.0), vec3<f32>(0.0));
 }
 
-// The first hit's camera depth (distance along the view direction, world units) or world
-// position in red (and blue for depth) times the hit indicator, which is green for depth.
-fn first_hit_sample(ray: Ray) -> vec3<f32> {
+// The first hit's world position (0 where the ray escapes; the host divides by the covered
+// fraction the depth AOV measured).
+fn position_sample(ray: Ray) -> vec3<f32> {
     let hit = closest_hit(ray, 3.0e38);
     if hit.triangle == NO_HIT {
         return vec3<f32>(0.0);
-    }
-    if frame.debug_view == AOV_DEPTH {
-        let depth = hit.t * dot(ray.direction, frame.forward) * frame.world_scale;
-        return vec3<f32>(depth, 1.0, depth);
     }
     return surface_interaction(ray, hit).p * frame.world_scale + frame.world_origin;
 }
@@ -64,10 +60,15 @@ fn render_aov(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let pixel = begin_pixel(id.x);
-    var rng = rng_for_sample(pixel, frame.sample_index, frame.seed);
+    var rng = rng_for_sample(pixel, pixel_sample, frame.seed);
     let ray = pixel_ray(pixel, &rng);
-    if frame.debug_view == AOV_DEPTH || frame.debug_view == AOV_POSITION {
-        record_sample(pixel, first_hit_sample(ray));
+    if frame.debug_view == AOV_DEPTH {
+        // The depth pass's sample (integrator/passes.wgsl): depth, hit indicator, depth.
+        record_sample(pixel, depth_sample(ray));
+        return;
+    }
+    if frame.debug_view == AOV_POSITION {
+        record_sample(pixel, position_sample(ray));
         return;
     }
     let guide = guide_sample(ray, &rng);

@@ -15,3 +15,6 @@
 // texture (first texel, width, height, flags: bit 0 sRGB, bits 8-15 mip levels), then each
 // texture's mip levels, largest first, RGBA8 texels one word each.
 @group(0) @binding(11) var<storage, read> textures: array<u32>;
+// Adaptive sampling's pixel queue (caustic_gpu::path_tracer): per entry a pixel and the
+// samples it held before the round; a 1-entry placeholder when the tile is not queued.
+@group(0) @binding(12) var<storage, read> pixel_queue: array<vec2<u32>>;

@@ -79,7 +79,7 @@ fn render_debug(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let pixel = begin_pixel(id.x);
-    var rng = rng_for_sample(pixel, frame.sample_index, frame.seed);
+    var rng = rng_for_sample(pixel, pixel_sample, frame.seed);
     let ray = pixel_ray(pixel, &rng);
     record_sample(pixel, debug_value(ray, &rng));
 }

@@ -3,10 +3,17 @@
 // the weighted sample and its weight to the pixel's Kahan-compensated sums, or count it if
 // non-finite. Each pixel's mean is sum / weight sum (sum.w); with the box filter every weight
 // is 1 and sum.w counts the samples. The film may be split into bands of pixels
-// (caustic_gpu::film); the bound band starts at pixel frame.film_start.
+// (caustic_gpu::film); the bound band starts at pixel frame.film_start. An adaptive round's
+// tile indexes the pixel queue instead of the image (frame.queued_tile): each entry names a
+// pixel and the samples it holds, so each pixel continues its own sample sequence.
 
 // The filter weight of the invocation's camera sample, set by film_sample.
 var<private> filter_weight: f32 = 1.0;
+// The current pixel's sample index (set by tile_pixel): frame.sample_index, plus the pixel's
+// own sample count when the tile indexes the pixel queue.
+var<private> pixel_sample: u32;
+// Whether the tile indexes `pixel_queue` (frame.queued_tile != 0).
+var<private> queued_tile: bool;
 
 // Pixel index of invocation `local` of the current tile; sets up the plane range and the
 // pass's pixel sampling constants.
@@ -20,10 +27,17 @@ fn begin_pixel(local: u32) -> u32 {
 fn load_pass_constants() {
     plane_range = vec2<u32>(frame.first_plane, frame.shape_count);
     pixel_sampling = frame.pixel_sampling;
+    queued_tile = frame.queued_tile != 0u;
 }
 
-// Pixel index of position `local` of the current tile.
+// Pixel index of position `local` of the current tile; sets pixel_sample.
 fn tile_pixel(local: u32) -> u32 {
+    if queued_tile {
+        let entry = pixel_queue[frame.tile_start + local];
+        pixel_sample = frame.sample_index + entry.y;
+        return entry.x;
+    }
+    pixel_sample = frame.sample_index;
     return frame.tile_start + local;
 }
 

@@ -33,7 +33,7 @@ fn inspect_begin(pixel: u32) {
         return;
     }
     inspection.pixel = pixel;
-    inspection.sample = frame.sample_index;
+    inspection.sample = pixel_sample;
     inspection.bounce_count = 0u;
     inspection.termination = 0u;
     inspection.radiance = vec3<f32>(0.0);

@@ -10,12 +10,16 @@ fn render_depth(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let pixel = begin_pixel(id.x);
-    var rng = rng_for_sample(pixel, frame.sample_index, frame.seed);
-    let ray = pixel_ray(pixel, &rng);
+    var rng = rng_for_sample(pixel, pixel_sample, frame.seed);
+    record_sample(pixel, depth_sample(pixel_ray(pixel, &rng)));
+}
+
+// One camera ray's depth sample, as render_depth records it (the depth AOV records the same).
+fn depth_sample(ray: Ray) -> vec3<f32> {
     let hit = closest_hit(ray, 3.0e38);
     let covered = hit.triangle != NO_HIT;
     let depth = select(0.0, hit.t * dot(ray.direction, frame.forward) * frame.world_scale, covered);
-    record_sample(pixel, vec3<f32>(depth, select(0.0, 1.0, covered), depth));
+    return vec3<f32>(depth, select(0.0, 1.0, covered), depth);
 }
 
 // World-space shading normal of the first hit facing the camera, mapped to [0, 1] colours
@@ -26,7 +30,7 @@ fn render_normals(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let pixel = begin_pixel(id.x);
-    var rng = rng_for_sample(pixel, frame.sample_index, frame.seed);
+    var rng = rng_for_sample(pixel, pixel_sample, frame.seed);
     let ray = pixel_ray(pixel, &rng);
     let hit = closest_hit(ray, 3.0e38);
     var color = vec3<f32>(0.0);
@@ -91,6 +95,6 @@ fn render_analytic_direct(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let pixel = begin_pixel(id.x);
-    var rng = rng_for_sample(pixel, frame.sample_index, frame.seed);
+    var rng = rng_for_sample(pixel, pixel_sample, frame.seed);
     record_sample(pixel, analytic_direct(pixel_ray(pixel, &rng)));
 }

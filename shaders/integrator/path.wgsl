@@ -306,7 +306,7 @@ override PATHS_PER_INVOCATION: u32 = 1u;
 // armed for it.
 fn begin_sample(pixel: u32, rng: ptr<function, Rng>) -> PathState {
     inspect_begin(pixel);
-    *rng = rng_for_sample(pixel, frame.sample_index, frame.seed);
+    *rng = rng_for_sample(pixel, pixel_sample, frame.seed);
     return begin_path(pixel_ray(pixel, rng));
 }
 

@@ -113,7 +113,7 @@ fn render_classic(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let pixel = begin_pixel(id.x);
-    var rng = rng_for_sample(pixel, frame.sample_index, frame.seed);
+    var rng = rng_for_sample(pixel, pixel_sample, frame.seed);
     let ray = pixel_ray(pixel, &rng);
     record_sample(pixel, trace_classic(ray, &rng));
 }

@@ -99,6 +99,11 @@ pub struct RenderArgs {
     /// 65536 spp). The report says which stopped it.
     #[arg(long, value_name = "E")]
     pub target_error: Option<f64>,
+    /// Adaptive sampling (docs/SAMPLING.md): after 16 uniform samples per pixel, rounds spend
+    /// samples where the estimated error is largest, and --spp caps the mean samples per
+    /// pixel (it pays where noise is uneven; measured in docs/SAMPLING.md).
+    #[arg(long, value_name = "BOOL", num_args = 0..=1, default_missing_value = "true")]
+    pub adaptive: Option<bool>,
     /// Render a debug view instead of the image (docs/DEBUGGING.md): node-visits,
     /// primitive-tests, uv, albedo, material-id, bounces, nonfinite or bvh-level. Image files show it as a
     /// picture (heat map with a legend, id colours, non-finite pixels in red); .exr parts hold

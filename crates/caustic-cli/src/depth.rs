@@ -5,6 +5,7 @@
 //! the depth normalised over the hits instead: the nearest hit white, the farthest black, and
 //! rays that escape black too (as if infinitely far).
 
+use caustic_gpu::aov::covered_mean;
 use caustic_image::Image;
 
 /// The two images of an accumulated depth pass: `raw`, the filtered camera depth in every
@@ -15,7 +16,7 @@ pub fn depth_images(accumulated: &Image) -> (Image, Image) {
     let raw = Image { pixels: accumulated.pixels.iter().map(|p| [p[0]; 3]).collect(), ..*accumulated };
     // (covered fraction, mean depth of the samples that hit) per pixel.
     let hits: Vec<Option<(f32, f32)>> =
-        accumulated.pixels.iter().map(|&[depth, coverage, _]| (coverage > COVERAGE_EPSILON).then(|| (coverage.min(1.0), depth / coverage))).collect();
+        accumulated.pixels.iter().map(|&[depth, coverage, _]| covered_mean(depth, coverage).map(|mean| (coverage.min(1.0), mean))).collect();
     let (near, far) = hits.iter().flatten().fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), &(_, d)| (lo.min(d), hi.max(d)));
     let span = far - near;
     let pixels = hits
@@ -30,9 +31,6 @@ pub fn depth_images(accumulated: &Image) -> (Image, Image) {
         .collect();
     (raw, Image { pixels, ..*accumulated })
 }
-
-/// Covered fractions at or below this count as no hit (filter weights may leave a tiny one).
-const COVERAGE_EPSILON: f32 = 1e-4;
 
 #[cfg(test)]
 mod tests {

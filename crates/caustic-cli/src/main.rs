@@ -1,6 +1,7 @@
 //! `caustic`: render scenes headlessly on a Vulkan device, view them in a window and benchmark
 //! its ray tracing.
 
+mod adaptive;
 mod aovs;
 mod args;
 mod bench;

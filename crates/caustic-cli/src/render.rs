@@ -10,6 +10,7 @@ use anyhow::{Context, bail};
 use caustic_gpu::bloom::{Bloom, BloomSettings};
 use caustic_gpu::debug_image::{DEBUG_SAVE_OPTIONS, debug_picture};
 use caustic_gpu::{DebugView, GpuContext, GpuScene, PassOutcome, PathTracer, RenderSettings};
+use caustic_image::adaptive::UNIFORM_START;
 use caustic_image::estimate::ErrorEstimate;
 use caustic_image::{ExtraChannel, Image, PartInfo, PartialImage};
 use caustic_scene::{LoadOptions, RenderPass, Scene, SceneSource, load_scene_with};
@@ -68,6 +69,9 @@ pub struct RenderReport {
     estimated_relmse: Option<f64>,
     /// `--target-error`, if given.
     target_error: Option<f64>,
+    /// Adaptive sampling's rounds and per-pixel sample counts, if it ran (`spp` is then the
+    /// mean).
+    adaptive: Option<crate::adaptive::AdaptiveReport>,
     /// What ended the render: `spp`, `time`, `target_error` or `interrupt`.
     stopped_by: StoppedBy,
     /// Whether Ctrl-C ended the render early (the image holds what was accumulated).
@@ -105,6 +109,7 @@ impl RenderReport {
             negative_pixels: rendered.image.pixels.iter().filter(|p| p.iter().any(|&c| c < 0.0)).count() as u64,
             estimated_relmse: rendered.estimated_relmse,
             target_error: None,
+            adaptive: rendered.adaptive.clone(),
             stopped_by: rendered.stopped_by,
             interrupted,
             samples: [rendered.drawn.start, rendered.drawn.end],
@@ -124,6 +129,9 @@ pub struct Budget {
     seconds: Option<f64>,
     /// Stop once the estimated relMSE is at most this (`--target-error`).
     target_error: Option<f64>,
+    /// Adaptive sampling after the uniform start (`--adaptive`); `spp` is then the most
+    /// samples per pixel on average.
+    adaptive: bool,
 }
 
 impl Budget {
@@ -142,17 +150,24 @@ impl Budget {
             crate::failure::usage!("--target-error decides how many samples to draw: it does not combine with --samples, --samples-from-env or --resume");
         }
         let target_error = args.target_error;
+        let adaptive = args.adaptive.unwrap_or(false);
+        if adaptive && (args.samples.is_some() || args.samples_from_env || args.resume) {
+            crate::failure::usage!(
+                "--adaptive gives each pixel its own samples: it does not combine with --samples, --samples-from-env or --resume (give --adaptive false)"
+            );
+        }
+        let (seconds, first_sample) = (args.time, 0);
         Ok(match range {
             // A target renders until it is met, within --spp and --time, else within the cap.
-            Some(_) if target_error.is_some() && args.spp.is_none() => Budget { first_sample: 0, spp: Some(TARGET_SPP_CAP), seconds: args.time, target_error },
-            Some(range) => Budget { first_sample: range.start, spp: Some(range.end - range.start), seconds: args.time, target_error },
-            None => Budget { first_sample: 0, spp: None, seconds: args.time, target_error },
+            Some(_) if target_error.is_some() && args.spp.is_none() => Budget { first_sample, spp: Some(TARGET_SPP_CAP), seconds, target_error, adaptive },
+            Some(range) => Budget { first_sample: range.start, spp: Some(range.end - range.start), seconds, target_error, adaptive },
+            None => Budget { first_sample, spp: None, seconds, target_error, adaptive },
         })
     }
 
     /// Samples 0..`spp` (64 when there is neither `spp` nor a time limit), within `seconds`.
     pub fn from_zero(spp: Option<u32>, seconds: Option<f64>) -> Budget {
-        Budget { first_sample: 0, spp: spp.or(if seconds.is_some() { None } else { Some(DEFAULT_SPP) }), seconds, target_error: None }
+        Budget { first_sample: 0, spp: spp.or(if seconds.is_some() { None } else { Some(DEFAULT_SPP) }), seconds, target_error: None, adaptive: false }
     }
 
     /// The end of the sample range, if the budget has one.
@@ -398,6 +413,8 @@ pub struct Accumulated {
     pub denoised: Option<Image>,
     /// The global sample range drawn.
     pub drawn: Range<u32>,
+    /// What adaptive sampling's rounds did, if it ran.
+    pub adaptive: Option<crate::adaptive::AdaptiveReport>,
     triangles: usize,
     lights: u32,
     bvh_nodes: usize,
@@ -439,7 +456,8 @@ pub fn accumulate(
     let (width, height) = scene.resolution;
     let estimating = budget.target_error.is_some() || aovs.needs_variance() || u64::from(width) * u64::from(height) <= ESTIMATE_MAX_PIXELS;
     let mut stopped_by = StoppedBy::Spp;
-    while !budget.spp_reached(tracer.samples_per_pixel()) {
+    let uniform_end = |spp: u32| budget.spp_reached(spp) || (budget.adaptive && spp >= UNIFORM_START);
+    while !uniform_end(tracer.samples_per_pixel()) {
         if tracer.render_sample_until(&stop)? == PassOutcome::Stopped {
             stopped_by = if interrupted.load(Ordering::SeqCst) { StoppedBy::Interrupt } else { StoppedBy::Time };
             break;
@@ -455,17 +473,36 @@ pub fn accumulate(
             break;
         }
     }
+    let mut adaptive = None;
+    if budget.adaptive && stopped_by == StoppedBy::Spp && !budget.spp_reached(tracer.samples_per_pixel()) {
+        let limits = crate::adaptive::RoundLimits { target: budget.target_error, mean_spp: budget.spp };
+        let stopped = || if interrupted.load(Ordering::SeqCst) { StoppedBy::Interrupt } else { StoppedBy::Time };
+        let rounds = crate::adaptive::run_rounds(&mut tracer, &estimate, &limits, &stop, &stopped, &progress)?;
+        stopped_by = rounds.stopped_by;
+        adaptive = Some(rounds);
+    }
     let seconds = start.elapsed().as_secs_f64();
     progress.finish_and_clear();
     let (image, counts) = tracer.accumulated()?;
-    let spp = tracer.samples_per_pixel();
-    if estimating && estimate.latest().is_none_or(|(n, _)| n != spp) && spp > 0 {
+    let spp = match &adaptive {
+        Some(rounds) => rounds.report.spp_mean.round() as u32,
+        None => tracer.samples_per_pixel(),
+    };
+    if estimating && adaptive.is_none() && estimate.latest().is_none_or(|(n, _)| n != spp) && spp > 0 {
         estimate.update(spp, &image)?;
     }
+    let estimated_relmse = match &adaptive {
+        Some(rounds) => Some(rounds.errors.relmse),
+        None => estimate.latest().filter(|(n, _)| *n == spp).map(|(_, e)| e),
+    };
     let aov_output = if aovs.is_empty() || interrupted.load(Ordering::SeqCst) {
         AovOutput::default()
     } else {
-        let beauty = crate::aovs::Beauty { image: &image, spp, variance: estimate.pixel_variance(spp, &image) };
+        let variance = match &adaptive {
+            Some(rounds) => Some(rounds.errors.variances()),
+            None => estimate.pixel_variance(spp, &image),
+        };
+        let beauty = crate::aovs::Beauty { image: &image, spp, variance };
         crate::aovs::finish(ctx, scene, &gpu_scene, settings, aovs, beauty, &|| interrupted.load(Ordering::SeqCst))?
     };
     Ok(Accumulated {
@@ -475,8 +512,9 @@ pub fn accumulate(
         spp,
         seconds,
         compile_seconds,
-        estimated_relmse: estimate.latest().filter(|(n, _)| *n == spp).map(|(_, e)| e),
+        estimated_relmse,
         stopped_by,
+        adaptive: adaptive.map(|rounds| rounds.report),
         aov_channels: aov_output.channels,
         denoised: aov_output.denoised,
         drawn: tracer.drawn_range(),

@@ -82,12 +82,15 @@ pub fn render_aovs(
         match aov {
             Aov::Albedo => images.albedo = Some(render(aov)?),
             Aov::Normal => images.normal = Some(render(aov)?),
-            Aov::Depth => images.depth = depth.as_ref().map(|d| d.pixels.iter().map(|p| covered_mean(p[0], p[1])).collect()),
+            Aov::Depth => images.depth = depth.as_ref().map(|d| d.pixels.iter().map(|p| covered_mean(p[0], p[1]).unwrap_or(f32::INFINITY)).collect()),
             Aov::Position => {
                 let coverage = depth.as_ref().expect("rendered for position");
                 let mut position = render(aov)?;
                 for (p, d) in position.pixels.iter_mut().zip(&coverage.pixels) {
-                    *p = if d[1] > 0.0 { [0, 1, 2].map(|k| (f64::from(p[k] / d[1]) + origin[k]) as f32) } else { [0.0; 3] };
+                    *p = match covered_mean(1.0, d[1]) {
+                        Some(scale) => [0, 1, 2].map(|k| (f64::from(p[k] * scale) + origin[k]) as f32),
+                        None => [0.0; 3],
+                    };
                 }
                 images.position = Some(position);
             }
@@ -96,8 +99,13 @@ pub fn render_aovs(
     Ok(images)
 }
 
-/// A covered pixel's mean over its covered samples (`sum_over_all / covered_fraction`), or
-/// infinity where no sample hit.
-fn covered_mean(mean: f32, covered: f32) -> f32 {
-    if covered > 0.0 { mean / covered } else { f32::INFINITY }
+/// Covered fractions at or below this count as no hit (filter weights may leave a tiny one).
+pub const COVERAGE_EPSILON: f32 = 1e-4;
+
+/// A pixel's mean over its covered samples (`sum_over_all / covered_fraction`, from a pass that
+/// records a hit indicator beside its value, as the depth pass does), or `None` where no
+/// sample hit ([`COVERAGE_EPSILON`]). Shared by the depth and position AOVs and the scene
+/// language's `render depth`.
+pub fn covered_mean(mean: f32, covered: f32) -> Option<f32> {
+    (covered > COVERAGE_EPSILON).then(|| mean / covered)
 }

@@ -64,10 +64,25 @@ pub const BVH_SHAPES: Binding = binding(9, "bvh_shapes", Access::Read);
 pub const INSPECTION: Binding = binding(10, "inspection", Access::ReadWrite);
 /// Texture headers and mip chains (`array<u32>`).
 pub const TEXTURES: Binding = binding(11, "textures", Access::Read);
+/// Adaptive sampling's pixel queue (`vec2<u32>` per entry: pixel, samples it held).
+pub const PIXEL_QUEUE: Binding = binding(12, "pixel_queue", Access::Read);
 
 /// Every binding of the integrators' group, in binding order.
-pub const INTEGRATOR_BINDINGS: [Binding; 12] =
-    [FRAME, BVH_NODES, BVH_TRIANGLES, SHADING, MATERIALS, LIGHTS, ACCUMULATION, NONFINITE_COUNTS, ENVIRONMENT_MAP, BVH_SHAPES, INSPECTION, TEXTURES];
+pub const INTEGRATOR_BINDINGS: [Binding; 13] = [
+    FRAME,
+    BVH_NODES,
+    BVH_TRIANGLES,
+    SHADING,
+    MATERIALS,
+    LIGHTS,
+    ACCUMULATION,
+    NONFINITE_COUNTS,
+    ENVIRONMENT_MAP,
+    BVH_SHAPES,
+    INSPECTION,
+    TEXTURES,
+    PIXEL_QUEUE,
+];
 
 /// The layout entries of [`INTEGRATOR_BINDINGS`], visible to compute shaders.
 pub fn layout_entries() -> Vec<wgpu::BindGroupLayoutEntry> {

@@ -83,6 +83,11 @@ pub struct Frame {
     /// World units per device unit (a power of two), for what is reported in world units
     /// (the depth pass).
     pub world_scale: f32,
+    /// 1: the tile indexes the pixel queue (adaptive sampling: each entry a pixel and the
+    /// samples it holds); 0: the tile is `tile_pixels` consecutive pixels from `tile_start`.
+    pub queued_tile: u32,
+    /// Rounds the struct to 16 bytes.
+    pub _queue_pad: [u32; 3],
 }
 
 /// How pixels are sampled (`PixelSampling` in WGSL): the stratified sampler's strata per

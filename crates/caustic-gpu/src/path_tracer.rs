@@ -1,4 +1,7 @@
-//! The accumulating path tracer: one bounded dispatch per tile and sample pass.
+//! The accumulating path tracer: one bounded dispatch per tile and sample pass, and adaptive
+//! sampling's rounds of per-pixel sample counts ([`pixel_queue`]).
+
+mod pixel_queue;
 
 use crate::bindings;
 use crate::film::Film;
@@ -11,6 +14,7 @@ use crate::wavefront::{KernelShape, Wavefront, WavefrontProfile};
 use crate::{GpuContext, GpuError, GpuScene};
 use caustic_image::Image;
 use caustic_scene::{Integrator, NextEvent, Projection, RenderPass, Scene, Units};
+use pixel_queue::PixelQueue;
 use std::time::{Duration, Instant};
 
 /// How a sample pass ended.
@@ -52,6 +56,13 @@ pub struct PathTracer<'a> {
     complete_passes: u32,
     /// First pixel of the pass in progress that has not received its sample yet.
     next_pixel: u32,
+    /// Adaptive sampling's queue of pixels ([`PathTracer::render_round`]).
+    queue: PixelQueue,
+    /// Samples drawn per pixel once a round has given pixels different counts; `None` while
+    /// every pixel has `complete_passes` (plus a stopped pass's finished tiles).
+    pixel_samples: Option<Vec<u32>>,
+    /// The scene's buffers the bind groups hold.
+    scene_bindings: SceneBindings,
 }
 
 impl<'a> PathTracer<'a> {
@@ -70,7 +81,9 @@ impl<'a> PathTracer<'a> {
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
-        let bind_groups = bind_groups(device, &layout, &frame_buffer, gpu, &film, &inspection);
+        let queue = PixelQueue::new(ctx);
+        let scene_bindings = SceneBindings::of(gpu);
+        let bind_groups = bind_groups(device, &layout, &frame_buffer, &scene_bindings, &film, &inspection, &queue.buffer);
         ctx.check()?;
         let mut tracer = PathTracer {
             ctx,
@@ -89,6 +102,9 @@ impl<'a> PathTracer<'a> {
             first_sample: settings.first_sample,
             complete_passes: 0,
             next_pixel: 0,
+            queue,
+            pixel_samples: None,
+            scene_bindings,
         };
         tracer.warm_up()?;
         Ok(tracer)
@@ -127,7 +143,9 @@ impl<'a> PathTracer<'a> {
         }
         self.frame = frame;
         self.units = gpu.units;
-        self.bind_groups = bind_groups(&self.ctx.device, &self.layout, &self.frame_buffer, gpu, &self.film, &self.inspection);
+        self.scene_bindings = SceneBindings::of(gpu);
+        self.rebind();
+        self.pixel_samples = None;
         self.target_submit = settings.target_submit;
         self.first_sample = settings.first_sample;
         self.complete_passes = 0;
@@ -136,6 +154,12 @@ impl<'a> PathTracer<'a> {
             self.warm_up()?;
         }
         self.ctx.check()
+    }
+
+    /// Makes the bind groups again (after the film, the scene or the pixel queue changed).
+    fn rebind(&mut self) {
+        self.bind_groups =
+            bind_groups(&self.ctx.device, &self.layout, &self.frame_buffer, &self.scene_bindings, &self.film, &self.inspection, &self.queue.buffer);
     }
 
     /// Sets the target duration of one submit ([`RenderSettings::target_submit`]) from now
@@ -153,8 +177,15 @@ impl<'a> PathTracer<'a> {
     /// Adds one sample to every pixel, tile by tile, asking `stop` before each tile. A stopped
     /// pass leaves the finished tiles one sample ahead (the image is a per-pixel mean, so it
     /// stays correct) and is resumed where it stopped by the next call.
+    /// After adaptive rounds ([`PathTracer::render_round`]) the pass is a round of one sample
+    /// per pixel, each continuing its own sequence.
     pub fn render_sample_until(&mut self, stop: &dyn Fn() -> bool) -> Result<PassOutcome, GpuError> {
         let pixels = self.frame.width * self.frame.height;
+        if self.pixel_samples.is_some() {
+            let outcome = self.render_round(&vec![1; pixels as usize], stop)?;
+            self.complete_passes += u32::from(outcome == PassOutcome::Complete);
+            return Ok(outcome);
+        }
         self.frame.sample_index = self.first_sample + self.complete_passes;
         while self.next_pixel < pixels {
             if stop() {
@@ -185,16 +216,19 @@ impl<'a> PathTracer<'a> {
         band.start + band.pixels - pixel
     }
 
-    /// The bind group of the band holding the current tile.
+    /// The bind group of the band of the current tile (whose first pixel is `film_start`).
     fn tile_bind_group(&self) -> &wgpu::BindGroup {
-        &self.bind_groups[self.film.band_of(self.frame.tile_start)]
+        &self.bind_groups[self.film.band_of(self.frame.film_start)]
     }
 
     /// Sets the frame constants' tile (and the first pixel of its band) and uploads them.
+    /// A queued tile's `start` indexes the pixel queue, and its band was set beforehand.
     fn write_tile(&mut self, start: u32, pixels: u32) {
         self.frame.tile_start = start;
         self.frame.tile_pixels = pixels;
-        self.frame.film_start = self.film.bands[self.film.band_of(start)].start;
+        if self.frame.queued_tile == 0 {
+            self.frame.film_start = self.film.bands[self.film.band_of(start)].start;
+        }
         self.ctx.queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&self.frame));
     }
 
@@ -267,7 +301,11 @@ impl<'a> PathTracer<'a> {
 
     /// The global sample indices drawn so far: [`PathTracer::sample_range`], plus the index of
     /// a stopped pass if one is in progress (its finished tiles hold that sample).
+    /// After adaptive rounds, the range up to the most samples a pixel holds.
     pub fn drawn_range(&self) -> std::ops::Range<u32> {
+        if let Some(samples) = &self.pixel_samples {
+            return self.first_sample..self.first_sample + samples.iter().copied().max().unwrap_or(0);
+        }
         let range = self.sample_range();
         range.start..range.end + u32::from(self.next_pixel > 0)
     }
@@ -394,11 +432,32 @@ fn wavefront_size(frame: &Frame) -> (u32, u32) {
     ((frame.width * frame.height).clamp(1, WAVEFRONT_MAX_TILE_PIXELS), frame.pixel_sampling.light_samples.max(1))
 }
 
-/// The buffers the kernels write.
-struct FilmBindings<'b> {
-    accumulation: &'b wgpu::Buffer,
-    nonfinite_counts: &'b wgpu::Buffer,
-    inspection: &'b wgpu::Buffer,
+/// The scene's buffers the kernels read, kept (wgpu handles are shared references) so that
+/// the bind groups can be made again when the pixel queue grows.
+struct SceneBindings {
+    nodes: wgpu::Buffer,
+    triangles: wgpu::Buffer,
+    shading: wgpu::Buffer,
+    materials: wgpu::Buffer,
+    lights: wgpu::Buffer,
+    environment_view: wgpu::TextureView,
+    shapes: wgpu::Buffer,
+    textures: wgpu::Buffer,
+}
+
+impl SceneBindings {
+    fn of(gpu: &GpuScene) -> SceneBindings {
+        SceneBindings {
+            nodes: gpu.nodes.clone(),
+            triangles: gpu.triangles.clone(),
+            shading: gpu.shading.clone(),
+            materials: gpu.materials.clone(),
+            lights: gpu.lights.clone(),
+            environment_view: gpu.environment_view.clone(),
+            shapes: gpu.shapes.clone(),
+            textures: gpu.textures.clone(),
+        }
+    }
 }
 
 /// The integrators' bind groups, one per band of `film`.
@@ -406,33 +465,30 @@ fn bind_groups(
     device: &wgpu::Device,
     layout: &wgpu::BindGroupLayout,
     frame: &wgpu::Buffer,
-    gpu: &GpuScene,
+    scene: &SceneBindings,
     film: &Film,
     inspection: &wgpu::Buffer,
+    queue: &wgpu::Buffer,
 ) -> Vec<wgpu::BindGroup> {
     let bind = |band: &crate::film::FilmBand| {
-        bind_group(device, layout, frame, gpu, &FilmBindings { accumulation: &band.accumulation, nonfinite_counts: &band.nonfinite_counts, inspection })
+        let entries = [
+            wgpu::BindGroupEntry { binding: bindings::FRAME.index, resource: frame.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: bindings::BVH_NODES.index, resource: scene.nodes.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: bindings::BVH_TRIANGLES.index, resource: scene.triangles.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: bindings::SHADING.index, resource: scene.shading.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: bindings::MATERIALS.index, resource: scene.materials.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: bindings::LIGHTS.index, resource: scene.lights.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: bindings::ACCUMULATION.index, resource: band.accumulation.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: bindings::NONFINITE_COUNTS.index, resource: band.nonfinite_counts.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: bindings::ENVIRONMENT_MAP.index, resource: wgpu::BindingResource::TextureView(&scene.environment_view) },
+            wgpu::BindGroupEntry { binding: bindings::BVH_SHAPES.index, resource: scene.shapes.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: bindings::INSPECTION.index, resource: inspection.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: bindings::TEXTURES.index, resource: scene.textures.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: bindings::PIXEL_QUEUE.index, resource: queue.as_entire_binding() },
+        ];
+        device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("path tracer"), layout, entries: &entries })
     };
     film.bands.iter().map(bind).collect()
-}
-
-/// The integrators' bindings: the frame constants, `gpu`'s scene buffers and the film.
-fn bind_group(device: &wgpu::Device, layout: &wgpu::BindGroupLayout, frame: &wgpu::Buffer, gpu: &GpuScene, film: &FilmBindings) -> wgpu::BindGroup {
-    let entries = [
-        wgpu::BindGroupEntry { binding: bindings::FRAME.index, resource: frame.as_entire_binding() },
-        wgpu::BindGroupEntry { binding: bindings::BVH_NODES.index, resource: gpu.nodes.as_entire_binding() },
-        wgpu::BindGroupEntry { binding: bindings::BVH_TRIANGLES.index, resource: gpu.triangles.as_entire_binding() },
-        wgpu::BindGroupEntry { binding: bindings::SHADING.index, resource: gpu.shading.as_entire_binding() },
-        wgpu::BindGroupEntry { binding: bindings::MATERIALS.index, resource: gpu.materials.as_entire_binding() },
-        wgpu::BindGroupEntry { binding: bindings::LIGHTS.index, resource: gpu.lights.as_entire_binding() },
-        wgpu::BindGroupEntry { binding: bindings::ACCUMULATION.index, resource: film.accumulation.as_entire_binding() },
-        wgpu::BindGroupEntry { binding: bindings::NONFINITE_COUNTS.index, resource: film.nonfinite_counts.as_entire_binding() },
-        wgpu::BindGroupEntry { binding: bindings::ENVIRONMENT_MAP.index, resource: wgpu::BindingResource::TextureView(&gpu.environment_view) },
-        wgpu::BindGroupEntry { binding: bindings::BVH_SHAPES.index, resource: gpu.shapes.as_entire_binding() },
-        wgpu::BindGroupEntry { binding: bindings::INSPECTION.index, resource: film.inspection.as_entire_binding() },
-        wgpu::BindGroupEntry { binding: bindings::TEXTURES.index, resource: gpu.textures.as_entire_binding() },
-    ];
-    device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("path tracer"), layout, entries: &entries })
 }
 
 fn frame_constants(scene: &Scene, gpu: &GpuScene, settings: &RenderSettings) -> Frame {

@@ -130,6 +130,16 @@ impl ErrorEstimate {
     pub fn latest(&self) -> Option<(u32, f64)> {
         self.latest
     }
+
+    /// Adaptive sampling's estimate continuing this one ([`crate::adaptive`]): the law fitted
+    /// so far and the kept images, whose every pixel holds the samples they were kept at.
+    pub fn adaptive(&self) -> crate::adaptive::AdaptiveEstimate {
+        let mut adaptive = crate::adaptive::AdaptiveEstimate::new(self.doubling_gain);
+        for (spp, image) in &self.kept {
+            adaptive.keep(image.clone(), vec![*spp; image.pixels.len()]);
+        }
+        adaptive
+    }
 }
 
 #[cfg(test)]

@@ -8,6 +8,7 @@
 //! no GPU types, so every consumer can depend on it. Post-process effects
 //! (`Image::monochrome`, `Image::gaussian_blur`) work on the linear image.
 
+pub mod adaptive;
 mod display;
 mod error;
 pub mod estimate;

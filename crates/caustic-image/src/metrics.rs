@@ -55,7 +55,7 @@ pub fn estimated_relative_mse(first: &Image, first_samples: f64, full: &Image, f
 }
 
 /// Per pixel and channel, the mean of the eight neighbours (clamped at the borders).
-fn neighbour_mean(image: &Image) -> Vec<[f32; 3]> {
+pub(crate) fn neighbour_mean(image: &Image) -> Vec<[f32; 3]> {
     let (w, h) = (image.width as i64, image.height as i64);
     let at = |x: i64, y: i64| image.pixels[(y.clamp(0, h - 1) * w + x.clamp(0, w - 1)) as usize];
     (0..w * h)

@@ -85,6 +85,8 @@ fn mirrors() -> Vec<(&'static str, RustLayout)> {
                 classic_frost_samples,
                 world_origin,
                 world_scale,
+                queued_tile,
+                _queue_pad,
             }),
         ),
         ("TriangleShading", rust_layout!(TriangleShading { n0, material, n1, flags, n2, extension, uv0, uv1, uv2, _pad1 })),

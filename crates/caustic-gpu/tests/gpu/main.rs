@@ -6,6 +6,7 @@
 mod common;
 mod support;
 
+mod adaptive_rounds;
 mod anisotropic;
 mod aovs;
 mod ashikhmin_gpu;
