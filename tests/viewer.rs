@@ -336,3 +336,41 @@ fn the_inspected_path_is_drawn_over_the_image() {
     println!("inspected path: {cyan} cyan pixels over the image");
     assert!(cyan > 30, "the inspected path is not drawn");
 }
+
+#[test]
+fn the_denoised_preview_is_what_render_denoise_writes() {
+    let Some(xvfb) = Xvfb::start() else { return };
+    let dir = support::scratch("viewer-denoise");
+    let saved = dir.join("denoised.png");
+    let output = Command::new(env!("CARGO_BIN_EXE_caustic"))
+        .args(["view", "cornell", "--size", "64x64", "--spp", "4", "--frames", "6", "--denoise"])
+        .args(["--save", saved.to_str().unwrap()])
+        .env("DISPLAY", &xvfb.display)
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .expect("run caustic view");
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "caustic view --denoise failed:\n{stderr}");
+    let command = std::fs::read_to_string(dir.join("denoised.txt")).expect("the command line beside the image");
+    println!("saved command: {}", command.trim());
+    let mut words = shell_words(command.lines().next().expect("a command line"));
+    assert!(words.iter().any(|w| w == "--denoise"), "the command denoises too");
+    let (reproduced, noisy) = (dir.join("reproduced.png"), dir.join("noisy.png"));
+    let o = words.iter().position(|w| w == "-o").expect("-o in the command");
+    words[o + 1] = reproduced.to_str().unwrap().to_string();
+    let rendered = support::caustic(&words[1..].iter().map(String::as_str).collect::<Vec<_>>());
+    assert!(rendered.status.success(), "the saved command fails");
+    words[o + 1] = noisy.to_str().unwrap().to_string();
+    words.retain(|w| w != "--denoise");
+    assert!(support::caustic(&words[1..].iter().map(String::as_str).collect::<Vec<_>>()).status.success());
+    let load = |path: &std::path::Path| Image::load(path).expect("a saved image");
+    let (viewed, headless, noisy) = (load(&saved), load(&reproduced), load(&noisy));
+    let differing = viewed.pixels.iter().zip(&headless.pixels).filter(|(a, b)| a != b).count();
+    let denoised_differs = viewed.pixels.iter().zip(&noisy.pixels).filter(|(a, b)| a != b).count();
+    println!(
+        "the viewer's denoised image differs from `render --denoise` in {differing} and from the noisy render in {denoised_differs} of {} pixels",
+        viewed.pixels.len()
+    );
+    assert_eq!(differing, 0, "the viewer denoises as `caustic render --denoise` does");
+    assert!(denoised_differs > viewed.pixels.len() / 2, "the saved image is the denoised one");
+}

@@ -10,15 +10,11 @@
 //! goes beside it in an EXR (`denoised.R/G/B`), whose own channels stay the mergeable
 //! samples.
 
+use caustic_gpu::aov::AOV_SAMPLES;
 use caustic_gpu::denoise::{DenoiseInput, DenoiseSettings, Denoiser};
 use caustic_gpu::{Aov, GpuContext, GpuScene, RenderSettings};
 use caustic_image::{ExtraChannel, Image};
 use caustic_scene::Scene;
-
-/// Samples per pixel of the device AOVs (at most the beauty's): they converge much faster
-/// than the beauty (one camera ray and at most a few delta bounces each), and 16 filter
-/// edges and glossy albedo smoothly.
-pub const AOV_SAMPLES: u32 = 16;
 
 /// One layer `--aovs` names.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

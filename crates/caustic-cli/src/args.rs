@@ -343,6 +343,10 @@ pub struct ViewArgs {
     /// Start with the path of pixel X,Y recorded by the pixel inspector (as ctrl + click does).
     #[arg(long, value_name = "X,Y", value_parser = parse_pixel)]
     pub inspect: Option<(u32, u32)>,
+    /// Start with the denoised preview on (the panel's "denoise" box; `render --denoise`'s
+    /// denoiser, docs/SAMPLING.md).
+    #[arg(long)]
+    pub denoise: bool,
     /// With --frames: write a PNG screenshot of the whole window.
     #[arg(long, value_name = "FILE.png", requires = "frames")]
     pub screenshot: Option<PathBuf>,

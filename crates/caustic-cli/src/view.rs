@@ -29,6 +29,7 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
         tone_map: args.display.tone_map.unwrap_or_default(),
         debug: args.debug,
         inspect: args.inspect,
+        denoise: args.denoise,
         script,
     };
     caustic_viewer::run(options)

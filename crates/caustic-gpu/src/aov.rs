@@ -99,6 +99,11 @@ pub fn render_aovs(
     Ok(images)
 }
 
+/// Samples per pixel of the device AOVs (at most the beauty's): they converge much faster
+/// than the beauty (one camera ray and at most a few delta bounces each), and 16 filter
+/// edges and glossy albedo smoothly.
+pub const AOV_SAMPLES: u32 = 16;
+
 /// Covered fractions at or below this count as no hit (filter weights may leave a tiny one).
 pub const COVERAGE_EPSILON: f32 = 1e-4;
 

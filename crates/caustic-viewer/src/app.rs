@@ -48,6 +48,8 @@ pub(crate) struct Controls {
     pub save_path: String,
     /// The debug view shown instead of the image, if any.
     pub debug: Option<DebugView>,
+    /// Whether the image shown (and saved) is denoised.
+    pub denoise: bool,
 }
 
 /// Edits collected during a frame and applied once, before rendering.
@@ -143,13 +145,15 @@ impl ViewerApp {
             camera: 0,
             save_path: format!("{}-view.png", options.scene.name),
             debug: options.debug,
+            denoise: options.denoise,
         };
         let cameras = vec![("scene camera".to_string(), options.scene.camera.clone())];
         let scene_resolution = options.scene.resolution;
         let scene_environment = options.scene.environment.clone();
         let geometry = options.scene.clone();
         let picker = std::thread::spawn(move || Picker::new(&geometry));
-        let view = Progressive::new(ctx, options.scene, render_settings(&controls))?;
+        let mut view = Progressive::new(ctx, options.scene, render_settings(&controls))?;
+        view.set_denoise(controls.denoise)?;
         eprintln!(
             "{}: {} triangles, BVH {:.1} ms, kernel {:.0} ms",
             view.scene().name,
@@ -237,6 +241,7 @@ impl ViewerApp {
             },
             exposure: self.controls.exposure,
             tone_map: self.controls.tone_map,
+            denoise: self.view.denoising(),
             edited_materials: self.edited_materials.iter().map(|&i| scene.materials[i].name.clone()).collect(),
         }
     }

@@ -33,6 +33,8 @@ pub struct Reproduction {
     pub exposure: f32,
     /// Tone map.
     pub tone_map: ToneMap,
+    /// Whether the image is denoised (`--denoise`).
+    pub denoise: bool,
     /// Names of materials edited in the viewer: the command line cannot carry them, so the
     /// command file says so.
     pub edited_materials: Vec<String>,
@@ -100,6 +102,9 @@ impl Reproduction {
         add("--exposure", self.exposure.to_string());
         add("--tone-map", self.tone_map.name().to_string());
         add("-o", output.display().to_string());
+        if self.denoise {
+            args.push("--denoise".into());
+        }
         args
     }
 
@@ -157,6 +162,7 @@ mod tests {
             environment: Some(environment_color(Vec3::new(0.5, 0.25, 1.0))),
             exposure: -0.5,
             tone_map: ToneMap::Reinhard,
+            denoise: false,
             edited_materials: Vec::new(),
         }
     }

@@ -65,6 +65,8 @@ pub struct ViewerOptions {
     pub debug: Option<DebugView>,
     /// A pixel to inspect at the start, as a click with the pixel inspector would.
     pub inspect: Option<(u32, u32)>,
+    /// Whether the denoised preview starts on (the panel switches it).
+    pub denoise: bool,
     /// A scripted run instead of an interactive one.
     pub script: Option<Script>,
 }

@@ -89,11 +89,16 @@ impl ViewerApp {
         if let Some((low, high)) = self.view.legend_range() {
             ui.label(RichText::new(format!("heat map: {low} … light yellow {high} (legend under the image)")).small());
         }
+        ui.checkbox(&mut c.denoise, "denoise (a-trous, guided by albedo, normal, depth and variance)");
         let restart =
             (c.integrator, c.max_depth, c.seed, c.divisor, c.debug) != (before.integrator, before.max_depth, before.seed, before.divisor, before.debug);
+        if c.denoise != before.denoise {
+            let switched = self.view.set_denoise(c.denoise);
+            self.error = switched.err().map(|e| e.to_string());
+        }
         self.pending.restart |= restart;
         self.budget.target = std::time::Duration::from_secs_f32(c.frame_ms / 1e3);
-        self.pending.redisplay |= (c.exposure, c.tone_map) != (before.exposure, before.tone_map);
+        self.pending.redisplay |= (self.controls.exposure, self.controls.tone_map) != (before.exposure, before.tone_map);
     }
 
     /// The feature switches, generated from the feature table ([`crate::features_panel`]),

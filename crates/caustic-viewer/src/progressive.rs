@@ -2,11 +2,15 @@
 //! buffers, the path tracer accumulating into them, and the display pass. Every frame adds
 //! samples for a bounded time ([`FrameBudget`]); any edit restarts the accumulation at once
 //! without recompiling the kernel unless the edit needs another one ([`PathTracer::restart`]
-//! decides: integrator, debug view, a material using a BSDF lobe the kernel left out).
+//! decides: integrator, debug view, a material using a BSDF lobe the kernel left out). The
+//! denoised preview shows the image through `caustic render --denoise`'s denoiser.
 
 use crate::display::Display;
+use caustic_gpu::aov::AOV_SAMPLES;
 use caustic_gpu::debug_image::debug_picture;
+use caustic_gpu::denoise::{DenoiseInput, DenoiseSettings, Denoiser};
 use caustic_gpu::inspector::PathRecord;
+use caustic_gpu::{Aov, AovImages, render_aovs};
 use caustic_gpu::{GpuContext, GpuError, GpuScene, PassOutcome, PathTracer, RenderSettings};
 use caustic_image::estimate::ErrorEstimate;
 use caustic_image::{Image, ToneMap};
@@ -58,6 +62,22 @@ pub struct Progressive {
     legend_range: Option<(f32, f32)>,
     /// The error estimate of the accumulation since the last restart.
     estimate: ErrorEstimate,
+    /// The denoised preview, when it is on.
+    preview: Option<Preview>,
+    /// Whether the samples target was reached since the last restart.
+    settled: bool,
+}
+
+/// The denoised preview: the image is denoised at every power of two of samples per pixel and
+/// once the samples target is reached, with the guides (albedo, normal, depth) of
+/// min(spp, [`AOV_SAMPLES`]) samples and the variance the error estimate keeps, as `caustic
+/// render --denoise` denoises the same render.
+struct Preview {
+    denoiser: Denoiser,
+    /// The guides and the samples per pixel they were rendered with.
+    guides: Option<(u32, AovImages)>,
+    /// The last denoised image and the samples per pixel of the image it denoised.
+    shown: Option<(u32, Image)>,
 }
 
 impl Progressive {
@@ -73,7 +93,21 @@ impl Progressive {
         let stats = RenderStats { kernel_ms: began.elapsed().as_secs_f64() * 1e3, ..RenderStats::default() };
         let display = Display::new(ctx, scene.resolution);
         let estimate = ErrorEstimate::new(None);
-        Ok(Progressive { ctx, scene, gpu, tracer, settings, display, stats, rendered: Duration::ZERO, undisplayed: false, legend_range: None, estimate })
+        Ok(Progressive {
+            ctx,
+            scene,
+            gpu,
+            tracer,
+            settings,
+            display,
+            stats,
+            rendered: Duration::ZERO,
+            undisplayed: false,
+            legend_range: None,
+            estimate,
+            preview: None,
+            settled: false,
+        })
     }
 
     /// The device context.
@@ -133,15 +167,65 @@ impl Progressive {
         self.estimate = ErrorEstimate::new(None);
         self.rendered = Duration::ZERO;
         self.undisplayed = true;
+        self.settled = false;
+        if let Some(preview) = &mut self.preview {
+            (preview.guides, preview.shown) = (None, None);
+        }
         Ok(())
+    }
+
+    /// Turns the denoised preview on or off.
+    pub fn set_denoise(&mut self, on: bool) -> Result<(), GpuError> {
+        match (on, self.preview.is_some()) {
+            (true, false) => self.preview = Some(Preview { denoiser: Denoiser::new(self.ctx)?, guides: None, shown: None }),
+            (false, true) => self.preview = None,
+            _ => {}
+        }
+        self.undisplayed = true;
+        Ok(())
+    }
+
+    /// Whether the image shown is denoised (the preview is on and no debug view is shown).
+    pub fn denoising(&self) -> bool {
+        self.preview.is_some() && self.settings.debug.is_none()
+    }
+
+    /// The image at the current samples per pixel, denoised ([`Preview`]); the last one
+    /// denoised if the samples have not changed since.
+    fn denoised(&mut self) -> Result<Image, GpuError> {
+        let spp = self.tracer.samples_per_pixel();
+        let Some(preview) = &mut self.preview else { return self.tracer.image() };
+        if let Some((n, image)) = &preview.shown
+            && *n == spp
+        {
+            return Ok(image.clone());
+        }
+        let guide_samples = spp.clamp(1, AOV_SAMPLES);
+        if preview.guides.as_ref().is_none_or(|(n, _)| *n != guide_samples) {
+            let wanted = [Aov::Albedo, Aov::Normal, Aov::Depth];
+            preview.guides = Some((guide_samples, render_aovs(self.ctx, &self.scene, &self.gpu, &self.settings, &wanted, guide_samples, &|| false)?));
+        }
+        let image = self.tracer.image()?;
+        let variance = self.estimate.pixel_variance(spp, &image);
+        let Some((_, AovImages { albedo: Some(albedo), normal: Some(normal), depth: Some(depth), .. })) = &preview.guides else {
+            return Ok(image);
+        };
+        let input = DenoiseInput::new(&image, albedo, normal, depth, variance.as_deref())?;
+        let denoised = preview.denoiser.apply(self.ctx, &input, &DenoiseSettings::default())?;
+        preview.shown = Some((spp, denoised.clone()));
+        Ok(denoised)
     }
 
     /// Adds samples for about `budget` (at tile granularity: the tracer's submit target bounds
     /// the overshoot), stopping at `spp_target` complete passes. Returns whether it rendered.
     pub fn advance(&mut self, budget: Duration, spp_target: u32) -> Result<bool, GpuError> {
         if self.tracer.samples_per_pixel() >= spp_target {
+            // Reaching the target is when the denoised preview shows the final samples.
+            self.undisplayed |= !self.settled;
+            self.settled = true;
             return Ok(false);
         }
+        self.settled = false;
         self.tracer.set_target_submit(submit_target(budget, self.settings.target_submit));
         let began = Instant::now();
         let stop = || began.elapsed() >= budget;
@@ -187,6 +271,18 @@ impl Progressive {
             self.legend_range = picture.legend_range;
             return Ok(self.display.upload(self.ctx, &picture.image));
         }
+        if self.preview.is_some() {
+            let spp = self.tracer.samples_per_pixel();
+            let shown = self.preview.as_ref().and_then(|p| p.shown.as_ref().map(|(n, _)| *n));
+            let due = spp > 0 && shown != Some(spp) && (spp.is_power_of_two() || self.settled);
+            if due || (force && shown.is_some()) {
+                let image = self.denoised()?;
+                return Ok(self.display.upload_with(self.ctx, &image, &caustic_image::SaveOptions { exposure, tone_map }));
+            }
+            if shown.is_some() {
+                return Ok(false);
+            }
+        }
         match self.tracer.accumulation_buffer() {
             Some(film) => self.display.run(self.ctx, film, self.scene.resolution, exposure, tone_map),
             None => {
@@ -217,6 +313,9 @@ impl Progressive {
             self.tracer.render_sample_until(&|| false)?;
             self.stats.spp = self.tracer.samples_per_pixel();
             self.undisplayed = true;
+        }
+        if self.denoising() {
+            return self.denoised();
         }
         self.tracer.image()
     }
