@@ -5,8 +5,10 @@ For each scene, `caustic render --target-error E` runs with `--adaptive true` an
 `--adaptive false`, alternately (--rounds times each: identical runs on these machines spread
 by 1.5x), and the table reports for each the mean samples per pixel, the seconds, the
 estimated relMSE, the true relMSE against the reference (less the reference's own noise) and
-the ratio uniform / adaptive of the median seconds and of the true error per sample
-(true relMSE x mean spp: the error constant, which adaptive sampling should lower).
+the ratio uniform / adaptive of the median seconds, of the time to the same true error
+(the uniform render's seconds scaled by its true relMSE over the adaptive one's, the 1/n law)
+and of the true error per sample (true relMSE x mean spp: the error constant, which adaptive
+sampling should lower).
 
     python3 scripts/anchors/adaptive_check.py [--target 2e-3] [--scenes a,b] [--rounds 1]
         [--caustic target/release/caustic] [--json out.json]
@@ -73,15 +75,16 @@ def main():
                         "estimated": statistics.median(x["estimated"] for x in r), "true": statistics.median(x["true"] for x in r)}
         a, u = row["adaptive"], row["uniform"]
         row["time_ratio"] = u["seconds"] / a["seconds"]
+        row["equal_error_time_ratio"] = u["seconds"] * (u["true"] / a["true"]) / a["seconds"]
         row["error_constant_ratio"] = (u["true"] * u["spp"]) / (a["true"] * a["spp"])
         rows.append(row)
     print(f"| scene | uniform spp / s / true relMSE | adaptive spp / s / true relMSE | time uniform / adaptive | "
-          f"error x spp uniform / adaptive |")
-    print("|---|---|---|---|---|")
+          f"time to the same error, uniform / adaptive | error x spp uniform / adaptive |")
+    print("|---|---|---|---|---|---|")
     for r in rows:
         u, a = r["uniform"], r["adaptive"]
         print(f"| `{r['scene']}` | {u['spp']:.0f} / {u['seconds']:.1f} / {u['true']:.2e} | {a['spp']:.0f} / {a['seconds']:.1f} / "
-              f"{a['true']:.2e} | {r['time_ratio']:.2f} | {r['error_constant_ratio']:.2f} |")
+              f"{a['true']:.2e} | {r['time_ratio']:.2f} | {r['equal_error_time_ratio']:.2f} | {r['error_constant_ratio']:.2f} |")
     if args.json:
         with open(args.json, "w") as f:
             json.dump(rows, f, indent=1)

@@ -131,10 +131,10 @@ impl ErrorEstimate {
         self.latest
     }
 
-    /// Adaptive sampling's estimate continuing this one ([`crate::adaptive`]): the law fitted
-    /// so far and the kept images, whose every pixel holds the samples they were kept at.
+    /// Adaptive sampling's estimate continuing this one ([`crate::adaptive`]): the kept
+    /// images, whose every pixel holds the samples they were kept at.
     pub fn adaptive(&self) -> crate::adaptive::AdaptiveEstimate {
-        let mut adaptive = crate::adaptive::AdaptiveEstimate::new(self.doubling_gain);
+        let mut adaptive = crate::adaptive::AdaptiveEstimate::default();
         for (spp, image) in &self.kept {
             adaptive.keep(image.clone(), vec![*spp; image.pixels.len()]);
         }
