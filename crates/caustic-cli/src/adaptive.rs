@@ -71,7 +71,12 @@ pub fn run_rounds(
         }
         let mut extra = estimate.plan(&errors, &counts, limits.target, most);
         if extra.iter().all(|&e| e == 0) {
-            // Rounding left nothing (a target within a fraction of a sample): one more each.
+            // Rounding left nothing: the budget holds less than a sample per pixel (stop
+            // there), or the target is within a fraction of one (one more each).
+            if most < counts.len() as u64 {
+                last = Some(errors);
+                break StoppedBy::Spp;
+            }
             extra.iter_mut().for_each(|e| *e = 1);
         }
         estimate.keep(image, counts);
