@@ -11,7 +11,7 @@
 //! samples.
 
 use caustic_gpu::aov::AOV_SAMPLES;
-use caustic_gpu::denoise::{DenoiseInput, DenoiseSettings, Denoiser};
+use caustic_gpu::denoise::{Denoiser, denoise_with_guides};
 use caustic_gpu::{Aov, GpuContext, GpuScene, RenderSettings};
 use caustic_image::{ExtraChannel, Image};
 use caustic_scene::Scene;
@@ -161,12 +161,9 @@ pub fn finish(
             AovLayer::Spp => {}
         }
     }
-    let denoised = match (&images.albedo, &images.normal, &images.depth, request.denoise) {
-        (Some(albedo), Some(normal), Some(depth), true) => {
-            let input = DenoiseInput::new(image, albedo, normal, depth, variance.as_deref())?;
-            Some(Denoiser::new(ctx)?.apply(ctx, &input, &DenoiseSettings::default())?)
-        }
-        _ => None,
+    let denoised = match request.denoise {
+        true => denoise_with_guides(ctx, &Denoiser::new(ctx)?, image, &images, variance.as_deref())?,
+        false => None,
     };
     Ok(AovOutput { channels, denoised })
 }

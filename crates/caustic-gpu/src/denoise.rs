@@ -14,7 +14,7 @@
 
 use crate::readback::read_buffer;
 use crate::shaders::DENOISE;
-use crate::{GpuContext, GpuError};
+use crate::{AovImages, GpuContext, GpuError};
 use bytemuck::{Pod, Zeroable};
 use caustic_image::Image;
 
@@ -306,6 +306,21 @@ fn bind_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
             entry(4, buffer(wgpu::BufferBindingType::Storage { read_only: false })),
         ],
     })
+}
+
+/// `image` denoised with the default settings, guided by the albedo, normal and depth of
+/// `guides` and the per-pixel `variance` of its mean if known: what `caustic render
+/// --denoise` writes and the viewer's denoise box shows. `None` when a guide is missing.
+pub fn denoise_with_guides(
+    ctx: &GpuContext,
+    denoiser: &Denoiser,
+    image: &Image,
+    guides: &AovImages,
+    variance: Option<&[[f32; 3]]>,
+) -> Result<Option<Image>, GpuError> {
+    let AovImages { albedo: Some(albedo), normal: Some(normal), depth: Some(depth), .. } = guides else { return Ok(None) };
+    let input = DenoiseInput::new(image, albedo, normal, depth, variance)?;
+    denoiser.apply(ctx, &input, &DenoiseSettings::default()).map(Some)
 }
 
 #[cfg(test)]

@@ -8,7 +8,7 @@
 use crate::display::Display;
 use caustic_gpu::aov::AOV_SAMPLES;
 use caustic_gpu::debug_image::debug_picture;
-use caustic_gpu::denoise::{DenoiseInput, DenoiseSettings, Denoiser};
+use caustic_gpu::denoise::{Denoiser, denoise_with_guides};
 use caustic_gpu::inspector::PathRecord;
 use caustic_gpu::{Aov, AovImages, render_aovs};
 use caustic_gpu::{GpuContext, GpuError, GpuScene, PassOutcome, PathTracer, RenderSettings};
@@ -207,11 +207,8 @@ impl Progressive {
         }
         let image = self.tracer.image()?;
         let variance = self.estimate.pixel_variance(spp, &image);
-        let Some((_, AovImages { albedo: Some(albedo), normal: Some(normal), depth: Some(depth), .. })) = &preview.guides else {
-            return Ok(image);
-        };
-        let input = DenoiseInput::new(&image, albedo, normal, depth, variance.as_deref())?;
-        let denoised = preview.denoiser.apply(self.ctx, &input, &DenoiseSettings::default())?;
+        let Some((_, guides)) = &preview.guides else { return Ok(image) };
+        let Some(denoised) = denoise_with_guides(self.ctx, &preview.denoiser, &image, guides, variance.as_deref())? else { return Ok(image) };
         preview.shown = Some((spp, denoised.clone()));
         Ok(denoised)
     }
