@@ -24,6 +24,33 @@ fn render_reports_json_and_writes_every_format() {
     }
 }
 
+/// `--dry-run` builds the BVH and prints the memory a render would take (device by kind, with
+/// the film, and host), renders nothing and writes no file; the render's own report carries
+/// the same device figures; a budget below them (`--device-memory`) fails with the figures
+/// before anything is uploaded.
+#[test]
+fn dry_run_reports_memory_without_rendering() {
+    let dir = support::scratch("dry-run");
+    let out = dir.join("cornell.png");
+    let o = out.to_str().unwrap();
+    let planned = support::caustic_json(&["render", "--size", "64x48", "--dry-run", "--json", "-o", o]);
+    println!("dry run: {planned}");
+    assert_eq!(planned["dry_run"], true);
+    assert!(!out.exists(), "a dry run wrote {o}");
+    let memory = &planned["memory"];
+    let kinds = memory["device"].as_object().expect("device bytes by kind");
+    let sum: u64 = kinds.values().map(|bytes| bytes.as_u64().unwrap()).sum();
+    assert_eq!(memory["device_total"].as_u64(), Some(sum), "the total is the kinds' sum");
+    assert!(kinds["film"].as_u64().unwrap() >= 64 * 48 * 16, "the film holds a texel per pixel: {memory}");
+    assert!(memory["host_peak"].as_u64().unwrap() > memory["host_prepared"].as_u64().unwrap());
+    let rendered = support::caustic_json(&["render", "--size", "64x48", "--spp", "1", "--json", "-o", o]);
+    assert_eq!(rendered["memory"]["device"], memory["device"], "the render takes what the dry run said");
+    let budget = dir.join("budget.png");
+    assert_fails(&["render", "--size", "64x48", "--device-memory", "4K", "-o", budget.to_str().unwrap()], &["device memory", "4 KiB"], &budget);
+    assert_fails(&["render", "--size", "64x48", "--dry-run", "--device-memory", "4K", "-o", o], &["device memory", "film"], &dir.join("none"));
+    assert_fails(&["render", "--device-memory", "lots", "-o", o], &["lots", "K, M, G or T"], &dir.join("none"));
+}
+
 #[test]
 fn time_budget_stops_the_render() {
     let out = support::scratch("time").join("t.exr");

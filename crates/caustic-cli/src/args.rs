@@ -50,6 +50,42 @@ pub struct DeviceArgs {
     /// Print one JSON object with the results on stdout.
     #[arg(long)]
     pub json: bool,
+    /// The most device memory a render may take (bytes, or with K, M, G or T: binary units,
+    /// e.g. 6G): a scene and film past it are refused before anything is uploaded. Default:
+    /// what the device has where it says (a CPU device: the host's available memory); on a GPU
+    /// wgpu cannot ask, so without this an allocation past its memory fails when it happens.
+    #[arg(long, env = "CAUSTIC_DEVICE_MEMORY", value_name = "SIZE", value_parser = parse_bytes)]
+    pub device_memory: Option<u64>,
+}
+
+impl DeviceArgs {
+    /// Opens the device `--adapter` names (or the best one), its memory budget lowered to
+    /// `--device-memory` where that is given.
+    pub fn open(&self) -> anyhow::Result<caustic_gpu::GpuContext> {
+        let mut ctx = caustic_gpu::GpuContext::new(self.adapter.as_deref())?;
+        if let Some(budget) = self.device_memory {
+            ctx.device_memory = Some(ctx.device_memory.map_or(budget, |available| available.min(budget)));
+        }
+        Ok(ctx)
+    }
+}
+
+/// A byte count: digits, optionally followed by K, M, G or T (binary units; `KiB`, `kb` and
+/// the like read the same).
+fn parse_bytes(text: &str) -> Result<u64, String> {
+    let trimmed = text.trim();
+    let digits = trimmed.find(|c: char| !c.is_ascii_digit()).unwrap_or(trimmed.len());
+    let (number, unit) = trimmed.split_at(digits);
+    let number: u64 = number.parse().map_err(|_| format!("'{text}' is not a size: give bytes, or a number with K, M, G or T (e.g. 6G)"))?;
+    let shift = match unit.trim().to_ascii_lowercase().trim_end_matches("ib").trim_end_matches('b') {
+        "" => 0,
+        "k" => 10,
+        "m" => 20,
+        "g" => 30,
+        "t" => 40,
+        _ => return Err(format!("'{text}': unknown unit '{unit}' (K, M, G or T)")),
+    };
+    number.checked_mul(1 << shift).filter(|&bytes| bytes > 0).ok_or_else(|| format!("'{text}' is not a size from 1 byte to 16 EiB"))
 }
 
 /// `caustic render`.
@@ -123,6 +159,11 @@ pub struct RenderArgs {
     /// only.
     #[arg(long)]
     pub denoise: bool,
+    /// Load the scene, build its BVH and print the memory it would take on the device (by
+    /// kind, with the film) and on the host, and whether it fits this device; render nothing
+    /// and write no file. With --json, one object on stdout.
+    #[arg(long)]
+    pub dry_run: bool,
     /// Bloom on the finished linear image (docs/FEATURES.md): the fraction 0..=1 of the light
     /// above THRESHOLD (luminance, default 1) spread into Gaussians of RADIUS, 2 RADIUS and
     /// 4 RADIUS pixels (default 2); total energy is kept. Not for partial .exr outputs.
@@ -636,4 +677,23 @@ fn parse_integrator(text: &str) -> Result<Integrator, String> {
         let names: Vec<&str> = all.into_iter().map(integrator_name).collect();
         format!("unknown integrator '{text}'; expected one of: {}", names.join(", "))
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::parse_bytes;
+
+    #[test]
+    fn sizes_read_in_binary_units_and_bad_ones_are_refused() {
+        assert_eq!(parse_bytes("4096"), Ok(4096));
+        assert_eq!(parse_bytes("6G"), Ok(6 << 30));
+        assert_eq!(parse_bytes("512MiB"), Ok(512 << 20));
+        assert_eq!(parse_bytes("64 kb"), Ok(64 << 10));
+        assert_eq!(parse_bytes("1T"), Ok(1 << 40));
+        for bad in ["", "0", "G", "6X", "-1G", "99999999999T", "1.5G"] {
+            let error = parse_bytes(bad).expect_err(bad);
+            println!("{bad:?}: {error}");
+            assert!(error.contains(bad), "the message names the value: {error}");
+        }
+    }
 }

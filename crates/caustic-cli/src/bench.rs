@@ -120,7 +120,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         crate::failure::usage!("--hits takes one mesh, not {}", names.len());
     }
     let external = args.rays.as_deref().map(read_rays).transpose()?;
-    let ctx = GpuContext::new(args.device.adapter.as_deref())?;
+    let ctx = args.device.open()?;
     eprintln!("adapter: {}", ctx.adapter);
     match &external {
         None => report(&ctx, args, &names, |name| bench_mesh(&ctx, name, args), print_row),

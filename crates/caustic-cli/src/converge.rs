@@ -6,7 +6,7 @@ use crate::args::{DeviceArgs, SceneOverrides};
 use crate::plot::{Series, log_log_svg};
 use crate::preset::Preset;
 use anyhow::{Context, bail};
-use caustic_gpu::{GpuContext, GpuScene, PathTracer, RenderSettings};
+use caustic_gpu::{GpuScene, PathTracer, RenderSettings};
 use caustic_image::estimate::ErrorEstimate;
 use caustic_image::metrics::{RELMSE_EPSILON, mean_absolute_error, relative_mse};
 use caustic_image::perceptual::{Viewing, mean_flip_color};
@@ -115,7 +115,7 @@ pub fn run(args: &ConvergeArgs) -> anyhow::Result<()> {
     if spp == 0 {
         crate::failure::usage!("--spp 0: at least one sample per pixel is needed");
     }
-    let ctx = GpuContext::new(args.device.adapter.as_deref())?;
+    let ctx = args.device.open()?;
     eprintln!("adapter: {}", ctx.adapter);
     let gpu_scene = GpuScene::upload(&ctx, &scene)?;
     if let Some(note) = gpu_scene.layout_note() {

@@ -11,6 +11,7 @@ mod debug_pixel;
 mod depth;
 mod failure;
 mod fingerprint;
+mod memory_report;
 mod merge;
 mod plot;
 mod preset;

@@ -3,13 +3,15 @@
 use crate::aovs::{AovLayer, AovOutput, AovRequest};
 use crate::args::RenderArgs;
 use crate::fingerprint::{Fingerprint, fingerprint};
+use crate::memory_report::MemoryReport;
 use crate::preset::Preset;
 use crate::script;
 use crate::tasks::{TaskIndex, has_placeholder, substitute};
 use anyhow::{Context, bail};
+use caustic_bvh::BuildOptions;
 use caustic_gpu::bloom::{Bloom, BloomSettings};
 use caustic_gpu::debug_image::{DEBUG_SAVE_OPTIONS, debug_picture};
-use caustic_gpu::{DebugView, GpuContext, GpuScene, PassOutcome, PathTracer, RenderSettings};
+use caustic_gpu::{DebugView, GpuContext, GpuScene, NodeLayout, PassOutcome, PathTracer, PreparedScene, RenderSettings};
 use caustic_image::adaptive::UNIFORM_START;
 use caustic_image::estimate::ErrorEstimate;
 use caustic_image::{ExtraChannel, Image, PartInfo, PartialImage};
@@ -84,6 +86,8 @@ pub struct RenderReport {
     /// The render's fingerprint (see `caustic merge`).
     fingerprint: String,
     output: PathBuf,
+    /// Device and host bytes by kind (docs/ARCHITECTURE.md "Memory").
+    memory: MemoryReport,
 }
 
 impl RenderReport {
@@ -116,6 +120,7 @@ impl RenderReport {
             task_index: None,
             fingerprint,
             output,
+            memory: rendered.memory.clone().with_peak_now(),
         }
     }
 }
@@ -290,8 +295,11 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     // Installed before the device and scene set-up, so that a scheduler's SIGTERM during a long
     // start-up still ends the run cleanly (with what it has) instead of killing it.
     let interrupted = crate::failure::interrupt_flag()?;
-    let ctx = GpuContext::new(args.device.adapter.as_deref())?;
+    let ctx = args.device.open()?;
     eprintln!("adapter: {}", ctx.adapter);
+    if args.dry_run {
+        return crate::memory_report::dry_run(&ctx, &scene, args.device.json);
+    }
     let setup = crate::failure::SetupWatch::start(interrupted.clone(), args.device.json);
     let mut rendered = accumulate(&ctx, &scene, &settings, &budget, &interrupted, Some(setup), &aovs)?;
     // A depth pass: parts and HDR files hold the raw distances, LDR files the normalised depth.
@@ -419,6 +427,8 @@ pub struct Accumulated {
     lights: u32,
     bvh_nodes: usize,
     bvh_build_ms: f64,
+    /// Device and host bytes by kind.
+    pub memory: MemoryReport,
 }
 
 /// Uploads `scene`, accumulates samples with a progress bar until the budget is spent or
@@ -435,7 +445,9 @@ pub fn accumulate(
     setup: Option<crate::failure::SetupWatch>,
     aovs: &AovRequest,
 ) -> anyhow::Result<Accumulated> {
-    let gpu_scene = GpuScene::upload(ctx, scene)?;
+    let prepared = PreparedScene::new(scene, &BuildOptions::default(), NodeLayout::default())?;
+    let memory = MemoryReport::new(ctx, scene, &prepared);
+    let gpu_scene = GpuScene::upload_prepared(ctx, prepared)?;
     if let Some(note) = gpu_scene.layout_note() {
         eprintln!("{note}");
     }
@@ -522,6 +534,7 @@ pub fn accumulate(
         lights: gpu_scene.light_count,
         bvh_nodes: gpu_scene.bvh_stats.nodes,
         bvh_build_ms: gpu_scene.bvh_stats.build_ms,
+        memory,
     })
 }
 

@@ -79,7 +79,7 @@ impl<'a> HostOptions<'a> {
 /// Installs the Ctrl-C handler (the flag it sets) and opens the device, printing the adapter.
 pub fn open_device(device: &DeviceArgs) -> anyhow::Result<(GpuContext, Arc<AtomicBool>)> {
     let interrupted = interrupt_flag()?;
-    let ctx = GpuContext::new(device.adapter.as_deref())?;
+    let ctx = device.open()?;
     eprintln!("adapter: {}", ctx.adapter);
     Ok((ctx, interrupted))
 }

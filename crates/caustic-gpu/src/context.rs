@@ -36,6 +36,10 @@ pub struct GpuContext {
     /// Fewest invocations a subgroup of the device may have (8 on lavapipe with 256-bit
     /// vectors, 32 or 64 on most GPUs).
     pub subgroup_min_size: u32,
+    /// Bytes of memory the device can give a render, where known
+    /// ([`crate::memory::available_device_memory`]): uploads check against it. Lower it to
+    /// budget a render, or to test the check.
+    pub device_memory: Option<u64>,
     first_error: Arc<Mutex<Option<String>>>,
 }
 
@@ -67,7 +71,8 @@ impl GpuContext {
         let limits = device.limits();
         let first_error = Arc::new(Mutex::new(None));
         install_error_handlers(&device, &first_error);
-        GpuContext { device, queue, adapter, limits, subgroup_min_size: info.subgroup_min_size, first_error }
+        let device_memory = crate::memory::available_device_memory(info.device_type);
+        GpuContext { device, queue, adapter, limits, subgroup_min_size: info.subgroup_min_size, device_memory, first_error }
     }
 
     /// The device Caustic asks an adapter for: subgroup operations (the ray bench's packet

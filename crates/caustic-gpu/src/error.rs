@@ -1,5 +1,7 @@
 //! Errors of the GPU renderer.
 
+use crate::memory::byte_size;
+
 /// Why the GPU part of a render failed. Messages say what to do about it.
 #[derive(Debug, thiserror::Error)]
 pub enum GpuError {
@@ -43,6 +45,22 @@ pub enum GpuError {
         /// The device's limit.
         limit: u64,
     },
+    /// The scene and its film need more memory than the device has.
+    #[error(
+        "the scene needs {} of device memory (the most for {largest}), but {} is available to \
+         it (the device's free memory, or --device-memory): render a smaller scene or image, \
+         free memory, or use a device with more",
+        byte_size(*need),
+        byte_size(*available)
+    )]
+    Memory {
+        /// Bytes needed, every buffer and the film together.
+        need: u64,
+        /// Bytes the device has available.
+        available: u64,
+        /// The kind that takes the most, with its size.
+        largest: String,
+    },
     /// The scene cannot be rendered as given.
     #[error("{0}")]
     Scene(String),
@@ -52,27 +70,4 @@ pub enum GpuError {
     /// An image read back from the device could not be measured (mismatched sizes).
     #[error(transparent)]
     Image(#[from] caustic_image::ImageError),
-}
-
-/// `bytes` for a reader: "128 MiB", "3.13 GiB", "96.5 KiB", "40 bytes" (binary units, three
-/// significant digits).
-fn byte_size(bytes: u64) -> String {
-    const UNITS: [&str; 4] = ["KiB", "MiB", "GiB", "TiB"];
-    if bytes < 1024 {
-        return format!("{bytes} bytes");
-    }
-    let mut value = bytes as f64 / 1024.0;
-    let mut unit = 0;
-    while value >= 1024.0 && unit + 1 < UNITS.len() {
-        value /= 1024.0;
-        unit += 1;
-    }
-    let decimals = if value.fract() == 0.0 || value >= 100.0 {
-        0
-    } else if value >= 10.0 {
-        1
-    } else {
-        2
-    };
-    format!("{value:.decimals$} {}", UNITS[unit])
 }

@@ -32,8 +32,10 @@ pub mod kernel;
 pub mod kernel_test;
 pub mod light_kind;
 pub mod light_plane;
+pub mod memory;
 pub mod motion;
 mod path_tracer;
+mod prepared_scene;
 mod readback;
 mod render_settings;
 pub mod requirements;
@@ -49,6 +51,7 @@ pub use bench::{BenchResult, ExternalRay, RayBench, RayKind, TracedRay, Walk, is
 pub use context::{AdapterSummary, GpuContext};
 pub use error::GpuError;
 pub use path_tracer::{PassOutcome, PathTracer};
+pub use prepared_scene::PreparedScene;
 pub use render_settings::{DataPath, DebugView, MAX_STRATA, RenderSettings, Sampler};
 pub use scene_buffers::{GpuScene, NodeLayout};
 pub use scene_data::{SceneData, bsdf_params, material_with_bsdf};

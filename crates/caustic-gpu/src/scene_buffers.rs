@@ -2,13 +2,15 @@
 
 use crate::convex_occluder::ConvexOccluders;
 use crate::light_plane::LightPlanes;
-use crate::requirements::{GEOMETRY_REQUIREMENTS, scene_requirements, shading_requirements};
-use crate::scene_data::{SceneData, device_lights, device_materials};
+use crate::memory::DeviceMemory;
+use crate::prepared_scene::{EnvironmentTexels, NodeContents, PreparedScene, environment_texels};
+use crate::requirements::{GEOMETRY_REQUIREMENTS, shading_requirements};
+use crate::scene_data::{device_lights, device_materials};
 use crate::shadow_hull::ShadowHull;
 use crate::specialize;
 use crate::{GpuContext, GpuError};
-use caustic_bvh::{BuildOptions, BuildStats, GpuBvh};
-use caustic_scene::{Environment, Scene, Units};
+use caustic_bvh::{BuildOptions, BuildStats};
+use caustic_scene::{Scene, Units};
 use glam::Vec3;
 use wgpu::util::DeviceExt;
 
@@ -151,24 +153,43 @@ impl GpuScene {
 
     /// [`GpuScene::upload_with`] with the nodes in `layout` (where the tree has that form).
     pub fn upload_with_layout(ctx: &GpuContext, scene: &Scene, options: &BuildOptions, layout: NodeLayout) -> Result<GpuScene, GpuError> {
-        let bounds = scene.bounds().unwrap_or((Vec3::ZERO, Vec3::ZERO));
-        let units = Units::for_scene(scene);
-        let scene = &*units.scene(scene);
-        let data = SceneData::new(scene);
-        let moving = crate::motion::primitive_motions(scene);
-        let bvh = caustic_bvh::build_with_motion(&data.triangles, &data.shapes, &moving, options);
-        if bvh.stats.max_depth >= MAX_BVH_DEPTH {
-            return Err(GpuError::Scene(format!("the BVH is {} levels deep; the traversal stack holds {MAX_BVH_DEPTH}", bvh.stats.max_depth)));
-        }
-        let gpu_bvh: GpuBvh = caustic_bvh::flatten_with_motion(&bvh, &data.triangles, &data.shapes, &moving);
+        GpuScene::upload_prepared(ctx, PreparedScene::new(scene, options, layout)?)
+    }
+
+    /// Uploads a scene prepared on the CPU ([`PreparedScene`]) after checking that it fits the
+    /// device ([`PreparedScene::check`]): a scene past a binding limit or the device's memory
+    /// is refused before its first buffer is created.
+    pub fn upload_prepared(ctx: &GpuContext, prepared: PreparedScene) -> Result<GpuScene, GpuError> {
+        prepared.check(ctx)?;
+        let PreparedScene {
+            bounds,
+            units,
+            data,
+            moving,
+            bvh: gpu_bvh,
+            bvh_stats,
+            nodes,
+            layout_fallback,
+            shapes,
+            textures,
+            environment,
+            lobe_mask,
+            classic_features,
+            requirements,
+            ..
+        } = prepared;
         // The specialised traversal has no motion: moving scenes walk the BVH.
         let unrolled = if moving.any() { None } else { specialize::unrolled_traversal(&gpu_bvh, &data.lights) };
         let (traversal, shadow_hull, shadow_occluders, shadow_light_planes) = unrolled
             .map_or((None, ShadowHull::default(), ConvexOccluders::default(), LightPlanes::default()), |u| (Some(u.wgsl), u.hull, u.occluders, u.light_planes));
-        let requirements = scene_requirements(&data, &scene.environment);
         let uploader = Uploader { ctx };
-        let (environment_view, environment_color) = upload_environment(ctx, &scene.environment)?;
-        let (nodes, node_layout, layout_fallback) = upload_nodes(&uploader, &gpu_bvh, layout)?;
+        let environment_color = environment.color;
+        let environment_view = upload_environment(ctx, environment);
+        let (nodes, node_layout) = match &nodes {
+            NodeContents::Binary => (uploader.storage("BVH nodes", &gpu_bvh.nodes)?, NodeLayout::Binary),
+            NodeContents::Wide(wide) => (uploader.storage("BVH wide nodes", wide)?, NodeLayout::Wide),
+            NodeContents::WideExact(wide) => (uploader.storage("BVH wide exact nodes", wide)?, NodeLayout::WideExact),
+        };
         let node_words_64 = node_layout == NodeLayout::Wide && ctx.device.features().contains(wgpu::Features::SHADER_INT64);
         let uploaded = GpuScene {
             nodes,
@@ -176,19 +197,19 @@ impl GpuScene {
             node_words_64,
             layout_fallback,
             triangles: uploader.storage("BVH triangles", &gpu_bvh.triangles)?,
-            shapes: uploader.storage("shapes", &caustic_bvh::shapes_and_motions(&gpu_bvh, &moving))?,
+            shapes: uploader.storage("shapes", &shapes)?,
             first_plane: gpu_bvh.first_plane,
             shape_count: gpu_bvh.shapes.len() as u32,
             shading: uploader.storage("triangle shading", &data.shading)?,
             materials: uploader.storage("materials", &data.materials)?,
             lights: uploader.storage("lights", &data.lights)?,
-            textures: uploader.storage("textures", &crate::scene_data::pack_textures(&scene.textures))?,
+            textures: uploader.storage("textures", &textures)?,
             environment_view,
             environment_color,
             light_count: data.lights.len() as u32,
             total_light_power: data.total_light_power,
             triangle_count: data.triangles.len(),
-            bvh_stats: bvh.stats,
+            bvh_stats,
             bounds,
             units,
             tables: match traversal {
@@ -202,14 +223,30 @@ impl GpuScene {
             shadow_occluders,
             shadow_light_plane_skip: shadow_light_planes.skip_in_shadow_rays(&data.lights),
             shadow_light_planes,
-            lobe_mask: crate::scene_data::lobe_mask(scene),
+            lobe_mask,
             alpha_test: data.alpha_test,
             motion_blur: moving.any(),
-            classic_features: crate::classic::scene_features(scene),
+            classic_features,
             requirements,
         };
         ctx.check()?;
         Ok(uploaded)
+    }
+
+    /// The device bytes this scene's buffers and environment texture take, by kind, read from
+    /// the buffers themselves (`film` is zero: the film belongs to a tracer).
+    pub fn device_memory(&self) -> DeviceMemory {
+        let texture = self.environment_view.texture();
+        DeviceMemory {
+            bvh_nodes: self.nodes.size(),
+            triangles: self.triangles.size(),
+            shapes: self.shapes.size(),
+            shading: self.shading.size(),
+            materials_and_lights: self.materials.size() + self.lights.size(),
+            textures: self.textures.size(),
+            environment: u64::from(texture.width()) * u64::from(texture.height()) * 16,
+            film: 0,
+        }
     }
 
     /// Re-uploads the materials and the light list (emission sets the lights' power) after
@@ -242,21 +279,11 @@ impl GpuScene {
     /// part of ([`GpuScene::update_materials`]). Restart the tracer
     /// ([`crate::PathTracer::restart`]) so it binds the new texture.
     pub fn update_environment(&mut self, ctx: &GpuContext, scene: &Scene) -> Result<(), GpuError> {
-        (self.environment_view, self.environment_color) = upload_environment(ctx, &scene.environment)?;
+        let environment = environment_texels(&scene.environment);
+        environment.check(ctx)?;
+        self.environment_color = environment.color;
+        self.environment_view = upload_environment(ctx, environment);
         self.update_materials(ctx, scene)
-    }
-}
-
-/// The node buffer of `bvh` in `layout`, or in the binary layout where the tree has no such form.
-fn upload_nodes(uploader: &Uploader, bvh: &GpuBvh, layout: NodeLayout) -> Result<(wgpu::Buffer, NodeLayout, Option<caustic_bvh::WideError>), GpuError> {
-    let wide = match layout {
-        NodeLayout::Wide => bvh.to_wide().map(|w| uploader.storage("BVH wide nodes", &w.nodes)),
-        NodeLayout::WideExact => bvh.to_wide_exact().map(|w| uploader.storage("BVH wide exact nodes", &w.nodes)),
-        NodeLayout::Binary => return Ok((uploader.storage("BVH nodes", &bvh.nodes)?, layout, None)),
-    };
-    match wide {
-        Ok(buffer) => Ok((buffer?, layout, None)),
-        Err(why) => Ok((uploader.storage("BVH nodes", &bvh.nodes)?, NodeLayout::Binary, Some(why))),
     }
 }
 
@@ -280,25 +307,10 @@ impl Uploader<'_> {
     }
 }
 
-fn upload_environment(ctx: &GpuContext, environment: &Environment) -> Result<(wgpu::TextureView, Option<Vec3>), GpuError> {
-    let (width, height, texels, color) = match environment {
-        Environment::Constant(c) => (1, 1, vec![[c.x, c.y, c.z, 1.0]], Some(*c)),
-        Environment::Map(map) => {
-            // One column and a quarter of the rows more: the sampling tables ride along.
-            let texels = crate::environment_sampling::EnvironmentDistribution::new(map).texture_texels(map);
-            (map.width + 1, map.height + crate::environment_sampling::guide_rows(map.height), texels, None)
-        }
-    };
-    let max = ctx.limits.max_texture_dimension_2d;
-    if width > max || height > max {
-        let size = match environment {
-            Environment::Map(map) => {
-                format!("{}x{} (its texture is {width}x{height}, for the sampling tables)", map.width, map.height)
-            }
-            Environment::Constant(_) => format!("{width}x{height}"),
-        };
-        return Err(GpuError::Scene(format!("the environment map is {size}; this device allows at most {max} texels a side")));
-    }
+/// The environment texture holding `environment`'s texels (the size was checked against the
+/// device's limit by [`PreparedScene::check`]).
+fn upload_environment(ctx: &GpuContext, environment: EnvironmentTexels) -> wgpu::TextureView {
+    let EnvironmentTexels { width, height, texels, .. } = environment;
     let texture = ctx.device.create_texture_with_data(
         &ctx.queue,
         &wgpu::TextureDescriptor {
@@ -314,5 +326,5 @@ fn upload_environment(ctx: &GpuContext, environment: &Environment) -> Result<(wg
         wgpu::util::TextureDataOrder::LayerMajor,
         bytemuck::cast_slice(&texels),
     );
-    Ok((texture.create_view(&Default::default()), color))
+    texture.create_view(&Default::default())
 }

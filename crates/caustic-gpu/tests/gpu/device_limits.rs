@@ -4,7 +4,9 @@
 //! is opened with a deliberately small storage binding limit (64 KiB), so ordinary scenes
 //! exceed it.
 
-use caustic_gpu::{GpuContext, GpuError, GpuScene, PathTracer, RenderSettings};
+use crate::support;
+use caustic_gpu::memory::DeviceMemory;
+use caustic_gpu::{GpuContext, GpuError, GpuScene, NodeLayout, PathTracer, PreparedScene, RenderSettings};
 use caustic_scene::{Environment, EnvironmentMap, Mesh, Scene};
 use glam::Vec3;
 
@@ -122,4 +124,58 @@ fn an_environment_map_beyond_the_texture_limit_is_refused() {
         Ok(_) => panic!("a 128x64 map was uploaded to a device limited to 64 texels"),
     }
     assert!(ctx.check().is_ok(), "nothing reached the device: {:?}", ctx.check());
+}
+
+/// A scene with every kind of device memory: a mesh, an environment map and a texture.
+fn scene_of_every_kind() -> Scene {
+    let mut scene = caustic_scene::cornell_box();
+    scene.meshes.push(grid(16));
+    scene.environment = Environment::Map(EnvironmentMap { width: 32, height: 16, texels: vec![[1.0; 3]; 32 * 16] });
+    let texels = (0..24 * 8).map(|i| [i as u8, 0, 255, 255]).collect();
+    scene.textures.push(caustic_scene::Texture { name: "stripes".into(), width: 24, height: 8, color_space: caustic_scene::ColorSpace::Srgb, texels });
+    scene
+}
+
+/// What `caustic render --dry-run` reports before anything is uploaded is what the upload
+/// then allocates: every kind's bytes equal the sizes of the buffers and of the environment
+/// texture created (the film belongs to the tracer: its bands are checked against the same
+/// formula).
+#[test]
+fn the_prepared_memory_is_what_the_upload_allocates() {
+    let ctx = support::device();
+    let scene = scene_of_every_kind();
+    let prepared = PreparedScene::new(&scene, &Default::default(), NodeLayout::default()).expect("prepared");
+    let planned = prepared.device_memory();
+    let uploaded = GpuScene::upload_prepared(&ctx, prepared).expect("uploaded").device_memory();
+    println!("planned {planned:?}\nuploaded {uploaded:?}");
+    assert_eq!(DeviceMemory { film: 0, ..planned }, uploaded);
+    assert!(planned.kinds().iter().all(|&(_, bytes)| bytes > 0), "every kind present: {planned:?}");
+    assert!(planned.environment > 33 * 16 * 16 && planned.textures > 24 * 8 * 4, "the map's tables and the texture's mips count: {planned:?}");
+    assert_eq!(planned.film, caustic_gpu::memory::film_bytes(scene.resolution));
+}
+
+/// A scene and film past the device's memory (here a budget of 16 KiB, as `--device-memory`
+/// sets) are refused before the first buffer is created, with what they need, what the
+/// device has and the kind that takes the most.
+#[test]
+fn a_scene_past_the_device_memory_is_refused_before_any_upload() {
+    let mut ctx = support::device();
+    let scene = scene_of_every_kind();
+    let need = PreparedScene::new(&scene, &Default::default(), NodeLayout::default()).expect("prepared").device_memory();
+    ctx.device_memory = Some(16 * 1024);
+    match GpuScene::upload(&ctx, &scene) {
+        Err(error @ GpuError::Memory { .. }) => {
+            let message = error.to_string();
+            println!("memory: {message}");
+            let GpuError::Memory { need: reported, available, largest } = error else { unreachable!() };
+            assert_eq!((reported, available), (need.total(), 16 * 1024));
+            assert!(largest.starts_with(need.largest().0), "names the largest kind: {largest}");
+            assert!(message.contains("16 KiB") && message.contains("device memory"), "readable: {message}");
+        }
+        Err(other) => panic!("expected a memory error, got {other}"),
+        Ok(_) => panic!("a scene of {} bytes was uploaded within 16 KiB", need.total()),
+    }
+    assert!(ctx.check().is_ok(), "nothing reached the device: {:?}", ctx.check());
+    ctx.device_memory = Some(need.total());
+    GpuScene::upload(&ctx, &scene).expect("exactly enough memory is enough");
 }
