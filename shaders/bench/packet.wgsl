@@ -70,7 +70,7 @@ fn packet_leaf(r: TraversalRay, leaf: u32, hit: ptr<function, Hit>, cost: ptr<fu
         let th = intersect_triangle(r, tri.v0, tri.v1, tri.v2, tie_inclusive(*hit));
         let front = tri.motion == 0u && th.front;
         if th.t > 0.0 && (th.t < (*hit).t || wins_tie(front, tri.id, *hit)) {
-            *hit = Hit(th.t, th.u, th.v, tri.id, i);
+            *hit = Hit(th.t, th.u, th.v, tri.id, i, 0u);
             hit_front = front;
         }
     }

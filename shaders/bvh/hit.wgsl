@@ -10,6 +10,9 @@ struct Hit {
     // Gathered triangle index (for fetching its corners again), or the shape's slot in
     // bvh_shapes for shape hits.
     slot: u32,
+    // The instance holding the triangle: 1 + the slot of its records in bvh_shapes
+    // (bvh/instance.wgsl), 0 for the world's own primitives.
+    instance: u32,
 }
 
 // Counters for the BVH-cost debug views and the benchmark.
@@ -49,7 +52,7 @@ fn intersect_planes(ray: Ray, closest: Hit, any_hit: bool) -> Hit {
         let shape = bvh_shapes[i];
         let t = intersect_shape(ray, shape, hit.t);
         if t > 0.0 {
-            hit = Hit(t, 0.0, 0.0, SHAPE_BIT | shape.id, i);
+            hit = Hit(t, 0.0, 0.0, SHAPE_BIT | shape.id, i, 0u);
             if any_hit {
                 return hit;
             }

@@ -30,7 +30,8 @@ var<private> hit_front: bool;
 // No hit yet: the record every `trace` starts from.
 fn begin_trace(t_max: f32) -> Hit {
     hit_front = false;
-    return Hit(t_max, 0.0, 0.0, NO_HIT, 0u);
+    walk_instance = 0u;
+    return Hit(t_max, 0.0, 0.0, NO_HIT, 0u, 0u);
 }
 
 // The range a triangle test gets: up to the closest hit's distance, that distance included
@@ -57,7 +58,7 @@ fn intersect_leaf(ray: Ray, r: TraversalRay, leaf: u32, any_hit: bool, level: u3
             let shape = bvh_shapes[tri.id & ~SHAPE_BIT];
             let t = intersect_shape(ray_to_open(ray, tri.motion), shape, (*hit).t);
             if t > 0.0 {
-                *hit = Hit(t, 0.0, 0.0, SHAPE_BIT | shape.id, tri.id & ~SHAPE_BIT);
+                *hit = Hit(t, 0.0, 0.0, SHAPE_BIT | shape.id, tri.id & ~SHAPE_BIT, 0u);
                 hit_front = true;
                 if BVH_LEVELS {
                     hit_level = level;
@@ -72,7 +73,7 @@ fn intersect_leaf(ray: Ray, r: TraversalRay, leaf: u32, any_hit: bool, level: u3
         // Moving triangles' corners are in their shutter-open frame: their ties go by order.
         let front = tri.motion == 0u && th.front;
         if th.t > 0.0 && (th.t < (*hit).t || wins_tie(front, tri.id, *hit)) && (!ALPHA_TEST || alpha_visible(ray, tri.id, th.u, th.v)) {
-            *hit = Hit(th.t, th.u, th.v, tri.id, i);
+            *hit = Hit(th.t, th.u, th.v, tri.id, i, select(0u, walk_instance, scene_needs(REQUIRES_INSTANCES)));
             hit_front = front;
             if BVH_LEVELS {
                 hit_level = level;

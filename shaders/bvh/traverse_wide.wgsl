@@ -89,7 +89,9 @@ fn descend_wide_node(r: TraversalRay, t_max: f32, current: ptr<function, u32>, l
 // preferred (docs/PERFORMANCE.md, "Packet walk"). A node pushes its entered children but the
 // nearest without branching (push_farther_children).
 fn trace(ray: Ray, t_max: f32, any_hit: bool, cost: ptr<function, TraversalCost>) -> Hit {
-    let r = prepare_ray(ray);
+    // The ray in the space walked: the world's, or an instance's (bvh/instance.wgsl).
+    var walked = ray;
+    var r = prepare_ray(ray);
     var hit = begin_trace(t_max);
     var sp = 0u;
     var current = 0u;
@@ -99,13 +101,27 @@ fn trace(ray: Ray, t_max: f32, any_hit: bool, cost: ptr<function, TraversalCost>
         // `current` is never EMPTY_CHILD: only entered children are taken or pushed, and an
         // empty slot is never entered (wide_node_entries).
         if is_leaf(current) {
-            if intersect_leaf(ray, r, current, any_hit, level, &hit, cost) {
+            if scene_needs(REQUIRES_INSTANCES) && walk_instance == 0u {
+                let entered = leaf_instance(current);
+                if entered != 0u {
+                    stack_child[min(sp, WIDE_STACK_SIZE)] = INSTANCE_EXIT;
+                    sp = min(sp, WIDE_STACK_SIZE) + 1u;
+                    walked = enter_instance(ray, entered, &current);
+                    r = prepare_ray(walked);
+                    continue;
+                }
+            }
+            if intersect_leaf(walked, r, current, any_hit, level, &hit, cost) {
                 return hit;
             }
         } else {
             if descend_wide_node(r, hit.t, &current, &level, &sp, cost) {
                 continue;
             }
+        }
+        if scene_needs(REQUIRES_INSTANCES) && leave_instance(&sp) {
+            walked = ray;
+            r = prepare_ray(ray);
         }
         if sp == 0u {
             break;
@@ -119,6 +135,17 @@ fn trace(ray: Ray, t_max: f32, any_hit: bool, cost: ptr<function, TraversalCost>
     return intersect_planes(ray, hit, any_hit);
 }
 
+// Pops the exit marker of an instance's walk if it is on top of the stack (`*sp` entries):
+// returns whether it did, and the walk is back in the world.
+fn leave_instance(sp: ptr<function, u32>) -> bool {
+    if *sp == 0u || stack_child[*sp - 1u] != INSTANCE_EXIT {
+        return false;
+    }
+    *sp -= 1u;
+    walk_instance = 0u;
+    return true;
+}
+
 // This walk traces a shadow ray and a closest-hit ray in one loop (trace_pair), so the path
 // tracer defers shadow rays to walk them with the path's next ray (integrator/path.wgsl).
 const PAIR_WALK: bool = true;
@@ -130,10 +157,13 @@ const PAIR_WALK: bool = true;
 // what `trace` visits, so the answers are trace's (trace_in_turn, bvh/hit.wgsl).
 fn trace_pair(shadow: Ray, shadow_t_max: f32, shadowing: bool, ray: Ray, t_max: f32, cost: ptr<function, TraversalCost>) -> PairHit {
     var any_hit = shadowing;
-    var walked = ray;
+    // The world ray of the walk under way, and that ray in the space walked (an instance's,
+    // bvh/instance.wgsl).
+    var world = ray;
     if shadowing {
-        walked = shadow;
+        world = shadow;
     }
+    var walked = world;
     var r = prepare_ray(walked);
     var hit = begin_trace(select(t_max, shadow_t_max, shadowing));
     var occluded = false;
@@ -143,11 +173,26 @@ fn trace_pair(shadow: Ray, shadow_t_max: f32, shadowing: bool, ray: Ray, t_max: 
     loop {
         var found = false;
         if is_leaf(current) {
+            var entered = 0u;
+            if scene_needs(REQUIRES_INSTANCES) && walk_instance == 0u {
+                entered = leaf_instance(current);
+            }
+            if entered != 0u {
+                stack_child[min(sp, WIDE_STACK_SIZE)] = INSTANCE_EXIT;
+                sp = min(sp, WIDE_STACK_SIZE) + 1u;
+                walked = enter_instance(world, entered, &current);
+                r = prepare_ray(walked);
+                continue;
+            }
             found = intersect_leaf(walked, r, current, any_hit, level, &hit, cost);
         } else {
             if descend_wide_node(r, hit.t, &current, &level, &sp, cost) {
                 continue;
             }
+        }
+        if scene_needs(REQUIRES_INSTANCES) && !found && leave_instance(&sp) {
+            walked = world;
+            r = prepare_ray(world);
         }
         if !found && sp != 0u {
             sp--;
@@ -163,6 +208,7 @@ fn trace_pair(shadow: Ray, shadow_t_max: f32, shadowing: bool, ray: Ray, t_max: 
         // The shadow walk ended: its planes, then the closest-hit walk from the root.
         occluded = intersect_planes(shadow, hit, true).triangle != NO_HIT;
         any_hit = false;
+        world = ray;
         walked = ray;
         r = prepare_ray(ray);
         hit = begin_trace(t_max);

@@ -16,7 +16,7 @@ fn test_triangle(r: TraversalRay, hit: Hit, v0: vec3<f32>, v1: vec3<f32>, v2: ve
 fn nearer_triangle(hit: Hit, th: TriangleHit, id: u32, slot: u32) -> Hit {
     if th.t > 0.0 && (th.t < hit.t || wins_tie(th.front, id, hit)) {
         hit_front = th.front;
-        return Hit(th.t, th.u, th.v, id, slot);
+        return Hit(th.t, th.u, th.v, id, slot, 0u);
     }
     return hit;
 }
@@ -27,7 +27,7 @@ fn test_shape(ray: Ray, hit: Hit, slot: u32) -> Hit {
     let t = intersect_shape(ray, shape, hit.t);
     if t > 0.0 {
         hit_front = true;
-        return Hit(t, 0.0, 0.0, SHAPE_BIT | shape.id, slot);
+        return Hit(t, 0.0, 0.0, SHAPE_BIT | shape.id, slot, 0u);
     }
     return hit;
 }
@@ -61,7 +61,7 @@ fn clip_to_plane(ray: Ray, span: vec2<f32>, plane: vec4<f32>) -> vec2<f32> {
 // empty: the segment crosses the occluder's solid.
 fn occluder_hit(hit: Hit, span: vec2<f32>, id: u32, slot: u32) -> Hit {
     if span.x < span.y {
-        return Hit(span.x, 0.0, 0.0, id, slot);
+        return Hit(span.x, 0.0, 0.0, id, slot, 0u);
     }
     return hit;
 }

@@ -34,6 +34,8 @@ const REQUIRES_ENVIRONMENT_MAP: u32 = 0x800u;
 const REQUIRES_INSPECTOR: u32 = 0x1000u;
 // The seed's `checkers` and `flat` materials.
 const REQUIRES_SEED_MATERIALS: u32 = 0x2000u;
+// Instances: the BVH walk enters prototype trees (bvh/instance.wgsl).
+const REQUIRES_INSTANCES: u32 = 0x4000u;
 
 // Whether the kernel was compiled with any of `bits`.
 fn scene_needs(bits: u32) -> bool {

@@ -12,6 +12,9 @@ struct SurfaceInteraction {
 }
 
 fn surface_interaction(ray: Ray, hit: Hit) -> SurfaceInteraction {
+    if scene_needs(REQUIRES_INSTANCES) && hit.instance != 0u {
+        return instance_interaction(ray, hit);
+    }
     // Motion blur (bvh/motion.wgsl): a moving primitive is shaded in its shutter-open frame,
     // then the point and normals are carried to the path's time.
     let motion = hit_motion(hit);
@@ -20,6 +23,25 @@ fn surface_interaction(ray: Ray, hit: Hit) -> SurfaceInteraction {
     si.p = point_at_ray_time(si.p, motion);
     si.ng = vector_at_ray_time(si.ng, motion);
     si.ns = vector_at_ray_time(si.ns, motion);
+    return si;
+}
+
+// A surface hit on an instance's triangle (bvh/instance.wgsl): shaded in the prototype's space, then carried to
+// the world (point by the object-to-world rows, normals by the inverse transpose) and to the
+// path's time. Which side is outside (front_face) is the same in both spaces.
+fn instance_interaction(ray: Ray, hit: Hit) -> SurfaceInteraction {
+    let slot = hit.instance - 1u;
+    let record = bvh_shapes[slot];
+    let to_world = bvh_shapes[slot + 1u].world_to_object;
+    var si = surface_interaction_open(ray_to_instance(ray, slot), hit);
+    let w = record.world_to_object;
+    si.p = transform_point_rows(to_world, si.p);
+    si.ng = normalize(si.ng.x * w[0].xyz + si.ng.y * w[1].xyz + si.ng.z * w[2].xyz);
+    si.ns = normalize(si.ns.x * w[0].xyz + si.ns.y * w[1].xyz + si.ns.z * w[2].xyz);
+    si.material = checkered(si.material, si.p * frame.world_scale + frame.world_origin);
+    si.p = point_at_ray_time(si.p, record.motion);
+    si.ng = vector_at_ray_time(si.ng, record.motion);
+    si.ns = vector_at_ray_time(si.ns, record.motion);
     return si;
 }
 
@@ -44,7 +66,7 @@ fn surface_interaction_open(ray: Ray, hit: Hit) -> SurfaceInteraction {
             n = interpolated / len;
         }
     }
-    var material = materials[attributes.material];
+    var material = materials[worn_material(attributes.material, hit)];
     if scene_needs(REQUIRES_TEXTURES) && has_textures(material) {
         let tc = tex_coords(ray, hit, tri, attributes);
         material = textured_material(material, tc);
@@ -166,7 +188,7 @@ fn shape_interaction(ray: Ray, hit: Hit) -> SurfaceInteraction {
     let front_face = dot(normal, ray.direction) < 0.0;
     let ng = select(-normal, normal, front_face);
     let attributes = shading[frame.triangle_count + shape.id];
-    var material = materials[attributes.material];
+    var material = materials[worn_material(attributes.material, hit)];
     if scene_needs(REQUIRES_TEXTURES) && has_textures(material) {
         // Level 0 of each texture: shapes have no triangle to measure a footprint on.
         var tc: TexCoords;

@@ -150,6 +150,12 @@ pub fn build_with_shapes(triangles: &[[Vec3; 3]], shapes: &[ShapeInput], options
 /// # Panics
 /// If there are `u32::MAX` or more primitives.
 pub(crate) fn build_from_bounds(bounds: &[Aabb], options: &BuildOptions, start: Instant) -> Bvh {
+    build_isolating(bounds, options, start, bounds.len())
+}
+
+/// [`build_from_bounds`] where every primitive from index `isolate_from` on gets a leaf of
+/// its own (instances: the walk enters an instance from a leaf that holds it alone).
+pub(crate) fn build_isolating(bounds: &[Aabb], options: &BuildOptions, start: Instant, isolate_from: usize) -> Bvh {
     assert!(bounds.len() < u32::MAX as usize, "too many primitives for u32 ids");
     let centroids: Vec<Vec3> = bounds.par_iter().map(Aabb::centroid).collect();
     let builder = Builder {
@@ -159,6 +165,7 @@ pub(crate) fn build_from_bounds(bounds: &[Aabb], options: &BuildOptions, start: 
         max_leaf_size: options.max_leaf_size.clamp(1, MAX_LEAF_SIZE),
         parallel_threshold: options.parallel_threshold,
         sweep_below: options.sweep_below,
+        isolate_from: isolate_from as u32,
     };
     let mut indices: Vec<u32> = (0..bounds.len() as u32).collect();
     let nodes = builder.subtree(&mut indices, 0, 0);
@@ -229,6 +236,8 @@ struct Builder<'a> {
     max_leaf_size: usize,
     parallel_threshold: usize,
     sweep_below: usize,
+    /// Primitives from this index on are alone in their leaves.
+    isolate_from: u32,
 }
 
 impl Builder<'_> {
@@ -276,7 +285,7 @@ impl Builder<'_> {
         if count <= 1 {
             return Decision::Leaf;
         }
-        let must_split = count > self.max_leaf_size;
+        let must_split = count > self.max_leaf_size || indices.iter().any(|&i| i >= self.isolate_from);
         // Depth guard: below this line every split halves the count, so leaf depth
         // stays <= MAX_DEPTH (the invariant depth + ceil_log2(count) <= MAX_DEPTH holds).
         if depth + ceil_log2(count) >= MAX_DEPTH {

@@ -93,6 +93,9 @@ pub struct GpuBvh {
     pub shapes: Vec<GpuShape>,
     /// Index of the first plane in `shapes`.
     pub first_plane: u32,
+    /// The instances of a two-level tree ([`crate::flatten_instanced`]), their roots binary
+    /// node indices; empty for one-level trees.
+    pub instances: Vec<crate::GpuInstance>,
 }
 
 /// Packs a leaf of `count` triangles starting at `first` into a child word.
@@ -160,14 +163,24 @@ type Indexed<'a> = Vec<(usize, &'a ShapeInput)>;
 /// # Panics
 /// As [`flatten`].
 pub fn flatten_with_shapes(bvh: &Bvh, triangles: &[[Vec3; 3]], shapes: &[ShapeInput]) -> GpuBvh {
+    flatten_parts(bvh, triangles, shapes, &[])
+}
+
+/// [`flatten_with_shapes`] for a tree whose primitives after the bounded shapes are
+/// instances with these world boxes: their records carry `SHAPE_BIT | INSTANCE_BIT | index`.
+pub(crate) fn flatten_parts(bvh: &Bvh, triangles: &[[Vec3; 3]], shapes: &[ShapeInput], instance_bounds: &[Aabb]) -> GpuBvh {
     assert!(triangles.len() <= MAX_TRIANGLES, "GpuBvh addresses at most 2^27 triangles");
     let (bounded, planes): (Indexed, Indexed) = shapes.iter().enumerate().partition(|(_, s)| s.kind != ShapeKind::Plane);
     let gathered = bvh
         .indices
         .iter()
-        .map(|&id| match triangles.get(id as usize) {
-            Some(triangle) => gather(triangle, id),
-            None => shape_record(bounded[id as usize - triangles.len()].1, id - triangles.len() as u32),
+        .map(|&id| {
+            let beyond = id as usize - triangles.len().min(id as usize);
+            match triangles.get(id as usize) {
+                Some(triangle) => gather(triangle, id),
+                None if beyond < bounded.len() => shape_record(bounded[beyond].1, beyond as u32),
+                None => instance_record(&instance_bounds[beyond - bounded.len()], (beyond - bounded.len()) as u32),
+            }
         })
         .collect();
     let first_plane = bounded.len() as u32;
@@ -180,7 +193,14 @@ pub fn flatten_with_shapes(bvh: &Bvh, triangles: &[[Vec3; 3]], shapes: &[ShapeIn
     } else {
         emit(bvh, 0, &mut nodes);
     }
-    GpuBvh { nodes, triangles: gathered, shapes: gpu_shapes, first_plane }
+    GpuBvh { nodes, triangles: gathered, shapes: gpu_shapes, first_plane, instances: Vec::new() }
+}
+
+/// The gathered record standing for instance `index`: its world box and the instance flags
+/// (its slot in the shapes buffer is set by [`crate::flatten_instanced`]).
+fn instance_record(bounds: &Aabb, index: u32) -> GpuTriangle {
+    let flags = SHAPE_BIT | crate::INSTANCE_BIT;
+    GpuTriangle { v0: bounds.min.into(), id: flags | index, v1: bounds.max.into(), motion: 0, v2: bounds.max.into(), _pad1: 0 }
 }
 
 /// The gathered record standing for bounded shape `slot`: its box and the shape flag.

@@ -27,6 +27,7 @@
 
 mod aabb;
 mod build;
+mod instance;
 mod layout;
 mod motion;
 mod shape;
@@ -40,6 +41,7 @@ pub use aabb::Aabb;
 pub use build::{
     BuildOptions, BuildStats, Bvh, MAX_DEPTH, MAX_LEAF_SIZE, Node, SAH_INTERSECTION_COST, SAH_TRAVERSAL_COST, SplitMethod, build, build_with_shapes, sah_cost,
 };
+pub use instance::{GpuInstance, INSTANCE_BIT, INSTANCE_EXIT, INSTANCE_KIND, InstanceInput, InstancedBuild, Prototype, build_instanced, flatten_instanced};
 pub use layout::{EMPTY_CHILD, GpuBvh, GpuNode, GpuTriangle, LEAF_BIT, MAX_TRIANGLES, decode_leaf, encode_leaf, flatten, flatten_with_shapes};
 pub use motion::{GpuMotion, MAX_SAMPLED_STEPS, MAX_SAMPLED_TURN, PrimitiveMotions, build_with_motion, flatten_with_motion, shapes_and_motions};
 pub use shape::{GpuShape, SHAPE_BIT, ShapeInput, ShapeKind, intersect_shape};

@@ -14,6 +14,7 @@ use rayon::prelude::*;
 
 use crate::aabb::Aabb;
 use crate::build::{BuildOptions, Bvh, build_from_bounds};
+use crate::instance::{GpuInstance, INSTANCE_BIT};
 use crate::layout::{GpuBvh, flatten_with_shapes};
 use crate::shape::{GpuShape, SHAPE_BIT, ShapeInput};
 use crate::triangle::Ray;
@@ -112,6 +113,8 @@ pub struct PrimitiveMotions {
     pub triangle: Vec<u32>,
     /// Per shape: 0 or 1 + motion index.
     pub shape: Vec<u32>,
+    /// Per instance ([`crate::InstanceInput`]): 0 or 1 + motion index.
+    pub instance: Vec<u32>,
 }
 
 impl PrimitiveMotions {
@@ -127,19 +130,29 @@ impl PrimitiveMotions {
     fn of_shape(&self, i: usize) -> Option<&GpuMotion> {
         self.shape.get(i).filter(|&&m| m != 0).map(|&m| &self.motions[m as usize - 1])
     }
+
+    pub(crate) fn of_instance(&self, i: usize) -> Option<&GpuMotion> {
+        self.instance.get(i).filter(|&&m| m != 0).map(|&m| &self.motions[m as usize - 1])
+    }
 }
 
 /// [`crate::build_with_shapes`] where moving primitives are bounded over the whole shutter
 /// ([`GpuMotion::swept_bounds`] of a triangle's corners, or of a shape box's eight corners).
 pub fn build_with_motion(triangles: &[[Vec3; 3]], shapes: &[ShapeInput], moving: &PrimitiveMotions, options: &BuildOptions) -> Bvh {
     let start = std::time::Instant::now();
+    build_from_bounds(&primitive_bounds(triangles, shapes, moving), options, start)
+}
+
+/// The boxes of `triangles` and of the bounded `shapes`, each moving one's swept over the
+/// shutter.
+pub(crate) fn primitive_bounds(triangles: &[[Vec3; 3]], shapes: &[ShapeInput], moving: &PrimitiveMotions) -> Vec<Aabb> {
     let mut bounds: Vec<Aabb> =
         triangles.par_iter().enumerate().map(|(i, tri)| moving.of_triangle(i).map_or_else(|| Aabb::from_triangle(tri), |m| m.swept_bounds(tri))).collect();
     for (i, shape) in shapes.iter().enumerate() {
         let Some(rest) = shape.bounds() else { continue };
         bounds.push(moving.of_shape(i).map_or(rest, |m| m.swept_bounds(&corners(&rest))));
     }
-    build_from_bounds(&bounds, options, start)
+    bounds
 }
 
 /// [`crate::flatten_with_shapes`] for a tree from [`build_with_motion`]: each moving
@@ -148,27 +161,36 @@ pub fn build_with_motion(triangles: &[[Vec3; 3]], shapes: &[ShapeInput], moving:
 /// ([`shapes_and_motions`]); 0 = static.
 pub fn flatten_with_motion(bvh: &Bvh, triangles: &[[Vec3; 3]], shapes: &[ShapeInput], moving: &PrimitiveMotions) -> GpuBvh {
     let mut gpu = flatten_with_shapes(bvh, triangles, shapes);
+    attach_motions(&mut gpu, moving);
+    gpu
+}
+
+/// Points each moving triangle's and shape's record at its motion's slot (instance records
+/// are left to [`crate::flatten_instanced`]).
+pub(crate) fn attach_motions(gpu: &mut GpuBvh, moving: &PrimitiveMotions) {
     let first_motion = gpu.shapes.len() as u32;
     let slot = |m: u32| if m == 0 { 0 } else { first_motion + m };
     for shape in &mut gpu.shapes {
         shape.motion = slot(moving.shape.get(shape.id as usize).copied().unwrap_or(0));
     }
     for record in &mut gpu.triangles {
-        record.motion = match record.id & SHAPE_BIT {
+        record.motion = match record.id & (SHAPE_BIT | INSTANCE_BIT) {
             0 => slot(moving.triangle.get(record.id as usize).copied().unwrap_or(0)),
-            _ => gpu.shapes[(record.id & !SHAPE_BIT) as usize].motion,
+            SHAPE_BIT => gpu.shapes[(record.id & !SHAPE_BIT) as usize].motion,
+            _ => 0,
         };
     }
-    gpu
 }
 
-/// The shapes buffer's contents: the shapes, then the motions as shape-sized records.
+/// The shapes buffer's contents: the shapes, then the motions as shape-sized records, then
+/// each instance as two (the record slots [`crate::flatten_instanced`] gave them).
 pub fn shapes_and_motions(gpu: &GpuBvh, moving: &PrimitiveMotions) -> Vec<GpuShape> {
-    gpu.shapes.iter().copied().chain(moving.motions.iter().map(|m| bytemuck::cast(*m))).collect()
+    let instances = gpu.instances.iter().flat_map(|i| bytemuck::cast::<GpuInstance, [GpuShape; 2]>(*i));
+    gpu.shapes.iter().copied().chain(moving.motions.iter().map(|m| bytemuck::cast(*m))).chain(instances).collect()
 }
 
 /// The eight corners of a box.
-fn corners(b: &Aabb) -> [Vec3; 8] {
+pub(crate) fn corners(b: &Aabb) -> [Vec3; 8] {
     std::array::from_fn(|i| {
         Vec3::new(if i & 1 == 0 { b.min.x } else { b.max.x }, if i & 2 == 0 { b.min.y } else { b.max.y }, if i & 4 == 0 { b.min.z } else { b.max.z })
     })

@@ -13,6 +13,7 @@
 use glam::Vec3;
 
 use crate::build::MAX_DEPTH;
+use crate::instance::INSTANCE_EXIT;
 use crate::layout::{EMPTY_CHILD, GpuBvh, GpuNode, GpuTriangle, LEAF_BIT, decode_leaf};
 use crate::shape::{SHAPE_BIT, intersect_shape};
 use crate::triangle::{Hit, Ray, intersect_triangle_facing};
@@ -125,18 +126,24 @@ impl GpuBvh {
     /// If `nodes` is empty or the tree is deeper than [`STACK_SIZE`]; [`crate::flatten`]
     /// never produces either.
     fn traverse(&self, ray: &Ray, any: bool, counters: &mut Counters) -> Option<Hit> {
-        let slab = SlabRay::new(ray);
-        let mut clipped = *ray;
+        let mut walk = InstanceWalk::new(ray);
         let mut best = None;
-        let mut stack = [0u32; STACK_SIZE];
-        let mut stack_level = [0u32; STACK_SIZE];
+        // Room for the world's path, an instance's exit marker and the prototype's path.
+        let mut stack = [0u32; 2 * STACK_SIZE + 1];
+        let mut stack_level = [0u32; 2 * STACK_SIZE + 1];
         let mut depth = 0;
         let mut current = 0u32;
         let mut level = 0u32;
         loop {
             if current & LEAF_BIT != 0 {
-                if let Some(hit) = self.intersect_leaf(&clipped, best, current, any, counters) {
-                    clipped.t_max = hit.t;
+                if let Some(root) = walk.enter(self, current) {
+                    stack[depth] = INSTANCE_EXIT;
+                    depth += 1;
+                    current = root;
+                    continue;
+                }
+                if let Some(hit) = self.intersect_leaf(&walk.ray, best, current, any, counters, walk.inside) {
+                    walk.ray.t_max = hit.t;
                     best = Some(hit);
                     counters.hit_level = level;
                     if any {
@@ -146,7 +153,7 @@ impl GpuBvh {
             } else {
                 counters.nodes += 1;
                 let node = &self.nodes[current as usize];
-                if let Some((near, far)) = order_children(node, &slab, clipped.t_max) {
+                if let Some((near, far)) = order_children(node, &walk.slab, walk.ray.t_max) {
                     if let Some(far) = far {
                         stack[depth] = far;
                         stack_level[depth] = level + 1;
@@ -156,6 +163,10 @@ impl GpuBvh {
                     level += 1;
                     continue;
                 }
+            }
+            if depth > 0 && stack[depth - 1] == INSTANCE_EXIT {
+                depth -= 1;
+                walk.leave(ray);
             }
             if depth == 0 {
                 break;
@@ -167,7 +178,7 @@ impl GpuBvh {
         if best.is_some() && any {
             return best;
         }
-        let plane = self.intersect_planes(&clipped, any);
+        let plane = self.intersect_planes(&Ray { t_max: walk.ray.t_max, ..*ray }, any);
         if plane.is_some() {
             counters.hit_level = 0;
         }
@@ -180,7 +191,8 @@ impl GpuBvh {
     /// (`counters.front`), else the lower triangle index. That is the shaders' rule
     /// (`shaders/bvh/leaf.wgsl`): a ray through an edge two triangles share meets the outside
     /// face of a closed mesh, and every walk answers alike whatever order it visits them in.
-    pub(crate) fn intersect_leaf(&self, ray: &Ray, closest: Option<Hit>, leaf: u32, any: bool, counters: &mut Counters) -> Option<Hit> {
+    /// Inside an instance (`inside`), hits name it.
+    pub(crate) fn intersect_leaf(&self, ray: &Ray, closest: Option<Hit>, leaf: u32, any: bool, counters: &mut Counters, inside: Option<u32>) -> Option<Hit> {
         let (first, count) = decode_leaf(leaf);
         let mut clipped = *ray;
         let mut best = None;
@@ -190,7 +202,8 @@ impl GpuBvh {
             // Shapes take no part in ties: their range stays exclusive, as in the shaders.
             let tie_range = current.is_some() && triangle.id & SHAPE_BIT == 0;
             let range = if tie_range { f32::from_bits(clipped.t_max.to_bits() + 1) } else { clipped.t_max };
-            let Some((hit, front)) = self.intersect_primitive(&Ray { t_max: range, ..clipped }, triangle) else { continue };
+            let Some((mut hit, front)) = self.intersect_primitive(&Ray { t_max: range, ..clipped }, triangle) else { continue };
+            hit.instance = inside;
             let wins_tie = current.is_some_and(|c| if front == counters.front { hit.triangle < c.triangle } else { front });
             if hit.t < clipped.t_max || wins_tie {
                 clipped.t_max = hit.t;
@@ -211,10 +224,10 @@ impl GpuBvh {
     fn intersect_primitive(&self, ray: &Ray, record: &GpuTriangle) -> Option<(Hit, bool)> {
         if record.id & SHAPE_BIT != 0 {
             let shape = &self.shapes[(record.id & !SHAPE_BIT) as usize];
-            return intersect_shape(ray, shape).map(|t| (Hit { t, u: 0.0, v: 0.0, triangle: SHAPE_BIT | shape.id }, true));
+            return intersect_shape(ray, shape).map(|t| (Hit { t, u: 0.0, v: 0.0, triangle: SHAPE_BIT | shape.id, instance: None }, true));
         }
         let [v0, v1, v2] = record.vertices();
-        intersect_triangle_facing(ray, v0, v1, v2).map(|(t, u, v, front)| (Hit { t, u, v, triangle: record.id }, front && record.motion == 0))
+        intersect_triangle_facing(ray, v0, v1, v2).map(|(t, u, v, front)| (Hit { t, u, v, triangle: record.id, instance: None }, front && record.motion == 0))
     }
 
     /// The planes, which no tree holds, tested after it.
@@ -224,13 +237,46 @@ impl GpuBvh {
         for shape in &self.shapes[self.first_plane as usize..] {
             if let Some(t) = intersect_shape(&clipped, shape) {
                 clipped.t_max = t;
-                best = Some(Hit { t, u: 0.0, v: 0.0, triangle: SHAPE_BIT | shape.id });
+                best = Some(Hit { t, u: 0.0, v: 0.0, triangle: SHAPE_BIT | shape.id, instance: None });
                 if any {
                     break;
                 }
             }
         }
         best
+    }
+}
+
+/// The ray of a walk that may enter instances: the world ray, or the ray in the object space
+/// of the instance it is in, with the closest hit's distance as `t_max` in both.
+pub(crate) struct InstanceWalk {
+    pub(crate) ray: Ray,
+    pub(crate) slab: SlabRay,
+    /// The instance walked, if any.
+    pub(crate) inside: Option<u32>,
+}
+
+impl InstanceWalk {
+    pub(crate) fn new(ray: &Ray) -> InstanceWalk {
+        InstanceWalk { ray: *ray, slab: SlabRay::new(ray), inside: None }
+    }
+
+    /// At a leaf word of the world: if it holds an instance, carries the ray into its object
+    /// space and returns its prototype tree's binary root.
+    pub(crate) fn enter(&mut self, bvh: &GpuBvh, leaf: u32) -> Option<u32> {
+        let index = crate::instance::instance_of_leaf(bvh, leaf)?;
+        let instance = &bvh.instances[index as usize];
+        self.ray = instance.ray_to_object(&self.ray);
+        self.slab = SlabRay::new(&self.ray);
+        self.inside = Some(index);
+        Some(instance.root)
+    }
+
+    /// Back to `world`, keeping the closest hit's distance.
+    pub(crate) fn leave(&mut self, world: &Ray) {
+        self.ray = Ray { t_max: self.ray.t_max, ..*world };
+        self.slab = SlabRay::new(world);
+        self.inside = None;
     }
 }
 

@@ -5,8 +5,9 @@
 //! entry distances are sorted by the same five compare-exchanges as the shader; the walk
 //! descends into the nearest child hit and pushes the other hits, farthest first.
 
+use crate::instance::INSTANCE_EXIT;
 use crate::layout::{EMPTY_CHILD, GpuBvh, LEAF_BIT};
-use crate::traverse::{Counters, SlabRay};
+use crate::traverse::{Counters, InstanceWalk, SlabRay};
 use crate::triangle::{Hit, Ray};
 use crate::wide::{WIDE_ARITY, WIDE_STACK_SIZE, WideNode, WideNodes};
 
@@ -40,16 +41,22 @@ impl GpuBvh {
     }
 
     fn traverse_wide<N: WideNode>(&self, wide: &WideNodes<N>, ray: &Ray, any: bool, counters: &mut Counters) -> Option<Hit> {
-        let slab = SlabRay::new(ray);
-        let mut clipped = *ray;
+        let mut walk = InstanceWalk::new(ray);
         let mut best = None;
         let mut stack = [(0u32, 0u32); WIDE_STACK_SIZE];
         let mut depth = 0;
         let (mut current, mut level) = (0u32, 0u32);
         loop {
             if current & LEAF_BIT != 0 {
-                if let Some(hit) = self.intersect_leaf(&clipped, best, current, any, counters) {
-                    clipped.t_max = hit.t;
+                if walk.enter(self, current).is_some() {
+                    let index = walk.inside.expect("entered");
+                    stack[depth] = (INSTANCE_EXIT, level);
+                    depth += 1;
+                    current = wide.roots[index as usize];
+                    continue;
+                }
+                if let Some(hit) = self.intersect_leaf(&walk.ray, best, current, any, counters, walk.inside) {
+                    walk.ray.t_max = hit.t;
                     best = Some(hit);
                     counters.hit_level = level;
                     if any {
@@ -58,7 +65,7 @@ impl GpuBvh {
                 }
             } else {
                 counters.nodes += 1;
-                let order = ordered_children(&wide.nodes[current as usize], &slab, clipped.t_max);
+                let order = ordered_children(&wide.nodes[current as usize], &walk.slab, walk.ray.t_max);
                 let hits = order.iter().filter(|(t, _)| *t != f32::INFINITY).count();
                 if hits > 0 {
                     for &(_, word) in order[1..hits].iter().rev() {
@@ -69,13 +76,17 @@ impl GpuBvh {
                     continue;
                 }
             }
+            if depth > 0 && stack[depth - 1].0 == INSTANCE_EXIT {
+                depth -= 1;
+                walk.leave(ray);
+            }
             if depth == 0 {
                 break;
             }
             depth -= 1;
             (current, level) = stack[depth];
         }
-        let plane = self.intersect_planes(&clipped, any);
+        let plane = self.intersect_planes(&Ray { t_max: walk.ray.t_max, ..*ray }, any);
         if plane.is_some() {
             counters.hit_level = 0;
         }

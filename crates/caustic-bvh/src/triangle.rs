@@ -28,8 +28,12 @@ pub struct Hit {
     pub u: f32,
     /// Barycentric weight of the triangle's third vertex `v2` (`v0` has `1 - u - v`).
     pub v: f32,
-    /// Index of the hit triangle in the array given to [`crate::build`] (not the leaf order).
+    /// Index of the hit triangle in the array given to [`crate::build`] (not the leaf order);
+    /// for a triangle of an instanced mesh, its id in the prototype ([`crate::Prototype`]).
     pub triangle: u32,
+    /// The instance the hit triangle belongs to (its index in [`crate::GpuBvh::instances`]),
+    /// or `None` for the world's own primitives.
+    pub instance: Option<u32>,
 }
 
 /// The index of the largest component, first axis winning ties.
@@ -188,7 +192,7 @@ pub fn closest_hit_brute_force(triangles: &[[Vec3; 3]], ray: &Ray) -> Option<Hit
     for (index, [v0, v1, v2]) in triangles.iter().enumerate() {
         if let Some((t, u, v)) = intersect_triangle(&clipped, *v0, *v1, *v2) {
             clipped.t_max = t;
-            best = Some(Hit { t, u, v, triangle: index as u32 });
+            best = Some(Hit { t, u, v, triangle: index as u32, instance: None });
         }
     }
     best

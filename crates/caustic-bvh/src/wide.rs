@@ -156,8 +156,11 @@ impl WideNode for GpuWideExactNode {
 /// The node array of a four-wide tree over a [`GpuBvh`]'s triangles, in layout `N`.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct WideNodes<N = GpuWideNode> {
-    /// Nodes in depth-first order; the root is at 0.
+    /// Nodes in depth-first order; the root is at 0, the prototypes' trees of a two-level
+    /// tree follow.
     pub nodes: Vec<N>,
+    /// The wide root of each instance's prototype tree, by instance ([`GpuBvh::instances`]).
+    pub roots: Vec<u32>,
 }
 
 /// Why a binary tree has no compressed wide form.
@@ -204,8 +207,25 @@ impl GpuBvh {
 
     /// The four-wide tree in layout `N`.
     fn collapse_into<N: WideNode>(&self) -> Result<WideNodes<N>, WideError> {
-        let mut out = WideNodes { nodes: Vec::with_capacity(self.nodes.len() / 2 + 1) };
-        let stack_need = self.emit_wide(0, &mut out)?;
+        let mut out = WideNodes { nodes: Vec::with_capacity(self.nodes.len() / 2 + 1), roots: Vec::with_capacity(self.instances.len()) };
+        let mut stack_need = self.emit_wide(0, &mut out)?;
+        let mut collapsed = std::collections::HashMap::new();
+        let mut bottom_need = 0;
+        for instance in &self.instances {
+            let root = match collapsed.entry(instance.root) {
+                std::collections::hash_map::Entry::Occupied(known) => *known.get(),
+                std::collections::hash_map::Entry::Vacant(slot) => {
+                    let root = *slot.insert(out.nodes.len() as u32);
+                    bottom_need = bottom_need.max(self.emit_wide(instance.root, &mut out)?);
+                    root
+                }
+            };
+            out.roots.push(root);
+        }
+        if !self.instances.is_empty() {
+            // The walk into an instance pushes its exit marker over the world's entries.
+            stack_need += 1 + bottom_need;
+        }
         if stack_need > WIDE_STACK_SIZE {
             return Err(WideError::TooDeep);
         }

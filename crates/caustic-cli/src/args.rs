@@ -236,6 +236,11 @@ pub struct SceneOverrides {
     /// (docs/FEATURES.md).
     #[arg(long = "feature", value_name = "NAME=VALUE", value_parser = caustic_gpu::features::parse_feature)]
     pub features: Vec<(usize, u16)>,
+    /// Copy every instanced glTF geometry into the world instead of keeping it once and
+    /// placing it by instances (docs/ARCHITECTURE.md, "Instances"): the same image, more
+    /// memory; for comparisons.
+    #[arg(long)]
+    pub flatten_instances: bool,
     /// Camera overrides.
     #[command(flatten)]
     pub camera: CameraArgs,
@@ -248,7 +253,12 @@ impl SceneOverrides {
     /// How to load the scene: within the input limits, and without the default sky when
     /// --environment replaces it anyway.
     pub fn load_options(&self) -> caustic_scene::LoadOptions {
-        caustic_scene::LoadOptions { limits: self.input.limits(), keep_unlit: self.environment.is_some(), ..caustic_scene::LoadOptions::default() }
+        caustic_scene::LoadOptions {
+            limits: self.input.limits(),
+            keep_unlit: self.environment.is_some(),
+            flatten_instances: self.flatten_instances,
+            ..caustic_scene::LoadOptions::default()
+        }
     }
 
     /// The `--feature` switches, in order (a later one wins).

@@ -30,9 +30,11 @@ pub fn fingerprint(scene: &Scene, settings: &RenderSettings) -> Fingerprint {
         h.text(&program.source());
     }
     // Exhaustive destructuring: a new field that changes the image must be added here.
-    let Scene { name: _, meshes, materials, camera, resolution, environment, shapes, lights, options, textures, cameras: _, origin } = scene;
+    let Scene { name: _, meshes, prototypes, instances, materials, camera, resolution, environment, shapes, lights, options, textures, cameras: _, origin } =
+        scene;
     h.u64(meshes.len() as u64);
-    for mesh in meshes {
+    h.u64(prototypes.len() as u64);
+    for mesh in meshes.iter().chain(prototypes) {
         let Mesh { name, positions, normals, uvs, indices, material, uvs1, tangents, motion } = mesh;
         h.text(name);
         h.floats(positions.iter().flat_map(|v| v.to_array()));
@@ -51,6 +53,7 @@ pub fn fingerprint(scene: &Scene, settings: &RenderSettings) -> Fingerprint {
         h.debug(&(&texture.name, texture.width, texture.height, texture.color_space));
         h.bytes(texture.texels.as_flattened());
     }
+    h.debug(instances);
     h.debug(shapes);
     h.debug(lights);
     // All of it: what the scene file asks for is the same in every part of one render.

@@ -236,7 +236,8 @@ impl<'a> RayBench<'a> {
             ctx.queue.write_buffer(&rays_buffer, 0, bytes);
         }
         let results = storage("bench results", (u64::from(ray_count) * RESULT_BYTES).max(RESULT_BYTES));
-        let geometry = gpu.requirements & (crate::requirements::REQUIRES_SHAPES | crate::requirements::REQUIRES_PLANES);
+        let geometry =
+            gpu.requirements & (crate::requirements::REQUIRES_SHAPES | crate::requirements::REQUIRES_PLANES | crate::requirements::REQUIRES_INSTANCES);
         let packet = ctx.packet_walk_supported() && gpu.node_layout == crate::NodeLayout::Wide && geometry == 0;
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some(Program::RayBench.label()),
@@ -248,7 +249,8 @@ impl<'a> RayBench<'a> {
             bind_group_layouts: &[Some(&layout)],
             immediate_size: 0,
         });
-        // Only the geometry's parts of the traversal: a mesh compiles no shape or plane tests.
+        // Only the geometry's parts of the traversal: a mesh compiles no shape, plane or
+        // instance tests (and only such a scene has the packet walk).
         let constants = [("SCENE_REQUIRES", f64::from(geometry))];
         let pipeline = |entry: &str| ctx.compute_pipeline_with(&pipeline_layout, &module, entry, &constants);
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {

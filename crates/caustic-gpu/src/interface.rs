@@ -28,6 +28,8 @@ pub const SHARED_CONSTANTS: &[(&str, u32)] = &[
     ("ALPHA_MASK", ALPHA_MASK),
     ("ALPHA_BLEND", ALPHA_BLEND),
     ("SHAPE_BIT", caustic_bvh::SHAPE_BIT),
+    ("INSTANCE_BIT", caustic_bvh::INSTANCE_BIT),
+    ("INSTANCE_EXIT", caustic_bvh::INSTANCE_EXIT),
     ("NO_HIT", u32::MAX),
     ("NO_PIXEL", NO_PIXEL),
     ("INSPECT_MAX_BOUNCES", INSPECT_MAX_BOUNCES as u32),

@@ -64,20 +64,14 @@ pub(crate) fn stored_bytes<T>(data: &[T]) -> u64 {
     (data.len().max(1) * std::mem::size_of::<T>()) as u64
 }
 
-/// Host bytes of a loaded scene: its meshes' vertex and index arrays and its decoded textures
-/// and environment map (what stays in memory while the device copy is built).
+/// Host bytes of a loaded scene: its meshes' vertex and index arrays, its decoded textures
+/// ([`caustic_scene::Scene::memory_bytes`]) and its environment map.
 pub fn scene_host_bytes(scene: &caustic_scene::Scene) -> u64 {
-    fn bytes<T>(v: &[T]) -> u64 {
-        std::mem::size_of_val(v) as u64
-    }
-    let meshes: u64 =
-        scene.meshes.iter().map(|m| bytes(&m.positions) + bytes(&m.normals) + bytes(&m.uvs) + bytes(&m.uvs1) + bytes(&m.tangents) + bytes(&m.indices)).sum();
-    let textures: u64 = scene.textures.iter().map(|t| bytes(&t.texels)).sum();
     let environment = match &scene.environment {
-        caustic_scene::Environment::Map(map) => bytes(&map.texels),
+        caustic_scene::Environment::Map(map) => std::mem::size_of_val(map.texels.as_slice()),
         caustic_scene::Environment::Constant(_) => 0,
     };
-    meshes + textures + environment
+    (scene.memory_bytes() + environment) as u64
 }
 
 /// The most memory this process has held (Linux's `VmHWM`), in bytes; `None` where the

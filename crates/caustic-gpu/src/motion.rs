@@ -7,9 +7,9 @@ use bytemuck::Zeroable;
 use caustic_bvh::{GpuMotion, PrimitiveMotions};
 use caustic_scene::{Motion, Scene};
 
-/// The motions of `scene`'s moving meshes and shapes, one record per moving object, with
-/// each triangle (meshes in order; quad lights after them never move) and shape pointing at
-/// its object's record.
+/// The motions of `scene`'s moving meshes, shapes and instances, one record per moving object,
+/// with each triangle (meshes in order; quad lights after them never move), shape and
+/// instance pointing at its object's record.
 pub fn primitive_motions(scene: &Scene) -> PrimitiveMotions {
     let mut moving = PrimitiveMotions::default();
     for mesh in &scene.meshes {
@@ -19,6 +19,10 @@ pub fn primitive_motions(scene: &Scene) -> PrimitiveMotions {
     for shape in &scene.shapes {
         let slot = add(&mut moving.motions, shape.motion);
         moving.shape.push(slot);
+    }
+    for instance in &scene.instances {
+        let slot = add(&mut moving.motions, instance.motion);
+        moving.instance.push(slot);
     }
     moving
 }

@@ -8,7 +8,7 @@ use crate::memory::{DeviceMemory, film_bytes, stored_bytes};
 use crate::scene_buffers::{MAX_BVH_DEPTH, NodeLayout};
 use crate::scene_data::SceneData;
 use crate::{GpuContext, GpuError};
-use caustic_bvh::{BuildOptions, BuildStats, GpuBvh, GpuShape, GpuWideExactNode, GpuWideNode, PrimitiveMotions, WideError};
+use caustic_bvh::{BuildOptions, BuildStats, GpuBvh, GpuShape, GpuWideExactNode, GpuWideNode, PrimitiveMotions, Prototype, WideError};
 use caustic_scene::{Environment, Scene, Units};
 use glam::Vec3;
 
@@ -65,20 +65,27 @@ impl PreparedScene {
         let scene = &*units.scene(scene);
         let data = SceneData::new(scene);
         let moving = crate::motion::primitive_motions(scene);
-        let built = caustic_bvh::build_with_motion(&data.triangles, &data.shapes, &moving, options);
-        if built.stats.max_depth >= MAX_BVH_DEPTH {
-            return Err(GpuError::Scene(format!("the BVH is {} levels deep; the traversal stack holds {MAX_BVH_DEPTH}", built.stats.max_depth)));
+        let (mut bvh, bvh_stats) = build_bvh(&data, &moving, options)?;
+        if bvh_stats.max_depth >= MAX_BVH_DEPTH {
+            return Err(GpuError::Scene(format!("the BVH is {} levels deep; the traversal stack holds {MAX_BVH_DEPTH}", bvh_stats.max_depth)));
         }
-        let bvh = caustic_bvh::flatten_with_motion(&built, &data.triangles, &data.shapes, &moving);
         let wide = match layout {
             NodeLayout::Binary => Ok(NodeContents::Binary),
-            NodeLayout::Wide => bvh.to_wide().map(|w| NodeContents::Wide(w.nodes)),
-            NodeLayout::WideExact => bvh.to_wide_exact().map(|w| NodeContents::WideExact(w.nodes)),
+            NodeLayout::Wide => {
+                bvh.to_wide().map(|w| (w.roots.clone(), NodeContents::Wide(w.nodes))).map(|(roots, nodes)| root_instances(&mut bvh, &roots, nodes))
+            }
+            NodeLayout::WideExact => {
+                bvh.to_wide_exact().map(|w| (w.roots.clone(), NodeContents::WideExact(w.nodes))).map(|(roots, nodes)| root_instances(&mut bvh, &roots, nodes))
+            }
         };
         let (nodes, layout_fallback) = match wide {
             Ok(nodes) => (nodes, None),
             Err(why) => (NodeContents::Binary, Some(why)),
         };
+        if !bvh.instances.is_empty() && matches!(nodes, NodeContents::Binary) {
+            let why = layout_fallback.map_or_else(|| "the binary layout was asked for".to_string(), |why| why.to_string());
+            return Err(GpuError::Scene(format!("a scene with instances needs the four-wide BVH layout, which the binary walk lacks, but {why}")));
+        }
         Ok(PreparedScene {
             bounds,
             units,
@@ -88,7 +95,7 @@ impl PreparedScene {
             lobe_mask: crate::scene_data::lobe_mask(scene),
             classic_features: crate::classic::scene_features(scene),
             requirements: crate::requirements::scene_requirements(&data, &scene.environment),
-            bvh_stats: built.stats,
+            bvh_stats,
             data,
             moving,
             bvh,
@@ -201,6 +208,35 @@ impl EnvironmentTexels {
         };
         Err(GpuError::Scene(format!("the environment map is {size}; this device allows at most {max} texels a side")))
     }
+}
+
+/// The scene's BVH: one tree, or with instances the world's tree and one per prototype
+/// ([`caustic_bvh::build_instanced`]), with the statistics of all of them together.
+fn build_bvh(data: &SceneData, moving: &PrimitiveMotions, options: &BuildOptions) -> Result<(GpuBvh, BuildStats), GpuError> {
+    let world = &data.triangles[..data.world_triangles];
+    if data.instances.is_empty() {
+        let built = caustic_bvh::build_with_motion(world, &data.shapes, moving, options);
+        return Ok((caustic_bvh::flatten_with_motion(&built, world, &data.shapes, moving), built.stats));
+    }
+    let prototypes: Vec<Prototype> = data.prototypes.iter().map(|r| Prototype { triangles: &data.triangles[r.clone()], first_id: r.start as u32 }).collect();
+    let built = caustic_bvh::build_instanced(world, &data.shapes, moving, &prototypes, &data.instances, options);
+    let trees = || std::iter::once(&built.top).chain(&built.bottoms);
+    let stats = BuildStats {
+        nodes: built.node_count(),
+        leaves: trees().map(|t| t.stats.leaves).sum(),
+        max_depth: built.max_depth(),
+        sah_cost: built.top.stats.sah_cost,
+        build_ms: built.top.stats.build_ms,
+    };
+    Ok((caustic_bvh::flatten_instanced(&built, world, &data.shapes, moving, &prototypes, &data.instances), stats))
+}
+
+/// `nodes`, after pointing each instance of `bvh` at its prototype tree's root in them.
+fn root_instances(bvh: &mut GpuBvh, roots: &[u32], nodes: NodeContents) -> NodeContents {
+    for (instance, &root) in bvh.instances.iter_mut().zip(roots) {
+        instance.root = root;
+    }
+    nodes
 }
 
 /// A buffer's description for a limit error ("N what of S bytes") and its bytes.

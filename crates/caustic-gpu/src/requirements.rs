@@ -42,11 +42,13 @@ pub const REQUIRES_ENVIRONMENT_MAP: u32 = 0x800;
 pub const REQUIRES_INSPECTOR: u32 = 0x1000;
 /// The seed's `checkers` and `flat` materials (material flags tested at every hit).
 pub const REQUIRES_SEED_MATERIALS: u32 = 0x2000;
+/// Instances: the walk enters prototype trees (bvh/instance.wgsl).
+pub const REQUIRES_INSTANCES: u32 = 0x4000;
 /// Every part: the general kernel.
-pub const REQUIRES_ALL: u32 = 0x3fff;
+pub const REQUIRES_ALL: u32 = 0x7fff;
 
 /// The bits that follow from the geometry, which [`crate::GpuScene::update_materials`] keeps.
-pub const GEOMETRY_REQUIREMENTS: u32 = REQUIRES_SHAPES | REQUIRES_PLANES | REQUIRES_VERTEX_NORMALS | REQUIRES_QUAD_LIGHTS;
+pub const GEOMETRY_REQUIREMENTS: u32 = REQUIRES_SHAPES | REQUIRES_PLANES | REQUIRES_VERTEX_NORMALS | REQUIRES_QUAD_LIGHTS | REQUIRES_INSTANCES;
 
 /// Every part `data` needs under `environment`: what [`crate::GpuScene::upload`] compiles.
 pub fn scene_requirements(data: &SceneData, environment: &Environment) -> u32 {
@@ -71,6 +73,9 @@ pub fn geometry_requirements(data: &SceneData) -> u32 {
     }
     if flags & FLAG_QUAD_LIGHT != 0 {
         bits |= REQUIRES_QUAD_LIGHTS;
+    }
+    if !data.instances.is_empty() {
+        bits |= REQUIRES_INSTANCES;
     }
     bits
 }
@@ -135,6 +140,7 @@ mod tests {
             ("REQUIRES_ENVIRONMENT_MAP", REQUIRES_ENVIRONMENT_MAP),
             ("REQUIRES_INSPECTOR", REQUIRES_INSPECTOR),
             ("REQUIRES_SEED_MATERIALS", REQUIRES_SEED_MATERIALS),
+            ("REQUIRES_INSTANCES", REQUIRES_INSTANCES),
         ];
         let mut all = 0;
         for (name, bit) in named {

@@ -178,8 +178,8 @@ impl GpuScene {
             requirements,
             ..
         } = prepared;
-        // The specialised traversal has no motion: moving scenes walk the BVH.
-        let unrolled = if moving.any() { None } else { specialize::unrolled_traversal(&gpu_bvh, &data.lights) };
+        // The specialised traversal has no motion and no instances: such scenes walk the BVH.
+        let unrolled = if moving.any() || !gpu_bvh.instances.is_empty() { None } else { specialize::unrolled_traversal(&gpu_bvh, &data.lights) };
         let (traversal, shadow_hull, shadow_occluders, shadow_light_planes) = unrolled
             .map_or((None, ShadowHull::default(), ConvexOccluders::default(), LightPlanes::default()), |u| (Some(u.wgsl), u.hull, u.occluders, u.light_planes));
         let uploader = Uploader { ctx };

@@ -43,8 +43,15 @@ pub const UNIFORM_SELECTION: f64 = 0.5;
 
 /// Device-ready scene data.
 pub struct SceneData {
-    /// Every triangle the BVH holds, in shading order.
+    /// Every triangle in shading order: the world's (meshes, then quad lights), then each
+    /// prototype's in its own space.
     pub triangles: Vec<[Vec3; 3]>,
+    /// How many of `triangles` are the world's (the rest are the prototypes').
+    pub world_triangles: usize,
+    /// Each prototype's range in `triangles`.
+    pub prototypes: Vec<std::ops::Range<usize>>,
+    /// The scene's instances.
+    pub instances: Vec<caustic_bvh::InstanceInput>,
     /// Analytic shapes for the BVH.
     pub shapes: Vec<ShapeInput>,
     /// One entry per triangle, then one per shape.
@@ -62,9 +69,17 @@ pub struct SceneData {
 impl SceneData {
     /// Assembles the device form of `scene`.
     pub fn new(scene: &Scene) -> SceneData {
-        let (shading, extensions) = mesh_shading(scene);
+        let mut extensions = Vec::new();
+        let shading = mesh_shading(scene, &scene.meshes, true, &mut extensions);
         let mut data = SceneData {
             triangles: scene.triangles().collect(),
+            world_triangles: 0,
+            prototypes: Vec::new(),
+            instances: scene
+                .instances
+                .iter()
+                .map(|i| caustic_bvh::InstanceInput { prototype: i.prototype, object_to_world: i.object_to_world, material: i.material })
+                .collect(),
             shapes: scene.shapes.iter().map(shape_input).collect(),
             shading,
             materials: device_materials(scene),
@@ -73,6 +88,13 @@ impl SceneData {
             alpha_test: scene.materials.iter().any(|m| m.alpha_mode != AlphaMode::Opaque),
         };
         data.add_quad_geometry(scene);
+        data.world_triangles = data.triangles.len();
+        for prototype in &scene.prototypes {
+            let start = data.triangles.len();
+            data.triangles.extend((0..prototype.triangle_count()).map(|t| prototype.triangle(t)));
+            data.prototypes.push(start..data.triangles.len());
+        }
+        data.shading.extend(mesh_shading(scene, &scene.prototypes, false, &mut extensions));
         data.shading.extend(scene.shapes.iter().map(|s| TriangleShading { material: s.material, flags: shape_light_flag(s), ..Default::default() }));
         data.add_extensions(extensions);
         (data.lights, data.total_light_power) = device_lights(scene);
@@ -393,19 +415,19 @@ pub fn material_with_bsdf(p: &BsdfParams) -> GpuMaterial {
     }
 }
 
-/// Per-triangle shading entries (vertex normals, `TEXCOORD_0`, material, flags) and the
-/// extension entries ([`extension_entry`]) of the triangles whose material uses a normal map
-/// or `TEXCOORD_1`, which their `extension` numbers from 1 ([`SceneData::add_extensions`]
-/// places them).
-fn mesh_shading(scene: &Scene) -> (Vec<TriangleShading>, Vec<TriangleShading>) {
-    let mut out = Vec::with_capacity(scene.triangle_count());
-    let mut extensions = Vec::new();
-    for mesh in &scene.meshes {
+/// Per-triangle shading entries (vertex normals, `TEXCOORD_0`, material, flags) of `meshes`,
+/// appending to `extensions` the extension entries ([`extension_entry`]) of the triangles
+/// whose material uses a normal map or `TEXCOORD_1`, which their `extension` numbers from 1
+/// ([`SceneData::add_extensions`] places them). Only the world's meshes (`may_light`) can be
+/// in the light list.
+fn mesh_shading(scene: &Scene, meshes: &[caustic_scene::Mesh], may_light: bool, extensions: &mut Vec<TriangleShading>) -> Vec<TriangleShading> {
+    let mut out = Vec::with_capacity(meshes.iter().map(caustic_scene::Mesh::triangle_count).sum());
+    for mesh in meshes {
         let has_normals = !mesh.normals.is_empty();
         let material = scene.materials.get(mesh.material as usize);
         let extended = material.is_some_and(|m| m.normal_texture.is_some() || m.texture_slots().any(|(_, slot)| slot.tex_coord == 1));
         let alpha_tested = material.is_some_and(|m| m.alpha_mode != AlphaMode::Opaque);
-        let listed = material.is_some_and(|m| m.emissive_texture.is_none()) && mesh.motion.is_none();
+        let listed = may_light && material.is_some_and(|m| m.emissive_texture.is_none()) && mesh.motion.is_none();
         let flags =
             if has_normals { FLAG_VERTEX_NORMALS } else { 0 } | if alpha_tested { FLAG_ALPHA_TESTED } else { 0 } | if listed { FLAG_LIGHT_LISTED } else { 0 };
         for tri in &mesh.indices {
@@ -430,7 +452,7 @@ fn mesh_shading(scene: &Scene) -> (Vec<TriangleShading>, Vec<TriangleShading>) {
             out.push(entry);
         }
     }
-    (out, extensions)
+    out
 }
 
 /// The extension entry of triangle `tri` of `mesh`, stored as a [`TriangleShading`] so no

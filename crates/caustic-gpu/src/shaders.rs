@@ -36,12 +36,13 @@ const COMMON: [ShaderFile; 7] = [
     shader_file!("bvh/intersect.wgsl"),
 ];
 
-const TRAVERSAL: [ShaderFile; 6] = [
+const TRAVERSAL: [ShaderFile; 7] = [
     shader_file!("bvh/bindings.wgsl"),
     shader_file!("bvh/motion.wgsl"),
     shader_file!("bvh/shapes.wgsl"),
     shader_file!("bvh/hit.wgsl"),
     shader_file!("bvh/leaf.wgsl"),
+    shader_file!("bvh/instance.wgsl"),
     shader_file!("bvh/traverse.wgsl"),
 ];
 

@@ -129,8 +129,9 @@ impl WavefrontProfile {
     }
 }
 
-/// Size of WGSL's `Hit` (t, u, v, triangle, slot), which the extend stage stores per path.
-pub const HIT_BYTES: u64 = 20;
+/// Size of WGSL's `Hit` (t, u, v, triangle, slot, instance), which the extend stage stores
+/// per path.
+pub const HIT_BYTES: u64 = 24;
 
 /// Bounces encoded per submit before the live-path count is read back.
 const BOUNCES_PER_CHECK: u32 = 8;

@@ -30,7 +30,7 @@ use crate::gltf_material::{MaterialReader, default_material};
 use crate::gltf_primitive::read_primitive;
 use crate::mesh_scene::{DEFAULT_RESOLUTION, framing_camera, scene_name, warn};
 use crate::units::FAR;
-use crate::{Attenuation, Camera, Environment, InputLimits, Light, Material, Mesh, Motion, Projection, Scene, SceneCamera, SceneError};
+use crate::{Attenuation, Camera, Environment, InputLimits, Instance, Light, Material, Mesh, Motion, Projection, Scene, SceneCamera, SceneError};
 use glam::{DMat4, DVec3, Mat4, Vec3};
 use gltf::json::validation::Validate;
 use gltf::khr_lights_punctual::Kind;
@@ -58,7 +58,8 @@ pub(crate) fn load(path: &Path, shutter: Option<(f32, f32)>, limits: &InputLimit
     let scene = scene.ok_or_else(|| SceneError::file(path, "defines no scene"))?;
     check_hierarchy(path, &document, &scene)?;
     let mut reader = MaterialReader::new(path, &buffers, limits);
-    let materials = document.materials().map(|m| reader.material(&m)).collect();
+    let materials: Vec<Material> = document.materials().map(|m| reader.material(&m)).collect();
+    let uses = geometry_uses(&scene, &normal_sets(&materials));
     let animation = match shutter {
         Some(times) => Animation::read(path, &document, &buffers)?.map(|a| (a, times)),
         None => None,
@@ -70,6 +71,9 @@ pub(crate) fn load(path: &Path, shutter: Option<(f32, f32)>, limits: &InputLimit
         default_material: None,
         meshes: Vec::new(),
         read: HashMap::new(),
+        uses,
+        prototypes: HashMap::new(),
+        instanced: (Vec::new(), Vec::new()),
         cameras: Vec::new(),
         lights: Vec::new(),
         animation,
@@ -78,12 +82,14 @@ pub(crate) fn load(path: &Path, shutter: Option<(f32, f32)>, limits: &InputLimit
     walk.walk(scene.nodes().collect(), origin)?;
     let (camera, resolution) = match walk.cameras.first() {
         Some(first) => (first.camera.clone(), first.resolution.unwrap_or(DEFAULT_RESOLUTION)),
-        None => (framing_camera(path, &walk.meshes)?, DEFAULT_RESOLUTION),
+        None => (framing_camera(path, &walk.meshes, &walk.instanced)?, DEFAULT_RESOLUTION),
     };
     let environment = sidecar_environment(path, limits)?;
     Ok(Scene {
         name: scene_name(path),
         meshes: walk.meshes,
+        prototypes: walk.instanced.0,
+        instances: walk.instanced.1,
         materials: walk.materials,
         camera,
         resolution,
@@ -178,6 +184,40 @@ fn check_hierarchy(path: &Path, document: &gltf::Document, scene: &gltf::Scene) 
     Ok(())
 }
 
+/// What makes two glTF primitives the same geometry: their attribute and index accessors, and
+/// the texture coordinate set a normal map reads (tangents are derived from it).
+type GeometryKey = (Vec<(String, usize)>, Option<usize>, Option<u32>);
+
+/// The texture coordinate set each material's normal map reads.
+fn normal_sets(materials: &[Material]) -> Vec<Option<u32>> {
+    materials.iter().map(|m| m.normal_texture.map(|slot| slot.tex_coord)).collect()
+}
+
+/// The geometry key of `primitive` under the materials' normal-map sets.
+fn geometry_key(primitive: &gltf::Primitive, normal_sets: &[Option<u32>]) -> GeometryKey {
+    let mut attributes: Vec<(String, usize)> = primitive.attributes().map(|(semantic, accessor)| (semantic.to_string(), accessor.index())).collect();
+    attributes.sort();
+    let normal_set = primitive.material().index().and_then(|m| normal_sets.get(m).copied().flatten());
+    (attributes, primitive.indices().map(|a| a.index()), normal_set)
+}
+
+/// How many times the nodes under `scene`'s roots place each primitive geometry (a mesh placed
+/// by two nodes, or two meshes that share accessors, as glTF exporters write one shape in
+/// several materials).
+fn geometry_uses(scene: &gltf::Scene, normal_sets: &[Option<u32>]) -> HashMap<GeometryKey, usize> {
+    let mut uses = HashMap::new();
+    let mut stack: Vec<gltf::Node> = scene.nodes().collect();
+    while let Some(node) = stack.pop() {
+        if let Some(mesh) = node.mesh() {
+            for primitive in mesh.primitives().filter(|p| p.mode() == gltf::mesh::Mode::Triangles) {
+                *uses.entry(geometry_key(&primitive, normal_sets)).or_insert(0) += 1;
+            }
+        }
+        stack.extend(node.children());
+    }
+    uses
+}
+
 /// State of the walk over the scene's node hierarchy.
 struct Walk<'a> {
     path: &'a Path,
@@ -186,8 +226,15 @@ struct Walk<'a> {
     /// Index of the default material in `materials`, once added.
     default_material: Option<u32>,
     meshes: Vec<Mesh>,
-    /// The primitives of each glTF mesh read so far, in mesh space, by mesh index.
-    read: HashMap<usize, Vec<Mesh>>,
+    /// The triangle primitives of each glTF mesh read so far, in mesh space, by mesh index,
+    /// with the key of their geometry.
+    read: HashMap<usize, Vec<(Mesh, GeometryKey)>>,
+    /// How many times the scene places each primitive geometry.
+    uses: HashMap<GeometryKey, usize>,
+    /// The prototype kept for each geometry placed more than once.
+    prototypes: HashMap<GeometryKey, u32>,
+    /// The scene's prototypes and instances.
+    instanced: (Vec<Mesh>, Vec<Instance>),
     cameras: Vec<SceneCamera>,
     lights: Vec<Light>,
     /// The first animation and the shutter's open and close times it is sampled at.
@@ -257,22 +304,37 @@ impl Walk<'_> {
 
     /// Adds every triangle primitive of `mesh`, transformed to world space at shutter open and
     /// moving rigidly to `world_at_close`; the primitives are read on the mesh's first use only.
+    /// A geometry the scene places more than once is kept once, in mesh space, and placed by
+    /// an instance in the primitive's material (an emissive primitive excepted: lights need
+    /// world triangles).
     fn add_mesh(&mut self, mesh: &gltf::Mesh, world: Mat4, world_at_close: Mat4) -> Result<(), SceneError> {
         if !self.read.contains_key(&mesh.index()) {
             let primitives = self.read_mesh(mesh)?;
             self.read.insert(mesh.index(), primitives);
         }
-        for primitive in &self.read[&mesh.index()] {
-            let mut instance = primitive.clone();
-            instance.transform(world);
-            instance.motion = Some(Motion::between(world, world_at_close)).filter(|m| world != world_at_close && !m.is_static());
-            self.meshes.push(instance);
+        let motion = Some(Motion::between(world, world_at_close)).filter(|m| world != world_at_close && !m.is_static());
+        for (primitive, key) in &self.read[&mesh.index()] {
+            let emissive = self.materials.get(primitive.material as usize).is_some_and(Material::is_emissive);
+            if !emissive && self.uses.get(key).is_some_and(|&uses| uses > 1) {
+                let prototypes = &mut self.instanced.0;
+                let prototype = *self.prototypes.entry(key.clone()).or_insert_with(|| {
+                    prototypes.push(primitive.clone());
+                    prototypes.len() as u32 - 1
+                });
+                let instance = Instance { name: primitive.name.clone(), prototype, object_to_world: world, motion, material: Some(primitive.material) };
+                self.instanced.1.push(instance);
+                continue;
+            }
+            let mut placed = primitive.clone();
+            placed.transform(world);
+            placed.motion = motion;
+            self.meshes.push(placed);
         }
         Ok(())
     }
 
     /// The triangle primitives of `mesh` in mesh space, with their materials.
-    fn read_mesh(&mut self, mesh: &gltf::Mesh) -> Result<Vec<Mesh>, SceneError> {
+    fn read_mesh(&mut self, mesh: &gltf::Mesh) -> Result<Vec<(Mesh, GeometryKey)>, SceneError> {
         let mesh_name = mesh.name().map_or_else(|| format!("mesh {}", mesh.index()), str::to_string);
         let primitive_count = mesh.primitives().len();
         let mut out = Vec::new();
@@ -293,7 +355,7 @@ impl Walk<'_> {
             let mut read = read_primitive(&primitive, self.buffers, &name, normal_map_set)
                 .map_err(|message| SceneError::file(self.path, format!("mesh '{name}': {message}")))?;
             read.material = material;
-            out.push(read);
+            out.push((read, geometry_key(&primitive, &normal_sets(&self.materials))));
         }
         Ok(out)
     }

@@ -33,6 +33,9 @@ pub struct LoadOptions {
     /// Leave a model file without any light unlit (its caller sets an environment, such as
     /// `--environment`) instead of lighting it by the default sky ([`crate::DEFAULT_SKY`]).
     pub keep_unlit: bool,
+    /// Copy instanced meshes into the world instead of keeping them once and placing them by
+    /// instances ([`crate::flatten_instances`]): the same image, more memory; for comparisons.
+    pub flatten_instances: bool,
 }
 
 /// Loads and validates a scene from a built-in name or a file (`.gltf`, `.glb`, `.obj`, `.ply`,
@@ -90,6 +93,9 @@ fn load_file(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {
     };
     if !options.keep_unlit {
         crate::mesh_scene::light_if_unlit(path, &mut scene);
+    }
+    if options.flatten_instances {
+        crate::flatten_instances(&mut scene);
     }
     Ok(scene)
 }

@@ -32,8 +32,9 @@ pub(crate) fn warn(path: &Path, message: &str) {
 
 /// A camera framing every vertex of `meshes`; an error naming `path` when there are no
 /// triangles to look at.
-pub(crate) fn framing_camera(path: &Path, meshes: &[Mesh]) -> Result<Camera, SceneError> {
-    let mut points = meshes.iter().filter(|m| m.triangle_count() > 0).flat_map(|m| m.positions.iter().copied());
+pub(crate) fn framing_camera(path: &Path, meshes: &[Mesh], (prototypes, instances): &(Vec<Mesh>, Vec<crate::Instance>)) -> Result<Camera, SceneError> {
+    let placed = instances.iter().filter_map(|i| i.world_bounds(&prototypes[i.prototype as usize])).flat_map(|(lo, hi)| [lo, hi]);
+    let mut points = meshes.iter().filter(|m| m.triangle_count() > 0).flat_map(|m| m.positions.iter().copied()).chain(placed);
     let first = points.next().ok_or_else(|| SceneError::file(path, "contains no triangles"))?;
     let (min, max) = points.fold((first, first), |(lo, hi), p| (lo.min(p), hi.max(p)));
     Ok(Camera::framing(min, max))
@@ -41,7 +42,7 @@ pub(crate) fn framing_camera(path: &Path, meshes: &[Mesh]) -> Result<Camera, Sce
 
 /// Builds the scene of a mesh file (OBJ, PLY) as the module documentation describes.
 pub(crate) fn assemble(path: &Path, meshes: Vec<Mesh>, materials: Vec<Material>) -> Result<Scene, SceneError> {
-    let camera = framing_camera(path, &meshes)?;
+    let camera = framing_camera(path, &meshes, &Default::default())?;
     Ok(Scene { name: scene_name(path), meshes, materials, camera, resolution: DEFAULT_RESOLUTION, ..Scene::default() })
 }
 

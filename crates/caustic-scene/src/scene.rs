@@ -1,15 +1,21 @@
 //! The scene: everything a render needs, as plain data.
 
-use crate::{Camera, Environment, Light, Material, Mesh, RenderOptions, SceneCamera, SceneError, Shape, Texture};
+use crate::{Camera, Environment, Instance, Light, Material, Mesh, RenderOptions, SceneCamera, SceneError, Shape, Texture};
 use glam::{DVec3, Vec3};
 
-/// A complete scene. Meshes are in world space; instanced meshes are expanded by the loaders.
+/// A complete scene. Meshes are in world space; a mesh placed many times is kept once in
+/// [`Scene::prototypes`] and placed by [`Scene::instances`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct Scene {
     /// Name for messages and output metadata (file stem or built-in name).
     pub name: String,
     /// Triangle meshes in world space.
     pub meshes: Vec<Mesh>,
+    /// Meshes in their own (object) space, each placed by one or more [`Scene::instances`];
+    /// never emissive (loaders keep emissive meshes in `meshes`, where lights are found).
+    pub prototypes: Vec<Mesh>,
+    /// Placements of the prototypes.
+    pub instances: Vec<Instance>,
     /// Materials referenced by [`Mesh::material`].
     pub materials: Vec<Material>,
     /// The camera rendered from.
@@ -42,6 +48,8 @@ impl Default for Scene {
         Scene {
             name: "scene".to_string(),
             meshes: Vec::new(),
+            prototypes: Vec::new(),
+            instances: Vec::new(),
             materials: Vec::new(),
             camera: Camera { eye: Vec3::new(0.0, 0.0, 5.0), target: Vec3::ZERO, up: Vec3::Y, fov_y: 40f32.to_radians(), ..Camera::default() },
             resolution: (512, 512),
@@ -116,11 +124,22 @@ impl Scene {
         lights
     }
 
-    /// World-space bounds of all vertices and bounded shapes, or `None` when there are none.
+    /// Triangles the instances place: each instance counts its prototype's.
+    pub fn instanced_triangle_count(&self) -> u64 {
+        self.instances.iter().map(|i| self.prototypes.get(i.prototype as usize).map_or(0, |p| p.triangle_count() as u64)).sum()
+    }
+
+    /// World bounds of each instance (at shutter open) that places a non-empty prototype.
+    pub fn instance_bounds(&self) -> impl Iterator<Item = (Vec3, Vec3)> + '_ {
+        self.instances.iter().filter_map(|i| self.prototypes.get(i.prototype as usize).and_then(|p| i.world_bounds(p)))
+    }
+
+    /// World-space bounds of all vertices, instances and bounded shapes, or `None` when there
+    /// are none.
     pub fn bounds(&self) -> Option<(Vec3, Vec3)> {
         let vertices = self.meshes.iter().flat_map(|m| m.positions.iter().map(|p| (*p, *p)));
         let shapes = self.shapes.iter().filter_map(Shape::world_bounds);
-        let mut boxes = vertices.chain(shapes);
+        let mut boxes = vertices.chain(shapes).chain(self.instance_bounds());
         let first = boxes.next()?;
         Some(boxes.fold(first, |(lo, hi), (a, b)| (lo.min(a), hi.max(b))))
     }
@@ -136,10 +155,10 @@ impl Scene {
         Ok(())
     }
 
-    /// Bytes held by the meshes' vertex and index arrays and the textures' texels.
+    /// Bytes held by the meshes' and prototypes' vertex and index arrays and the textures' texels.
     pub fn memory_bytes(&self) -> usize {
         let mesh = |m: &Mesh| 12 * (m.positions.len() + m.normals.len() + m.indices.len()) + 8 * (m.uvs.len() + m.uvs1.len()) + 16 * m.tangents.len();
-        self.meshes.iter().map(mesh).sum::<usize>() + self.textures.iter().map(Texture::memory_bytes).sum::<usize>()
+        self.meshes.iter().chain(&self.prototypes).map(mesh).sum::<usize>() + self.textures.iter().map(Texture::memory_bytes).sum::<usize>()
     }
 
     /// Checks every mesh, material, the camera and the resolution; the first fault is returned.
@@ -154,8 +173,11 @@ impl Scene {
                 return Err(SceneError::invalid(format!("material '{}'", material.name), message));
             }
         }
-        for mesh in &self.meshes {
+        for mesh in self.meshes.iter().chain(&self.prototypes) {
             mesh.validate(self.materials.len())?;
+        }
+        for (index, instance) in self.instances.iter().enumerate() {
+            instance.validate(index, self.prototypes.len(), self.materials.len())?;
         }
         for (index, shape) in self.shapes.iter().enumerate() {
             shape.validate(index, self.materials.len())?;
@@ -176,8 +198,9 @@ impl Scene {
         if w == 0 || h == 0 || w > 16384 || h > 16384 {
             return Err(SceneError::invalid("image", format!("size {w}x{h} is outside 1..=16384")));
         }
-        if self.triangle_count() >= (1 << 27) {
-            return Err(SceneError::invalid("scene", format!("{} triangles exceed the limit of 2^27", self.triangle_count())));
+        let stored = self.triangle_count() + self.prototypes.iter().map(Mesh::triangle_count).sum::<usize>();
+        if stored >= (1 << 27) {
+            return Err(SceneError::invalid("scene", format!("{stored} stored triangles (meshes and instanced meshes once each) exceed the limit of 2^27")));
         }
         Ok(())
     }

@@ -123,6 +123,10 @@ impl Units {
             }
             mesh.motion = mesh.motion.map(|m| self.motion(m));
         }
+        for instance in &mut out.instances {
+            instance.object_to_world = self.transform(instance.object_to_world);
+            instance.motion = instance.motion.map(|m| self.motion(m));
+        }
         for shape in &mut out.shapes {
             *shape = Shape { object_to_world: self.transform(shape.object_to_world), motion: shape.motion.map(|m| self.motion(m)), ..*shape };
         }
@@ -186,7 +190,7 @@ fn content_bounds(scene: &Scene) -> Option<(DVec3, DVec3)> {
     for mesh in &scene.meshes {
         mesh.positions.iter().for_each(|p| add(*p));
     }
-    for (lo, hi) in scene.shapes.iter().filter_map(Shape::world_bounds) {
+    for (lo, hi) in scene.shapes.iter().filter_map(Shape::world_bounds).chain(scene.instance_bounds()) {
         add(lo);
         add(hi);
     }
@@ -201,7 +205,7 @@ fn content_bounds(scene: &Scene) -> Option<(DVec3, DVec3)> {
             Light::Directional { .. } | Light::Shape { .. } => {}
         }
     }
-    if scene.meshes.is_empty() && scene.shapes.iter().all(|s| s.world_bounds().is_none()) && scene.lights.is_empty() {
+    if scene.meshes.is_empty() && scene.instances.is_empty() && scene.shapes.iter().all(|s| s.world_bounds().is_none()) && scene.lights.is_empty() {
         // Only the camera and planes: the distance to what it looks at sets the size.
         add(scene.camera.target);
     }

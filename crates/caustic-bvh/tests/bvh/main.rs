@@ -4,6 +4,7 @@
 //! soup, degenerate cases, meshes from `../shared`) and random rays. Run with
 //! `-- --nocapture` to see the figures each test measures.
 
+mod instances;
 mod shapes;
 mod structure;
 mod traversal;

@@ -532,6 +532,8 @@ fn slab_radiance(ior: f32, a: Vec3) -> Vec3 {
 fn attenuation_test_columns_match_beer_lambert() {
     let Some(path) = shared_path("assets/gltf/AttenuationTest/glTF-Binary/AttenuationTest.glb") else { return };
     let mut s = load_scene(&SceneSource::File(path)).expect("the model loads");
+    // Its slabs share geometry (instances): placed in the world to pick them by material.
+    caustic_scene::flatten_instances(&mut s);
     let attenuated = |m: &Mesh| s.materials[m.material as usize].attenuation_distance.is_finite();
     let meshes: Vec<Mesh> = s.meshes.iter().filter(|m| attenuated(m)).cloned().collect();
     s.meshes = meshes;

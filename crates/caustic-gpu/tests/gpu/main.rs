@@ -30,6 +30,7 @@ mod filter_sampling;
 mod gltf_materials;
 mod gltf_render;
 mod inspector;
+mod instances;
 mod interface;
 mod light_samples;
 mod lights;

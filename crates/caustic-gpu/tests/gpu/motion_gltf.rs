@@ -47,8 +47,15 @@ fn animated_gltf(name: &str) -> PathBuf {
     path
 }
 
+/// The animated scene with its two nodes' shared mesh copied into the world, so that each
+/// node's motion is its mesh's (`flatten` false: the nodes are instances of one mesh).
+fn load_as(name: &str, shutter: Option<(f32, f32)>, flatten: bool) -> Scene {
+    let options = LoadOptions { shutter, flatten_instances: flatten, ..LoadOptions::default() };
+    load_scene_with(&SceneSource::File(animated_gltf(name)), &options).expect("loads")
+}
+
 fn load(name: &str, shutter: Option<(f32, f32)>) -> Scene {
-    load_scene_with(&SceneSource::File(animated_gltf(name)), &LoadOptions { shutter, ..LoadOptions::default() }).expect("loads")
+    load_as(name, shutter, true)
 }
 
 /// Node 0's pose at animation time `t` (the channels are linear in time over 0..2 s).
@@ -73,6 +80,10 @@ fn channels_are_sampled_at_shutter_open_and_close() {
     assert!(worst < 1e-5 && cubic_error < 1e-5);
     let turn = first.motion.unwrap();
     assert!((turn.angle - std::f32::consts::FRAC_PI_8).abs() < 1e-5 && (turn.axis - Vec3::Z).length() < 1e-5, "{turn:?}");
+    // Kept as instances, the nodes carry the same motions.
+    let instanced = load_as("sampled", Some((0.5, 1.0)), false);
+    let motions: Vec<_> = instanced.instances.iter().map(|i| i.motion).collect();
+    assert_eq!((instanced.meshes.len(), motions), (0, vec![first.motion, second.motion]));
 }
 
 #[test]

@@ -64,6 +64,14 @@ pub const COMMANDS: &[CommandInfo] = &[
     c("box", "x y z dx dy dz", "axis-aligned box of size (dx, dy, dz) centred at (x, y, z)"),
     c("plane", "x y z nx ny nz", "infinite plane through a point, perpendicular to a normal"),
     c("disk", "x y z nx ny nz radius", "disk centred at a point, perpendicular to a normal"),
+    // Instancing
+    c("object", "name", "start an object: the triangles up to its endObject are stored once, to be placed by instance"),
+    c("endObject", "", "end the object started by the matching object"),
+    c(
+        "instance",
+        "name | file.obj | file.ply",
+        "place an object, or an OBJ or PLY file's meshes in the current material, under the current transform and motion",
+    ),
     // Transforms
     c("translate", "x y z", "right-multiply the current transform by a translation"),
     c("rotate", "x y z degrees", "right-multiply the current transform by a rotation about an axis"),

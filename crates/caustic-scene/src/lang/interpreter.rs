@@ -153,6 +153,7 @@ impl Interpreter {
             found.push((first.clone(), format!("pushTransform has no matching popTransform before the end of input (accepted{more})")));
         }
         self.world.push_sites.iter_mut().for_each(|s| s.warned = true);
+        found.extend(self.unclosed_objects());
         let point_lights = self.world.scene.lights.iter().any(|l| matches!(l, Light::Point { .. }));
         if let Some(site) = self.world.unused_attenuation.take().filter(|_| point_lights) {
             found.push((site, "attenuation applies to point lights defined after it, and none follows".to_string()));
@@ -321,6 +322,7 @@ impl Interpreter {
         let handled = self.action_command(a, at, actions)?
             || self.setting_command(a, at)?
             || self.sampling_command(a)?
+            || self.instance_command(a, at)?
             || self.geometry_command(a, at)?
             || self.transform_command(a, at)?
             || self.motion_command(a)?

@@ -16,6 +16,7 @@ mod args;
 mod commands;
 mod error;
 mod geometry;
+mod instances;
 mod interpreter;
 mod lights;
 mod materials;

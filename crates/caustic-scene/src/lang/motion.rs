@@ -66,6 +66,13 @@ pub(super) fn apply_shutter(scene: &mut Scene, shutter: (f32, f32)) {
             mesh.motion = seen;
         }
     }
+    for instance in &mut scene.instances {
+        if let Some(motion) = instance.motion {
+            let (placement, seen) = motion.over_shutter(shutter.0, shutter.1);
+            instance.object_to_world = placement * instance.object_to_world;
+            instance.motion = seen;
+        }
+    }
     for shape in &mut scene.shapes {
         if let Some(motion) = shape.motion {
             let (placement, seen) = motion.over_shutter(shutter.0, shutter.1);

@@ -176,6 +176,12 @@ pub(super) struct World {
     pub(super) shutter: (f32, f32),
     /// The scene's origin ([`Scene::origin`]) once the first position was placed.
     pub(super) anchor: Option<DVec3>,
+    /// Objects defined by `object` ... `endObject`: name to indices into `scene.prototypes`.
+    pub(super) objects: HashMap<String, Vec<u32>>,
+    /// OBJ and PLY files placed by `instance`: resolved path to indices into `scene.prototypes`.
+    pub(super) mesh_files: HashMap<PathBuf, Vec<u32>>,
+    /// Objects being defined (`object` without its `endObject` yet), innermost last.
+    pub(super) defining: Vec<super::instances::OpenObject>,
 }
 
 impl World {
@@ -212,6 +218,9 @@ impl World {
             motion: None,
             shutter: super::motion::NO_SHUTTER,
             anchor: None,
+            objects: HashMap::new(),
+            mesh_files: HashMap::new(),
+            defining: Vec::new(),
         }
     }
 

@@ -132,3 +132,37 @@ fn a_far_scene_is_stored_relative_to_its_camera() {
     assert_eq!(scene.camera.eye, Vec3::ZERO);
     assert!((triangle[0] - Vec3::new(0.3, 0.0, -5.0)).abs().max_element() < 1e-6, "{triangle:?}");
 }
+
+/// Geometry placed more than once is kept once and placed by instances: a mesh that three
+/// nodes place (one mirrored), and a second mesh sharing its accessors in another material
+/// (as exporters write one shape in several materials); `--flatten-instances` (the load
+/// option) copies them into the world as before, the same triangles in the same places.
+#[test]
+fn shared_geometry_becomes_instances_and_flattens_back() {
+    let parts = r#""scene": 0, "scenes": [{"nodes": [0, 1, 2, 3]}],
+        "nodes": [{"mesh": 0}, {"mesh": 0, "translation": [5, 0, 0]}, {"mesh": 0, "scale": [-1, 2, 1]},
+                  {"mesh": 1, "translation": [0, 0, -3]}],
+        "materials": [{"name": "red"}, {"name": "blue"}],
+        "meshes": [{"name": "tri", "primitives": [{"attributes": {"POSITION": 0}, "material": 0}]},
+                   {"name": "blue tri", "primitives": [{"attributes": {"POSITION": 0}, "material": 1}]}]"#;
+    let dir = common::scratch_dir("gltf-instances");
+    let path = write_gltf(&dir, "shared.gltf", &document(parts, "VEC3", 3));
+    let scene = common::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    println!("meshes {}, prototypes {}, instances {:?}", scene.meshes.len(), scene.prototypes.len(), scene.instances);
+    assert!(scene.meshes.is_empty(), "every placement is an instance");
+    assert_eq!(scene.prototypes.len(), 1, "one geometry kept once");
+    assert_eq!(scene.instances.len(), 4);
+    assert_eq!(scene.instanced_triangle_count(), 4);
+    assert_eq!(scene.instances.iter().map(|i| i.material).collect::<Vec<_>>(), [Some(0), Some(0), Some(0), Some(1)]);
+    assert!(scene.instances[2].object_to_world.determinant() < 0.0);
+    let options = caustic_scene::LoadOptions { flatten_instances: true, ..Default::default() };
+    let flat = caustic_scene::load_scene_with(&caustic_scene::SceneSource::parse(path.to_str().unwrap()), &options).expect("flattened");
+    assert!(flat.instances.is_empty() && flat.prototypes.is_empty());
+    assert_eq!(flat.meshes.len(), 4);
+    let triangles: Vec<[Vec3; 3]> = flat.triangles().collect();
+    assert!(triangles[1].contains(&Vec3::new(6.0, 0.0, 0.0)), "translated: {triangles:?}");
+    assert!(triangles[2].contains(&Vec3::new(0.0, 2.0, 0.0)) && triangles[2].contains(&Vec3::new(-1.0, 0.0, 0.0)), "mirrored and scaled");
+    assert_eq!(normal(triangles[2]), Vec3::Z, "a mirror keeps the front face");
+    assert_eq!(flat.meshes[3].material, 1, "the instance's material");
+    assert_eq!(scene.bounds(), flat.bounds(), "the same extent either way");
+}

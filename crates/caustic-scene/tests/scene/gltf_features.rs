@@ -123,8 +123,10 @@ fn cameras_lights_and_instances() {
     );
     let mut scene = common::load(&write_gltf(&dir, "nodes.gltf", &parts)).unwrap_or_else(|e| panic!("{e}"));
     println!("cameras {:?}\nlights {:?}", scene.cameras, scene.lights);
-    assert_eq!(scene.meshes.len(), 2, "one mesh, two nodes");
-    assert_eq!(scene.meshes[1].positions[1], Vec3::new(6.0, 0.0, 0.0));
+    assert_eq!((scene.meshes.len(), scene.prototypes.len(), scene.instances.len()), (0, 1, 2), "one mesh, two nodes: two instances");
+    let mut flat = scene.clone();
+    caustic_scene::flatten_instances(&mut flat);
+    assert_eq!(flat.meshes[1].positions[1], Vec3::new(6.0, 0.0, 0.0));
     assert_eq!(scene.cameras.len(), 3, "the orthographic camera is kept");
     assert_eq!((scene.camera.eye, scene.resolution), (Vec3::new(0.0, 0.0, 10.0), (1024, 512)));
     assert_eq!(scene.cameras[1].camera.projection, caustic_scene::Projection::Orthographic { half_height: 1.0 });

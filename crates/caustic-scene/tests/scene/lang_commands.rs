@@ -98,6 +98,25 @@ fn environment_maps_load_relative_to_the_file() {
 }
 
 #[test]
+fn instance_places_an_obj_file_loaded_once_in_the_current_material() {
+    let dir = common::scratch_dir("lang-instance");
+    std::fs::write(dir.join("tri.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").expect("write tri.obj");
+    let text = "diffuse 1 0 0\ninstance tri.obj\ntranslate 3 0 0\ndiffuse 0 1 0\ninstance tri.obj\n";
+    std::fs::write(dir.join("two.scene"), text).expect("write two.scene");
+    let s = lang::load(&dir.join("two.scene")).expect("loads");
+    assert_eq!((s.meshes.len(), s.prototypes.len(), s.instances.len()), (0, 1, 2));
+    let colours: Vec<Vec3> = s.instances.iter().map(|i| s.materials[i.material.expect("wears the current material") as usize].base_color).collect();
+    assert_eq!(colours, [Vec3::X, Vec3::Y]);
+    assert_eq!(s.instances[1].object_to_world.transform_point3(Vec3::X), Vec3::new(4.0, 0.0, 0.0));
+    s.validate().expect("valid");
+
+    std::fs::write(dir.join("missing.scene"), "instance nothing.obj\n").expect("write missing.scene");
+    let error = lang::run_file(&dir.join("missing.scene")).expect_err("a missing file is an error").to_string();
+    println!("{error}");
+    assert!(error.contains("missing.scene:1:10: instance:") && error.contains("nothing.obj"), "{error}");
+}
+
+#[test]
 fn extended_settings() {
     let (interpreter, _) =
         run("supersample 3\nresample 2\npreview prev.jpg\ndof 0.25\nglosssamples 4\nfrostsamples 5\nlightspread 0.5\nmaxverts 10\nmaxvertnorms 7\n");
