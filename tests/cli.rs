@@ -52,6 +52,37 @@ fn dry_run_reports_memory_without_rendering() {
 }
 
 #[test]
+fn instances_are_reported_and_render_as_their_flattened_copy() {
+    let dir = support::scratch("instances");
+    let scene = dir.join("three.test");
+    let text = "size 48 32\ncamera 0 0 6 0 0 0 0 1 0 45\npoint 0 3 6 20 20 20\ndiffuse 0.8 0.5 0.2\n\
+                vertex -1 -1 0\nvertex 1 -1 0\nvertex 0 1 0\nobject tri\ntri 0 1 2\nendObject\n\
+                instance tri\ntranslate 2.2 0 0\ninstance tri\ntranslate -4.4 0 0\nrotate 0 0 1 180\ninstance tri\n";
+    std::fs::write(&scene, text).expect("write the scene");
+    let render = |name: &str, extra: &[&str]| {
+        let out = dir.join(name);
+        let mut args = vec!["render", scene.to_str().unwrap(), "--spp", "4", "--json", "-o", out.to_str().unwrap()];
+        args.extend_from_slice(extra);
+        (support::caustic_json(&args), caustic_image::Image::load(&out).expect("rendered"))
+    };
+    let (instanced, a) = render("instanced.exr", &[]);
+    let (flat, b) = render("flat.exr", &["--flatten-instances"]);
+    println!(
+        "instanced: {} triangles, {} instances, {} placed; flattened: {} triangles",
+        instanced["triangles"], instanced["instances"], instanced["instanced_triangles"], flat["triangles"]
+    );
+    assert_eq!((instanced["triangles"].as_u64(), instanced["instances"].as_u64(), instanced["instanced_triangles"].as_u64()), (Some(1), Some(3), Some(3)));
+    assert_eq!((flat["triangles"].as_u64(), flat["instances"].as_u64()), (Some(3), Some(0)));
+    let values = |image: &caustic_image::Image| image.pixels.iter().flatten().copied().collect::<Vec<f32>>();
+    let (a, b) = (values(&a), values(&b));
+    let worst = a.iter().zip(&b).map(|(x, y)| (x - y).abs()).fold(0.0f32, f32::max);
+    let lit = a.iter().filter(|&&v| v > 0.01).count();
+    println!("largest pixel difference instanced vs flattened: {worst:.2e}; {lit} lit channel values");
+    assert!(lit > 300, "the three triangles show: {lit}");
+    assert!(worst < 1e-4, "the classic tracer is deterministic: {worst}");
+}
+
+#[test]
 fn time_budget_stops_the_render() {
     let out = support::scratch("time").join("t.exr");
     let report = support::caustic_json(&["render", "--size", "16x16", "--time", "0.5", "-o", out.to_str().unwrap(), "--json"]);

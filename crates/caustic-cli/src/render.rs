@@ -50,7 +50,12 @@ pub struct RenderReport {
     scene: String,
     width: u32,
     height: u32,
+    /// Triangles stored: the world's, and each instanced mesh's once.
     triangles: usize,
+    /// Placements of instanced meshes.
+    instances: usize,
+    /// Triangles the instances place, counted at each placement.
+    instanced_triangles: u64,
     lights: u32,
     bvh_nodes: usize,
     bvh_build_ms: f64,
@@ -101,6 +106,8 @@ impl RenderReport {
             width,
             height,
             triangles: rendered.triangles,
+            instances: scene.instances.len(),
+            instanced_triangles: scene.instanced_triangle_count(),
             lights: rendered.lights,
             bvh_nodes: rendered.bvh_nodes,
             bvh_build_ms: rendered.bvh_build_ms,
@@ -705,11 +712,12 @@ pub fn print_report(report: &RenderReport, json: bool) -> anyhow::Result<()> {
         return Ok(());
     }
     eprintln!(
-        "{}: {}x{}, {} triangles, {} spp in {:.2} s ({:.2} M samples/s), BVH {:.1} ms, {} non-finite samples{}{} -> {}",
+        "{}: {}x{}, {} triangles{}, {} spp in {:.2} s ({:.2} M samples/s), BVH {:.1} ms, {} non-finite samples{}{} -> {}",
         report.scene,
         report.width,
         report.height,
         report.triangles,
+        if report.instances == 0 { String::new() } else { format!(" ({} placed by {} instances)", report.instanced_triangles, report.instances) },
         report.spp,
         report.seconds,
         report.samples_per_second / 1e6,

@@ -56,13 +56,16 @@ pub fn load_scene_with(source: &SceneSource, options: &LoadOptions) -> Result<Sc
             return Err(SceneError::invalid("shutter", "samples glTF animations; scene-language files set theirs with the `shutter` command"));
         }
     }
-    let scene = match source {
+    let mut scene = match source {
         SceneSource::Builtin(name) if name == "cornell" => crate::cornell_box(),
         SceneSource::Builtin(name) => {
             return Err(SceneError::invalid("scene", format!("no built-in scene called '{name}' (built-ins: cornell)")));
         }
         SceneSource::File(path) => load_file(path, options)?,
     };
+    if options.flatten_instances {
+        crate::flatten_instances(&mut scene);
+    }
     match source {
         SceneSource::File(path) => scene.validate().map_err(|e| e.in_file(path))?,
         SceneSource::Builtin(_) => scene.validate()?,
@@ -93,9 +96,6 @@ fn load_file(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {
     };
     if !options.keep_unlit {
         crate::mesh_scene::light_if_unlit(path, &mut scene);
-    }
-    if options.flatten_instances {
-        crate::flatten_instances(&mut scene);
     }
     Ok(scene)
 }
