@@ -65,8 +65,10 @@ fn instances_are_reported_and_render_as_their_flattened_copy() {
         args.extend_from_slice(extra);
         (support::caustic_json(&args), caustic_image::Image::load(&out).expect("rendered"))
     };
-    let (instanced, a) = render("instanced.exr", &[]);
-    let (flat, b) = render("flat.exr", &["--flatten-instances"]);
+    let (instanced, a) = render("instanced.exr", &["--instances", "keep"]);
+    let (flat, b) = render("flat.exr", &["--instances", "flatten"]);
+    let (auto, _) = render("auto.exr", &[]);
+    assert_eq!(auto["instances"].as_u64(), Some(0), "three triangles are flattened by default: {auto}");
     println!(
         "instanced: {} triangles, {} instances, {} placed; flattened: {} triangles",
         instanced["triangles"], instanced["instances"], instanced["instanced_triangles"], flat["triangles"]

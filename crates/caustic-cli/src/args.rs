@@ -236,11 +236,11 @@ pub struct SceneOverrides {
     /// (docs/FEATURES.md).
     #[arg(long = "feature", value_name = "NAME=VALUE", value_parser = caustic_gpu::features::parse_feature)]
     pub features: Vec<(usize, u16)>,
-    /// Copy every instanced glTF geometry into the world instead of keeping it once and
-    /// placing it by instances (docs/ARCHITECTURE.md, "Instances"): the same image, more
-    /// memory; for comparisons.
-    #[arg(long)]
-    pub flatten_instances: bool,
+    /// Meshes placed many times: `keep` them once, placed by instances; `flatten` every
+    /// placement into the world (the same image, more memory, walked faster); `auto` flattens
+    /// when the instances place at most 4M triangles (docs/ARCHITECTURE.md, "Instances").
+    #[arg(long, value_name = "auto|keep|flatten", default_value = "auto", value_parser = parse_instancing)]
+    pub instances: caustic_scene::Instancing,
     /// Camera overrides.
     #[command(flatten)]
     pub camera: CameraArgs,
@@ -256,7 +256,7 @@ impl SceneOverrides {
         caustic_scene::LoadOptions {
             limits: self.input.limits(),
             keep_unlit: self.environment.is_some(),
-            flatten_instances: self.flatten_instances,
+            instancing: self.instances,
             ..caustic_scene::LoadOptions::default()
         }
     }
@@ -705,5 +705,15 @@ mod tests {
             println!("{bad:?}: {error}");
             assert!(error.contains(bad), "the message names the value: {error}");
         }
+    }
+}
+
+/// Parses `--instances`.
+fn parse_instancing(text: &str) -> Result<caustic_scene::Instancing, String> {
+    match text {
+        "auto" => Ok(caustic_scene::Instancing::Auto),
+        "keep" => Ok(caustic_scene::Instancing::Keep),
+        "flatten" => Ok(caustic_scene::Instancing::Flatten),
+        other => Err(format!("'{other}': expected auto, keep or flatten")),
     }
 }

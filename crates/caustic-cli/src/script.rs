@@ -292,11 +292,9 @@ pub fn run_file(path: &Path, args: &RenderArgs) -> anyhow::Result<()> {
         let (pass, hdr) = (scene.options.pass, scene.options.hdr);
         actions.insert(0, Action::Render { scene: Box::new(scene), pass, hdr, preview: interpreter.settings().preview.clone() });
     }
-    if args.overrides.flatten_instances {
-        for action in &mut actions {
-            if let Action::Render { scene, .. } = action {
-                caustic_scene::flatten_instances(scene);
-            }
+    for action in &mut actions {
+        if let Action::Render { scene, .. } = action {
+            args.overrides.instances.apply(scene);
         }
     }
     // Every image the script writes is checked before the device opens and anything renders.

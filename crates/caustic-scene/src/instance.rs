@@ -64,7 +64,7 @@ impl Instance {
 
 /// Copies every instance's prototype into `scene.meshes`, placed, moving and dressed as the
 /// instance says, and drops the instances and prototypes: the same scene without instancing
-/// (more memory; for comparisons and `--flatten-instances`).
+/// (more memory, a faster walk; `Instancing::Flatten` and `Auto`, `--instances`).
 pub fn flatten_instances(scene: &mut crate::Scene) {
     let prototypes = std::mem::take(&mut scene.prototypes);
     for instance in std::mem::take(&mut scene.instances) {
@@ -122,5 +122,26 @@ mod tests {
             println!("{message}");
             assert!(message.contains("instance 'statue' (#3)") && message.contains(expected), "{message}");
         }
+    }
+
+    #[test]
+    fn auto_flattens_up_to_its_triangle_budget() {
+        // One prototype of half the budget: two placements are flattened, three are kept.
+        let half = crate::AUTO_FLATTEN_TRIANGLES / 2;
+        let big = Mesh { indices: vec![[0, 1, 2]; half as usize], ..unit_triangle() };
+        let placed = |count: usize| {
+            let mut scene = crate::Scene { prototypes: vec![big.clone()], ..crate::Scene::default() };
+            scene.instances =
+                (0..count).map(|i| Instance { name: format!("{i}"), prototype: 0, object_to_world: Mat4::IDENTITY, motion: None, material: None }).collect();
+            scene
+        };
+        let (mut two, mut three) = (placed(2), placed(3));
+        assert!(crate::Instancing::Auto.apply(&mut two));
+        assert_eq!((two.meshes.len(), two.instances.len(), two.triangle_count() as u64), (2, 0, 2 * half));
+        assert!(!crate::Instancing::Auto.apply(&mut three));
+        assert_eq!((three.meshes.len(), three.instances.len()), (0, 3));
+        assert!(!crate::Instancing::Keep.apply(&mut placed(1)));
+        assert!(crate::Instancing::Flatten.apply(&mut three));
+        assert_eq!(three.triangle_count() as u64, 3 * half);
     }
 }

@@ -39,7 +39,7 @@ pub use error::SceneError;
 pub use input_file::{InputError, InputLimits};
 pub use instance::{Instance, flatten_instances, mesh_bounds};
 pub use light::{Attenuation, Light, spot_cone, spot_scale_offset};
-pub use load::{LoadOptions, SceneSource, load_scene, load_scene_with};
+pub use load::{AUTO_FLATTEN_TRIANGLES, Instancing, LoadOptions, SceneSource, load_scene, load_scene_with};
 pub use material::{AlphaMode, Anisotropy, Material, ShadingModel, normal_mapped};
 pub use mesh::Mesh;
 pub use mesh_scene::DEFAULT_SKY;

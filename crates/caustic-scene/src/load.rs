@@ -33,9 +33,42 @@ pub struct LoadOptions {
     /// Leave a model file without any light unlit (its caller sets an environment, such as
     /// `--environment`) instead of lighting it by the default sky ([`crate::DEFAULT_SKY`]).
     pub keep_unlit: bool,
-    /// Copy instanced meshes into the world instead of keeping them once and placing them by
-    /// instances ([`crate::flatten_instances`]): the same image, more memory; for comparisons.
-    pub flatten_instances: bool,
+    /// Whether meshes placed many times stay instanced or are copied into the world.
+    pub instancing: Instancing,
+}
+
+/// What the loader does with meshes placed many times (docs/ARCHITECTURE.md, "Instances").
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Instancing {
+    /// Keep each once, placed by instances: memory grows with the distinct meshes.
+    #[default]
+    Keep,
+    /// Copy every placement into the world ([`crate::flatten_instances`]): the same image,
+    /// memory growing with the placements.
+    Flatten,
+    /// Flatten when the instances place at most [`AUTO_FLATTEN_TRIANGLES`] triangles, else
+    /// keep them: a flattened world is walked faster (one tree, no change of space: -9% time
+    /// on the suite's `million`, docs/PERFORMANCE.md) and costs little memory at that size.
+    Auto,
+}
+
+/// The most triangles [`Instancing::Auto`] copies into the world (about 250 MB of device
+/// memory with their BVH).
+pub const AUTO_FLATTEN_TRIANGLES: u64 = 4_000_000;
+
+impl Instancing {
+    /// Applies the policy to a loaded scene; returns whether it flattened.
+    pub fn apply(self, scene: &mut Scene) -> bool {
+        let flatten = match self {
+            Instancing::Keep => false,
+            Instancing::Flatten => true,
+            Instancing::Auto => scene.instanced_triangle_count() <= AUTO_FLATTEN_TRIANGLES,
+        };
+        if flatten && !scene.instances.is_empty() {
+            crate::flatten_instances(scene);
+        }
+        flatten
+    }
 }
 
 /// Loads and validates a scene from a built-in name or a file (`.gltf`, `.glb`, `.obj`, `.ply`,
@@ -63,9 +96,7 @@ pub fn load_scene_with(source: &SceneSource, options: &LoadOptions) -> Result<Sc
         }
         SceneSource::File(path) => load_file(path, options)?,
     };
-    if options.flatten_instances {
-        crate::flatten_instances(&mut scene);
-    }
+    options.instancing.apply(&mut scene);
     match source {
         SceneSource::File(path) => scene.validate().map_err(|e| e.in_file(path))?,
         SceneSource::Builtin(_) => scene.validate()?,

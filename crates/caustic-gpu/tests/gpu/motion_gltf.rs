@@ -50,7 +50,8 @@ fn animated_gltf(name: &str) -> PathBuf {
 /// The animated scene with its two nodes' shared mesh copied into the world, so that each
 /// node's motion is its mesh's (`flatten` false: the nodes are instances of one mesh).
 fn load_as(name: &str, shutter: Option<(f32, f32)>, flatten: bool) -> Scene {
-    let options = LoadOptions { shutter, flatten_instances: flatten, ..LoadOptions::default() };
+    let instancing = if flatten { caustic_scene::Instancing::Flatten } else { caustic_scene::Instancing::Keep };
+    let options = LoadOptions { shutter, instancing, ..LoadOptions::default() };
     load_scene_with(&SceneSource::File(animated_gltf(name)), &options).expect("loads")
 }
 

@@ -135,7 +135,7 @@ fn a_far_scene_is_stored_relative_to_its_camera() {
 
 /// Geometry placed more than once is kept once and placed by instances: a mesh that three
 /// nodes place (one mirrored), and a second mesh sharing its accessors in another material
-/// (as exporters write one shape in several materials); `--flatten-instances` (the load
+/// (as exporters write one shape in several materials); `Instancing::Flatten` (the load
 /// option) copies them into the world as before, the same triangles in the same places.
 #[test]
 fn shared_geometry_becomes_instances_and_flattens_back() {
@@ -155,7 +155,7 @@ fn shared_geometry_becomes_instances_and_flattens_back() {
     assert_eq!(scene.instanced_triangle_count(), 4);
     assert_eq!(scene.instances.iter().map(|i| i.material).collect::<Vec<_>>(), [Some(0), Some(0), Some(0), Some(1)]);
     assert!(scene.instances[2].object_to_world.determinant() < 0.0);
-    let options = caustic_scene::LoadOptions { flatten_instances: true, ..Default::default() };
+    let options = caustic_scene::LoadOptions { instancing: caustic_scene::Instancing::Flatten, ..Default::default() };
     let flat = caustic_scene::load_scene_with(&caustic_scene::SceneSource::parse(path.to_str().unwrap()), &options).expect("flattened");
     assert!(flat.instances.is_empty() && flat.prototypes.is_empty());
     assert_eq!(flat.meshes.len(), 4);
