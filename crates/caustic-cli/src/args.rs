@@ -689,6 +689,16 @@ fn parse_integrator(text: &str) -> Result<Integrator, String> {
     })
 }
 
+/// Parses `--instances`.
+fn parse_instancing(text: &str) -> Result<caustic_scene::Instancing, String> {
+    match text {
+        "auto" => Ok(caustic_scene::Instancing::Auto),
+        "keep" => Ok(caustic_scene::Instancing::Keep),
+        "flatten" => Ok(caustic_scene::Instancing::Flatten),
+        other => Err(format!("'{other}': expected auto, keep or flatten")),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::parse_bytes;
@@ -705,15 +715,5 @@ mod tests {
             println!("{bad:?}: {error}");
             assert!(error.contains(bad), "the message names the value: {error}");
         }
-    }
-}
-
-/// Parses `--instances`.
-fn parse_instancing(text: &str) -> Result<caustic_scene::Instancing, String> {
-    match text {
-        "auto" => Ok(caustic_scene::Instancing::Auto),
-        "keep" => Ok(caustic_scene::Instancing::Keep),
-        "flatten" => Ok(caustic_scene::Instancing::Flatten),
-        other => Err(format!("'{other}': expected auto, keep or flatten")),
     }
 }
