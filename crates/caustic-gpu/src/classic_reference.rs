@@ -70,6 +70,9 @@ impl ClassicReference {
         if !scene.shapes.is_empty() {
             return Err("the classic reference traces triangle meshes only, not analytic shapes".into());
         }
+        if !scene.instances.is_empty() {
+            return Err("the classic reference traces the world's meshes only, not instances (flatten them first)".into());
+        }
         if let Some(light) = classic_lights(&data).find(|l| is_extended(l) || !matches!(l.kind, LIGHT_POINT | LIGHT_DIRECTIONAL)) {
             return Err(format!("the classic reference has point and directional lights without spread, not kind {}", light.kind));
         }

@@ -16,6 +16,8 @@ pub enum Picked {
     Shape { shape: usize },
     /// The quad light `light` (an index into the scene's lights).
     QuadLight { light: usize },
+    /// Triangle `triangle` of the mesh that instance `instance` places.
+    Instance { instance: usize, triangle: usize },
 }
 
 /// A pick: the object, its material (an index into the scene's materials, `None` for a quad
@@ -41,14 +43,27 @@ pub struct Picker {
     quad_lights: Vec<usize>,
     /// Number of scene materials; device materials past it are quad-light emitters.
     scene_materials: usize,
+    /// First device triangle of each instanced mesh (prototype).
+    prototype_starts: Vec<usize>,
 }
 
 impl Picker {
-    /// Builds a BVH over `scene` exactly as the device scene holds it.
+    /// Builds a BVH over `scene` exactly as the device scene holds it (instances entered by
+    /// the same two-level walk), with every object at shutter open.
     pub fn new(scene: &Scene) -> Picker {
         let data = SceneData::new(scene);
-        let bvh = caustic_bvh::build_with_shapes(&data.triangles, &data.shapes, &BuildOptions::default());
-        let bvh = caustic_bvh::flatten_with_shapes(&bvh, &data.triangles, &data.shapes);
+        let bvh = if data.instances.is_empty() {
+            let bvh = caustic_bvh::build_with_shapes(&data.triangles, &data.shapes, &BuildOptions::default());
+            caustic_bvh::flatten_with_shapes(&bvh, &data.triangles, &data.shapes)
+        } else {
+            let world = &data.triangles[..data.world_triangles];
+            let still = caustic_bvh::PrimitiveMotions::default();
+            let prototypes: Vec<caustic_bvh::Prototype> =
+                data.prototypes.iter().map(|r| caustic_bvh::Prototype { triangles: &data.triangles[r.clone()], first_id: r.start as u32 }).collect();
+            let built = caustic_bvh::build_instanced(world, &data.shapes, &still, &prototypes, &data.instances, &BuildOptions::default());
+            caustic_bvh::flatten_instanced(&built, world, &data.shapes, &still, &prototypes, &data.instances)
+        };
+        let prototype_starts = data.prototypes.iter().map(|r| r.start).collect();
         let triangle_materials = data.shading[..data.triangles.len()].iter().map(|s| s.material).collect();
         let mut mesh_starts = Vec::with_capacity(scene.meshes.len());
         let mut start = 0;
@@ -57,7 +72,7 @@ impl Picker {
             start += mesh.triangle_count();
         }
         let quad_lights = scene.lights.iter().enumerate().filter(|(_, l)| matches!(l, Light::Quad { .. })).map(|(i, _)| i).collect();
-        Picker { bvh, triangle_materials, mesh_starts, quad_lights, scene_materials: scene.materials.len() }
+        Picker { bvh, triangle_materials, mesh_starts, quad_lights, scene_materials: scene.materials.len(), prototype_starts }
     }
 
     /// The object seen at `pixel` (in image pixels, origin top-left) of an image of
@@ -71,6 +86,13 @@ impl Picker {
             return Some(Pick { picked: Picked::Shape { shape }, material: Some(scene.shapes[shape].material as usize), distance: hit.t });
         }
         let triangle = hit.triangle as usize;
+        if let Some(instance) = hit.instance.map(|i| i as usize) {
+            let placed = &scene.instances[instance];
+            let prototype = placed.prototype as usize;
+            let material = placed.material.unwrap_or(scene.prototypes[prototype].material) as usize;
+            let triangle = triangle - self.prototype_starts[prototype];
+            return Some(Pick { picked: Picked::Instance { instance, triangle }, material: Some(material), distance: hit.t });
+        }
         let material = self.triangle_materials[triangle] as usize;
         let mesh = self.mesh_starts.partition_point(|&start| start <= triangle);
         let picked = if material >= self.scene_materials {
@@ -98,6 +120,10 @@ pub fn describe(scene: &Scene, pick: &Pick) -> String {
         Picked::Mesh { mesh, triangle } => format!("mesh '{}' (#{mesh}), triangle {triangle}", scene.meshes[*mesh].name),
         Picked::Shape { shape } => format!("{:?} shape #{shape}", scene.shapes[*shape].kind),
         Picked::QuadLight { light } => format!("quad light #{light}"),
+        Picked::Instance { instance, triangle } => {
+            let placed = &scene.instances[*instance];
+            format!("instance '{}' (#{instance}) of mesh '{}', triangle {triangle}", placed.name, scene.prototypes[placed.prototype as usize].name)
+        }
     };
     format!("{object} at distance {:.4}", pick.distance)
 }
@@ -151,6 +177,31 @@ mod tests {
         assert!((centre.distance - 4.5).abs() < 1e-4, "the eye is 5 units away: {}", centre.distance);
         assert!(pick(0.4).is_some_and(|p| p.picked == Picked::Shape { shape: 0 }));
         assert_eq!(pick(0.6), None);
+    }
+
+    /// Two instances of one triangle, the second in another material: each is picked as its
+    /// instance, wearing its material, where it stands.
+    #[test]
+    fn instances_are_picked_where_they_stand() {
+        let mut scene = Scene::default();
+        scene.materials.push(caustic_scene::Material::diffuse("own", Vec3::ONE));
+        scene.materials.push(caustic_scene::Material::diffuse("worn", Vec3::ONE));
+        let corners = vec![Vec3::new(-0.4, -0.4, 0.0), Vec3::new(0.4, -0.4, 0.0), Vec3::new(0.0, 0.4, 0.0)];
+        scene.prototypes.push(caustic_scene::Mesh { name: "tri".into(), positions: corners, indices: vec![[0, 1, 2]], ..Default::default() });
+        for (i, (x, material)) in [(-1.0, None), (1.0, Some(1))].into_iter().enumerate() {
+            let object_to_world = Mat4::from_translation(Vec3::new(x, 0.0, 0.0));
+            scene.instances.push(caustic_scene::Instance { name: format!("copy {i}"), prototype: 0, object_to_world, motion: None, material });
+        }
+        scene.camera.projection = caustic_scene::Projection::Orthographic { half_height: 2.0 };
+        scene.resolution = (200, 200);
+        let picker = Picker::new(&scene);
+        // 50 pixels = 1 unit: pixel 100 + 50 u is u units right of the centre.
+        let pick = |u: f32| picker.pick(&scene, &scene.camera, scene.resolution, (100.0 + 50.0 * u, 100.0));
+        let (left, right) = (pick(-1.0).expect("the left copy"), pick(1.0).expect("the right copy"));
+        println!("{} / {}", describe(&scene, &left), describe(&scene, &right));
+        assert_eq!((left.picked, left.material), (Picked::Instance { instance: 0, triangle: 0 }, Some(0)));
+        assert_eq!((right.picked, right.material), (Picked::Instance { instance: 1, triangle: 0 }, Some(1)));
+        assert_eq!(pick(0.0), None, "between the copies");
     }
 
     #[test]
