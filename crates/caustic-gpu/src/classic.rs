@@ -58,7 +58,8 @@ pub fn scene_features(scene: &Scene) -> u32 {
     if scene.materials.iter().any(|m| m.frost > 0.0 && transparency(m) > 0.0) {
         bits |= crate::features::FEATURE_FROSTED;
     }
-    if scene.meshes.iter().any(|m| m.motion.is_some()) || scene.shapes.iter().any(|s| s.motion.is_some()) {
+    let moving_instance = scene.instances.iter().any(|i| i.motion.is_some());
+    if scene.meshes.iter().any(|m| m.motion.is_some()) || scene.shapes.iter().any(|s| s.motion.is_some()) || moving_instance {
         bits |= crate::features::FEATURE_MOTION_BLUR;
     }
     bits

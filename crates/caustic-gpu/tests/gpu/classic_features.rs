@@ -410,6 +410,15 @@ fn feature_switches_parse_and_default_to_what_the_scene_uses() {
     let forced = features(&["glossy=on", "refraction=off"]).constants(uses);
     assert_eq!(forced.mask & caustic_gpu::features::FEATURE_GLOSSY, caustic_gpu::features::FEATURE_GLOSSY);
     assert_eq!(forced.mask & caustic_gpu::features::FEATURE_REFRACTION, 0);
+    // A moving instance switches motion blur on, as a moving mesh does.
+    let mut moving = glass_scene();
+    assert_eq!(caustic_gpu::classic::scene_features(&moving) & caustic_gpu::features::FEATURE_MOTION_BLUR, 0);
+    moving.prototypes.push(moving.meshes[0].clone());
+    let motion = caustic_scene::Motion { translation: glam::Vec3::X, axis: glam::Vec3::Y, angle: 0.0, pivot: glam::Vec3::ZERO };
+    let instance = caustic_scene::Instance { name: "moving".into(), prototype: 0, object_to_world: glam::Mat4::IDENTITY, motion: Some(motion), material: None };
+    moving.instances.push(instance);
+    let uses = caustic_gpu::classic::scene_features(&moving);
+    assert_eq!(uses & caustic_gpu::features::FEATURE_MOTION_BLUR, caustic_gpu::features::FEATURE_MOTION_BLUR);
 }
 
 #[test]
