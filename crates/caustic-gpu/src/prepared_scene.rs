@@ -65,7 +65,7 @@ impl PreparedScene {
         let scene = &*units.scene(scene);
         let data = SceneData::new(scene);
         let moving = crate::motion::primitive_motions(scene);
-        let (mut bvh, bvh_stats) = build_bvh(&data, &moving, options)?;
+        let (mut bvh, bvh_stats) = build_bvh(&data, &moving, options);
         if bvh_stats.max_depth >= MAX_BVH_DEPTH {
             return Err(GpuError::Scene(format!("the BVH is {} levels deep; the traversal stack holds {MAX_BVH_DEPTH}", bvh_stats.max_depth)));
         }
@@ -211,12 +211,13 @@ impl EnvironmentTexels {
 }
 
 /// The scene's BVH: one tree, or with instances the world's tree and one per prototype
-/// ([`caustic_bvh::build_instanced`]), with the statistics of all of them together.
-fn build_bvh(data: &SceneData, moving: &PrimitiveMotions, options: &BuildOptions) -> Result<(GpuBvh, BuildStats), GpuError> {
+/// ([`caustic_bvh::build_instanced`]), with the statistics of all of them together: what the
+/// kernels walk, and what CPU tools that must agree with them (the viewer's picking) walk.
+pub fn build_bvh(data: &SceneData, moving: &PrimitiveMotions, options: &BuildOptions) -> (GpuBvh, BuildStats) {
     let world = &data.triangles[..data.world_triangles];
     if data.instances.is_empty() {
         let built = caustic_bvh::build_with_motion(world, &data.shapes, moving, options);
-        return Ok((caustic_bvh::flatten_with_motion(&built, world, &data.shapes, moving), built.stats));
+        return (caustic_bvh::flatten_with_motion(&built, world, &data.shapes, moving), built.stats);
     }
     let prototypes: Vec<Prototype> = data.prototypes.iter().map(|r| Prototype { triangles: &data.triangles[r.clone()], first_id: r.start as u32 }).collect();
     let built = caustic_bvh::build_instanced(world, &data.shapes, moving, &prototypes, &data.instances, options);
@@ -228,7 +229,7 @@ fn build_bvh(data: &SceneData, moving: &PrimitiveMotions, options: &BuildOptions
         sah_cost: built.top.stats.sah_cost,
         build_ms: built.top.stats.build_ms,
     };
-    Ok((caustic_bvh::flatten_instanced(&built, world, &data.shapes, moving, &prototypes, &data.instances), stats))
+    (caustic_bvh::flatten_instanced(&built, world, &data.shapes, moving, &prototypes, &data.instances), stats)
 }
 
 /// `nodes`, after pointing each instance of `bvh` at its prototype tree's root in them.

@@ -52,17 +52,8 @@ impl Picker {
     /// the same two-level walk), with every object at shutter open.
     pub fn new(scene: &Scene) -> Picker {
         let data = SceneData::new(scene);
-        let bvh = if data.instances.is_empty() {
-            let bvh = caustic_bvh::build_with_shapes(&data.triangles, &data.shapes, &BuildOptions::default());
-            caustic_bvh::flatten_with_shapes(&bvh, &data.triangles, &data.shapes)
-        } else {
-            let world = &data.triangles[..data.world_triangles];
-            let still = caustic_bvh::PrimitiveMotions::default();
-            let prototypes: Vec<caustic_bvh::Prototype> =
-                data.prototypes.iter().map(|r| caustic_bvh::Prototype { triangles: &data.triangles[r.clone()], first_id: r.start as u32 }).collect();
-            let built = caustic_bvh::build_instanced(world, &data.shapes, &still, &prototypes, &data.instances, &BuildOptions::default());
-            caustic_bvh::flatten_instanced(&built, world, &data.shapes, &still, &prototypes, &data.instances)
-        };
+        let still = caustic_bvh::PrimitiveMotions::default();
+        let (bvh, _) = caustic_gpu::build_bvh(&data, &still, &BuildOptions::default());
         let prototype_starts = data.prototypes.iter().map(|r| r.start).collect();
         let triangle_materials = data.shading[..data.triangles.len()].iter().map(|s| s.material).collect();
         let mut mesh_starts = Vec::with_capacity(scene.meshes.len());
