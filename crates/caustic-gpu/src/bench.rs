@@ -1,5 +1,6 @@
 //! Ray-throughput benchmark of the device BVH: closest-hit rays per second.
 
+use crate::pages::{PagedArray, Paging};
 use crate::readback::read_buffer;
 use crate::shaders::Program;
 use crate::{GpuContext, GpuError, GpuScene};
@@ -238,12 +239,13 @@ impl<'a> RayBench<'a> {
         let results = storage("bench results", (u64::from(ray_count) * RESULT_BYTES).max(RESULT_BYTES));
         let geometry =
             gpu.requirements & (crate::requirements::REQUIRES_SHAPES | crate::requirements::REQUIRES_PLANES | crate::requirements::REQUIRES_INSTANCES);
-        let packet = ctx.packet_walk_supported() && gpu.node_layout == crate::NodeLayout::Wide && geometry == 0;
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some(Program::RayBench.label()),
-            source: wgpu::ShaderSource::Wgsl(crate::shaders::ray_bench_source(gpu.node_layout, gpu.node_words_64, packet).into()),
-        });
-        let layout = bind_group_layout(device);
+        // The packet walk reads nodes and triangles as words of one binding each.
+        let paged = gpu.paging.split(PagedArray::Nodes).pages > 1 || gpu.paging.split(PagedArray::Triangles).pages > 1;
+        let packet = ctx.packet_walk_supported() && gpu.node_layout == crate::NodeLayout::Wide && geometry == 0 && !paged;
+        let source = gpu.paging.apply(&crate::shaders::ray_bench_source(gpu.node_layout, gpu.node_words_64, packet));
+        let module = device
+            .create_shader_module(wgpu::ShaderModuleDescriptor { label: Some(Program::RayBench.label()), source: wgpu::ShaderSource::Wgsl(source.into()) });
+        let layout = bind_group_layout(device, &gpu.paging);
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("ray bench"),
             bind_group_layouts: &[Some(&layout)],
@@ -253,20 +255,17 @@ impl<'a> RayBench<'a> {
         // instance tests (and only such a scene has the packet walk).
         let constants = [("SCENE_REQUIRES", f64::from(geometry))];
         let pipeline = |entry: &str| ctx.compute_pipeline_with(&pipeline_layout, &module, entry, &constants);
-        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("ray bench"),
-            layout: &layout,
-            entries: &[
-                wgpu::BindGroupEntry { binding: 0, resource: params.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 1, resource: gpu.nodes.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 2, resource: gpu.triangles.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 3, resource: rays_buffer.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 4, resource: results.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 9, resource: gpu.shapes.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 10, resource: gpu.nodes.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 11, resource: gpu.triangles.as_entire_binding() },
-            ],
-        });
+        let mut entries = gpu.paging.bind_entries(&[(PagedArray::Nodes, &gpu.nodes), (PagedArray::Triangles, &gpu.triangles)]);
+        entries.extend([
+            wgpu::BindGroupEntry { binding: 0, resource: params.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 3, resource: rays_buffer.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 4, resource: results.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 9, resource: gpu.shapes.as_entire_binding() },
+            // The packet walk's words: the first pages, whole when it is compiled.
+            wgpu::BindGroupEntry { binding: 10, resource: gpu.nodes[0].as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 11, resource: gpu.triangles[0].as_entire_binding() },
+        ]);
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("ray bench"), layout: &layout, entries: &entries });
         let bench = RayBench {
             ctx,
             generate_primary: pipeline("generate_primary"),
@@ -363,24 +362,25 @@ fn scene_params(gpu: &GpuScene) -> BenchParams {
     }
 }
 
-fn bind_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
+/// The ray bench's bindings (`bench/rays.wgsl`, the traversal's, the packet walk's) and the
+/// extra pages of the scene's nodes and triangles past one binding ([`crate::pages`]).
+fn bind_group_layout(device: &wgpu::Device, paging: &Paging) -> wgpu::BindGroupLayout {
     let entry = |binding, ty| wgpu::BindGroupLayoutEntry { binding, visibility: wgpu::ShaderStages::COMPUTE, ty, count: None };
     let storage =
         |read_only| wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Storage { read_only }, has_dynamic_offset: false, min_binding_size: None };
     let uniform = wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Uniform, has_dynamic_offset: false, min_binding_size: None };
-    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-        label: Some("ray bench"),
-        entries: &[
-            entry(0, uniform),
-            entry(1, storage(true)),
-            entry(2, storage(true)),
-            entry(3, storage(false)),
-            entry(4, storage(false)),
-            entry(9, storage(true)),
-            entry(10, storage(true)),
-            entry(11, storage(true)),
-        ],
-    })
+    let mut entries = vec![
+        entry(0, uniform),
+        entry(1, storage(true)),
+        entry(2, storage(true)),
+        entry(3, storage(false)),
+        entry(4, storage(false)),
+        entry(9, storage(true)),
+        entry(10, storage(true)),
+        entry(11, storage(true)),
+    ];
+    entries.extend(paging.layout_entries(&[PagedArray::Nodes, PagedArray::Triangles]));
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("ray bench"), entries: &entries })
 }
 
 #[cfg(test)]

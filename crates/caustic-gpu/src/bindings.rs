@@ -84,6 +84,21 @@ pub const INTEGRATOR_BINDINGS: [Binding; 13] = [
     PIXEL_QUEUE,
 ];
 
+/// Storage buffers among [`INTEGRATOR_BINDINGS`] (all but the environment texture), which
+/// count against the device's storage buffers per shader stage with the extra pages of
+/// [`crate::pages`].
+pub const STORAGE_BINDINGS: u32 = {
+    let mut count = 0;
+    let mut i = 0;
+    while i < INTEGRATOR_BINDINGS.len() {
+        if !matches!(INTEGRATOR_BINDINGS[i].access, Access::Texture) {
+            count += 1;
+        }
+        i += 1;
+    }
+    count
+};
+
 /// The layout entries of [`INTEGRATOR_BINDINGS`], visible to compute shaders.
 pub fn layout_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
     let buffer =

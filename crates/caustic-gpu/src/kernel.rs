@@ -5,6 +5,7 @@
 
 use crate::bake::BakedTables;
 use crate::features::FeatureConstants;
+use crate::pages::Paging;
 use crate::path_tracer::depth_limit;
 use crate::render_settings::{DataPath, DebugView, RenderSettings};
 use crate::requirements::{REQUIRES_ALL, REQUIRES_INSPECTOR};
@@ -57,6 +58,9 @@ pub struct Kernel {
     /// pixels one invocation of `render_sample` traces in turn ([`paths_per_invocation`]);
     /// 1 for the other entry points, which trace one pixel per invocation.
     pub paths_per_invocation: u32,
+    /// The scene's arrays past one storage binding, read through generated accessors
+    /// ([`crate::pages`]); nothing paged for most scenes.
+    pub paging: Paging,
 }
 
 impl Kernel {
@@ -86,6 +90,7 @@ impl Kernel {
             shadow_convex_occluders: gpu.shadow_occluder_clip && specialised,
             shadow_light_planes: gpu.shadow_light_plane_skip && specialised,
             paths_per_invocation,
+            paging: gpu.paging,
         }
     }
 
@@ -107,7 +112,8 @@ impl Kernel {
         self.pipeline(device, &self.module(device), &[layout], self.entry_point)
     }
 
-    /// The kernel's program: the path tracer's WGSL with the traversal and tables replaced.
+    /// The kernel's program: the path tracer's WGSL with the traversal and tables replaced, and
+    /// paged arrays read through their accessors.
     pub fn module(&self, device: &wgpu::Device) -> wgpu::ShaderModule {
         let source = match &self.traversal {
             Some(t) => Program::PathTracer.source_replacing(TRAVERSAL_FILE, t),
@@ -117,6 +123,7 @@ impl Kernel {
             Some(tables) => tables.apply(&source),
             None => source,
         };
+        let source = self.paging.apply(&source);
         device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some(Program::PathTracer.label()), source: wgpu::ShaderSource::Wgsl(source.into()) })
     }
 

@@ -34,6 +34,7 @@ pub mod light_kind;
 pub mod light_plane;
 pub mod memory;
 pub mod motion;
+pub mod pages;
 mod path_tracer;
 mod prepared_scene;
 mod readback;

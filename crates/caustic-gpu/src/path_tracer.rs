@@ -8,6 +8,7 @@ use crate::film::Film;
 use crate::gpu_types::{AccumTexel, Frame, InspectRecord, NO_PIXEL, PROJECTION_ORTHOGRAPHIC, PROJECTION_PERSPECTIVE, PixelSampling, transport_flags};
 use crate::inspector::PathRecord;
 use crate::kernel::Kernel;
+use crate::pages::{PagedArray, Paging};
 use crate::readback::read_buffer;
 use crate::render_settings::RenderSettings;
 use crate::wavefront::{KernelShape, Wavefront, WavefrontProfile};
@@ -72,7 +73,7 @@ impl<'a> PathTracer<'a> {
         let frame = frame_constants(scene, gpu, settings);
         let device = &ctx.device;
         let frame_buffer = ctx.buffer_with_data("frame", bytemuck::bytes_of(&frame), wgpu::BufferUsages::STORAGE);
-        let layout = bind_group_layout(device);
+        let layout = bind_group_layout(device, &gpu.paging);
         let kernel = Kernel::for_render(ctx, gpu, settings);
         let stages = Stages::new(ctx, &kernel, &layout, settings.shape, &frame)?;
         let inspection = device.create_buffer(&wgpu::BufferDescriptor {
@@ -132,6 +133,9 @@ impl<'a> PathTracer<'a> {
         let wanted = Kernel::for_render(self.ctx, gpu, settings);
         let frame = frame_constants(scene, gpu, settings);
         let recompile = wanted != self.kernel || !self.stages.fit(settings.shape, &frame);
+        if wanted.paging != self.kernel.paging {
+            self.layout = bind_group_layout(&self.ctx.device, &wanted.paging);
+        }
         if recompile {
             self.stages = Stages::new(self.ctx, &wanted, &self.layout, settings.shape, &frame)?;
             self.kernel = wanted;
@@ -435,14 +439,15 @@ fn wavefront_size(frame: &Frame) -> (u32, u32) {
 /// The scene's buffers the kernels read, kept (wgpu handles are shared references) so that
 /// the bind groups can be made again when the pixel queue grows.
 struct SceneBindings {
-    nodes: wgpu::Buffer,
-    triangles: wgpu::Buffer,
-    shading: wgpu::Buffer,
+    nodes: Vec<wgpu::Buffer>,
+    triangles: Vec<wgpu::Buffer>,
+    shading: Vec<wgpu::Buffer>,
     materials: wgpu::Buffer,
     lights: wgpu::Buffer,
     environment_view: wgpu::TextureView,
     shapes: wgpu::Buffer,
-    textures: wgpu::Buffer,
+    textures: Vec<wgpu::Buffer>,
+    paging: Paging,
 }
 
 impl SceneBindings {
@@ -456,6 +461,7 @@ impl SceneBindings {
             environment_view: gpu.environment_view.clone(),
             shapes: gpu.shapes.clone(),
             textures: gpu.textures.clone(),
+            paging: gpu.paging,
         }
     }
 }
@@ -471,11 +477,14 @@ fn bind_groups(
     queue: &wgpu::Buffer,
 ) -> Vec<wgpu::BindGroup> {
     let bind = |band: &crate::film::FilmBand| {
-        let entries = [
+        let mut entries = scene.paging.bind_entries(&[
+            (PagedArray::Nodes, &scene.nodes),
+            (PagedArray::Triangles, &scene.triangles),
+            (PagedArray::Shading, &scene.shading),
+            (PagedArray::Textures, &scene.textures),
+        ]);
+        entries.extend([
             wgpu::BindGroupEntry { binding: bindings::FRAME.index, resource: frame.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: bindings::BVH_NODES.index, resource: scene.nodes.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: bindings::BVH_TRIANGLES.index, resource: scene.triangles.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: bindings::SHADING.index, resource: scene.shading.as_entire_binding() },
             wgpu::BindGroupEntry { binding: bindings::MATERIALS.index, resource: scene.materials.as_entire_binding() },
             wgpu::BindGroupEntry { binding: bindings::LIGHTS.index, resource: scene.lights.as_entire_binding() },
             wgpu::BindGroupEntry { binding: bindings::ACCUMULATION.index, resource: band.accumulation.as_entire_binding() },
@@ -483,9 +492,8 @@ fn bind_groups(
             wgpu::BindGroupEntry { binding: bindings::ENVIRONMENT_MAP.index, resource: wgpu::BindingResource::TextureView(&scene.environment_view) },
             wgpu::BindGroupEntry { binding: bindings::BVH_SHAPES.index, resource: scene.shapes.as_entire_binding() },
             wgpu::BindGroupEntry { binding: bindings::INSPECTION.index, resource: inspection.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: bindings::TEXTURES.index, resource: scene.textures.as_entire_binding() },
             wgpu::BindGroupEntry { binding: bindings::PIXEL_QUEUE.index, resource: queue.as_entire_binding() },
-        ];
+        ]);
         device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("path tracer"), layout, entries: &entries })
     };
     film.bands.iter().map(bind).collect()
@@ -556,9 +564,12 @@ fn weighted_mean(sum: [f32; 4]) -> [f32; 4] {
 }
 
 /// Bindings of `shaders/integrator/bindings.wgsl` and `shaders/bvh/bindings.wgsl`, shared by
-/// every integrator's entry point ([`crate::bindings`]).
-fn bind_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
-    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("integrators"), entries: &crate::bindings::layout_entries() })
+/// every integrator's entry point ([`crate::bindings`]), and the extra pages of the scene's
+/// arrays past one binding ([`crate::pages`]).
+fn bind_group_layout(device: &wgpu::Device, paging: &Paging) -> wgpu::BindGroupLayout {
+    let mut entries = crate::bindings::layout_entries();
+    entries.extend(paging.layout_entries(&PagedArray::ALL));
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("integrators"), entries: &entries })
 }
 
 /// The bounces a path may take under `settings` (`None`: unbounded, Russian roulette ends

@@ -2,9 +2,10 @@
 //! asked for, and the contents of every buffer and of the environment texture assembled. Its
 //! device memory is known before anything is uploaded ([`PreparedScene::device_memory`]), so
 //! `caustic render --dry-run` can print it, and [`PreparedScene::check`] refuses a scene past
-//! a binding limit or past the device's memory before the first buffer is created.
+//! the device's bindings or memory before the first buffer is created.
 
 use crate::memory::{DeviceMemory, film_bytes, stored_bytes};
+use crate::pages::{Extent, Paging};
 use crate::scene_buffers::{MAX_BVH_DEPTH, NodeLayout};
 use crate::scene_data::SceneData;
 use crate::{GpuContext, GpuError};
@@ -157,28 +158,19 @@ impl PreparedScene {
         device.total() - device.film + stored_bytes(&data.triangles) + stored_bytes(&self.moving.triangle)
     }
 
-    /// Fails when a buffer exceeds the device's largest storage binding, the environment
-    /// texture its largest texture, or everything together the device's memory (where it is
-    /// known: [`GpuContext::device_memory`]); nothing reaches the device either way.
+    /// Fails when the shapes, materials or lights exceed the device's largest storage binding
+    /// (the arrays that may grow with the scene are split into pages: [`PreparedScene::paging`]),
+    /// the pages need more bindings than the device has, the environment texture exceeds its
+    /// largest texture, or everything together the device's memory (where it is known:
+    /// [`GpuContext::device_memory`]); nothing reaches the device either way.
     pub fn check(&self, ctx: &GpuContext) -> Result<(), GpuError> {
         let limit = ctx.max_storage_binding();
         let data = &self.data;
-        let buffers = [
-            match &self.nodes {
-                NodeContents::Binary => sized("BVH nodes", &self.bvh.nodes),
-                NodeContents::Wide(nodes) => sized("BVH wide nodes", nodes),
-                NodeContents::WideExact(nodes) => sized("BVH wide exact nodes", nodes),
-            },
-            sized("BVH triangles", &self.bvh.triangles),
-            sized("shapes", &self.shapes),
-            sized("triangle shading", &data.shading),
-            sized("materials", &data.materials),
-            sized("lights", &data.lights),
-            sized("textures", &self.textures),
-        ];
+        let buffers = [sized("shapes", &self.shapes), sized("materials", &data.materials), sized("lights", &data.lights)];
         if let Some((what, need)) = buffers.into_iter().find(|(_, need)| *need > limit) {
             return Err(GpuError::Limit { what, need, limit });
         }
+        self.paging(ctx)?.check(ctx, PAGED_PIPELINE_BASE_BINDINGS)?;
         self.environment.check(ctx)?;
         let memory = self.device_memory();
         match ctx.device_memory {
@@ -189,6 +181,33 @@ impl PreparedScene {
             _ => Ok(()),
         }
     }
+}
+
+impl PreparedScene {
+    /// The pages the BVH nodes, triangles, shading entries and textures are uploaded in on
+    /// `ctx`'s device: one per array that fits the device's largest storage binding, more for
+    /// one that does not ([`crate::pages`]).
+    pub fn paging(&self, ctx: &GpuContext) -> Result<Paging, GpuError> {
+        let words_64 = self.node_layout() == NodeLayout::Wide && ctx.device.features().contains(wgpu::Features::SHADER_INT64);
+        let nodes = match &self.nodes {
+            NodeContents::Binary => extent(&self.bvh.nodes),
+            NodeContents::Wide(nodes) => Extent { read_stride: if words_64 { 32 } else { 64 }, ..extent(nodes) },
+            NodeContents::WideExact(nodes) => extent(nodes),
+        };
+        let extents = [nodes, extent(&self.bvh.triangles), extent(&self.data.shading), extent(&self.textures)];
+        Paging::plan(extents, ctx.max_storage_binding())
+    }
+}
+
+/// Storage buffers a pipeline of the integrators binds besides the extra pages: group 0's
+/// buffers and the wavefront's group 1, the most any kernel binds.
+const PAGED_PIPELINE_BASE_BINDINGS: u32 = crate::bindings::STORAGE_BINDINGS + crate::wavefront::BINDINGS;
+
+/// An array's extent for paging: its stored bytes (one zeroed element when empty, as
+/// uploaded) and element size, read element by element.
+fn extent<T>(data: &[T]) -> Extent {
+    let element = std::mem::size_of::<T>() as u64;
+    Extent { bytes: stored_bytes(data), element, read_stride: element }
 }
 
 impl EnvironmentTexels {

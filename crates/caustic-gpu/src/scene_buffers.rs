@@ -3,6 +3,7 @@
 use crate::convex_occluder::ConvexOccluders;
 use crate::light_plane::LightPlanes;
 use crate::memory::DeviceMemory;
+use crate::pages::{PagedArray, Paging, Split};
 use crate::prepared_scene::{EnvironmentTexels, NodeContents, PreparedScene, environment_texels};
 use crate::requirements::{GEOMETRY_REQUIREMENTS, shading_requirements};
 use crate::scene_data::{device_lights, device_materials};
@@ -39,8 +40,9 @@ pub enum NodeLayout {
 /// A scene on the device: BVH nodes and gathered triangles, per-triangle shading data,
 /// materials, the light list with its power CDF, and the environment texture.
 pub struct GpuScene {
-    /// `BvhNode` or `BvhWideNode` array (binding 1), as `node_layout` says.
-    pub nodes: wgpu::Buffer,
+    /// `BvhNode`, `BvhWideNode` or `BvhWideExactNode` array (binding 1), as `node_layout`
+    /// says: one buffer per page ([`GpuScene::paging`]).
+    pub nodes: Vec<wgpu::Buffer>,
     /// The layout of `nodes`.
     pub node_layout: NodeLayout,
     /// Whether kernels read the quantised wide nodes with 64-bit loads
@@ -50,22 +52,28 @@ pub struct GpuScene {
     /// Why `nodes` are binary although a four-wide layout was asked for (the tree has no
     /// such form), for the front ends to report; `None` when the layout is the one asked for.
     pub layout_fallback: Option<caustic_bvh::WideError>,
-    /// `BvhTriangle` array (binding 2): triangles and records standing for shapes.
-    pub triangles: wgpu::Buffer,
+    /// `BvhTriangle` array (binding 2): triangles and records standing for shapes and
+    /// instances, one buffer per page.
+    pub triangles: Vec<wgpu::Buffer>,
     /// `BvhShape` array (binding 9): bounded shapes, then planes.
     pub shapes: wgpu::Buffer,
     /// Index of the first plane in `shapes`.
     pub first_plane: u32,
     /// Number of shapes.
     pub shape_count: u32,
-    /// `TriangleShading` array (binding 3): one per triangle, then one per shape.
-    pub shading: wgpu::Buffer,
+    /// `TriangleShading` array (binding 3): one per triangle, then one per shape; one buffer
+    /// per page.
+    pub shading: Vec<wgpu::Buffer>,
     /// `Material` array (binding 4).
     pub materials: wgpu::Buffer,
     /// `Light` array (binding 5).
     pub lights: wgpu::Buffer,
-    /// The scene's textures, packed as `textures` in `shaders/integrator/bindings.wgsl` (binding 11).
-    pub textures: wgpu::Buffer,
+    /// The scene's textures, packed as `textures` in `shaders/integrator/bindings.wgsl`
+    /// (binding 11), one buffer per page.
+    pub textures: Vec<wgpu::Buffer>,
+    /// How the nodes, triangles, shading entries and textures are split into pages of at most
+    /// the device's largest storage binding ([`crate::pages`]).
+    pub paging: Paging,
     /// Latitude-longitude environment map (1x1 when the environment is constant).
     pub environment_view: wgpu::TextureView,
     /// Constant environment radiance, or `None` when the map is used.
@@ -140,8 +148,9 @@ impl GpuScene {
             .map(|why| format!("note: BVH nodes kept in the binary layout ({why}); the four-wide walk is faster, the image is the same"))
     }
 
-    /// Builds the BVH on the CPU and uploads everything. Fails with a clear error when a buffer
-    /// exceeds the device's storage binding limit or the BVH is deeper than the kernels allow.
+    /// Builds the BVH on the CPU and uploads everything. Fails with a clear error when the scene
+    /// needs more of the device than it has ([`PreparedScene::check`]) or the BVH is deeper
+    /// than the kernels allow.
     pub fn upload(ctx: &GpuContext, scene: &Scene) -> Result<GpuScene, GpuError> {
         GpuScene::upload_with(ctx, scene, &BuildOptions::default())
     }
@@ -157,10 +166,12 @@ impl GpuScene {
     }
 
     /// Uploads a scene prepared on the CPU ([`PreparedScene`]) after checking that it fits the
-    /// device ([`PreparedScene::check`]): a scene past a binding limit or the device's memory
-    /// is refused before its first buffer is created.
+    /// device ([`PreparedScene::check`]): a scene past the device's bindings or memory is
+    /// refused before its first buffer is created. Arrays past one binding are uploaded in
+    /// pages ([`PreparedScene::paging`]).
     pub fn upload_prepared(ctx: &GpuContext, prepared: PreparedScene) -> Result<GpuScene, GpuError> {
         prepared.check(ctx)?;
+        let paging = prepared.paging(ctx)?;
         let PreparedScene {
             bounds,
             units,
@@ -185,10 +196,11 @@ impl GpuScene {
         let uploader = Uploader { ctx };
         let environment_color = environment.color;
         let environment_view = upload_environment(ctx, environment);
+        let split = |array| paging.split(array);
         let (nodes, node_layout) = match &nodes {
-            NodeContents::Binary => (uploader.storage("BVH nodes", &gpu_bvh.nodes)?, NodeLayout::Binary),
-            NodeContents::Wide(wide) => (uploader.storage("BVH wide nodes", wide)?, NodeLayout::Wide),
-            NodeContents::WideExact(wide) => (uploader.storage("BVH wide exact nodes", wide)?, NodeLayout::WideExact),
+            NodeContents::Binary => (uploader.pages("BVH nodes", &gpu_bvh.nodes, split(PagedArray::Nodes)), NodeLayout::Binary),
+            NodeContents::Wide(wide) => (uploader.pages("BVH wide nodes", wide, split(PagedArray::Nodes)), NodeLayout::Wide),
+            NodeContents::WideExact(wide) => (uploader.pages("BVH wide exact nodes", wide, split(PagedArray::Nodes)), NodeLayout::WideExact),
         };
         let node_words_64 = node_layout == NodeLayout::Wide && ctx.device.features().contains(wgpu::Features::SHADER_INT64);
         let uploaded = GpuScene {
@@ -196,14 +208,15 @@ impl GpuScene {
             node_layout,
             node_words_64,
             layout_fallback,
-            triangles: uploader.storage("BVH triangles", &gpu_bvh.triangles)?,
+            triangles: uploader.pages("BVH triangles", &gpu_bvh.triangles, split(PagedArray::Triangles)),
             shapes: uploader.storage("shapes", &shapes)?,
             first_plane: gpu_bvh.first_plane,
             shape_count: gpu_bvh.shapes.len() as u32,
-            shading: uploader.storage("triangle shading", &data.shading)?,
+            shading: uploader.pages("triangle shading", &data.shading, split(PagedArray::Shading)),
             materials: uploader.storage("materials", &data.materials)?,
             lights: uploader.storage("lights", &data.lights)?,
-            textures: uploader.storage("textures", &textures)?,
+            textures: uploader.pages("textures", &textures, split(PagedArray::Textures)),
+            paging,
             environment_view,
             environment_color,
             light_count: data.lights.len() as u32,
@@ -238,12 +251,12 @@ impl GpuScene {
     pub fn device_memory(&self) -> DeviceMemory {
         let texture = self.environment_view.texture();
         DeviceMemory {
-            bvh_nodes: self.nodes.size(),
-            triangles: self.triangles.size(),
+            bvh_nodes: total_size(&self.nodes),
+            triangles: total_size(&self.triangles),
             shapes: self.shapes.size(),
-            shading: self.shading.size(),
+            shading: total_size(&self.shading),
             materials_and_lights: self.materials.size() + self.lights.size(),
-            textures: self.textures.size(),
+            textures: total_size(&self.textures),
             environment: u64::from(texture.width()) * u64::from(texture.height()) * 16,
             film: 0,
         }
@@ -305,6 +318,29 @@ impl Uploader<'_> {
         }
         Ok(self.ctx.buffer_with_data(what, bytes, wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC))
     }
+
+    /// `data` (one zeroed element when empty) in buffers of `split.page_bytes` (the last
+    /// holds the rest), or in one buffer when `split` has one page; the sizes were checked by
+    /// [`PreparedScene::check`].
+    fn pages<T: bytemuck::Pod>(&self, what: &str, data: &[T], split: Split) -> Vec<wgpu::Buffer> {
+        let zero = [T::zeroed()];
+        let data = if data.is_empty() { &zero[..] } else { data };
+        let bytes: &[u8] = bytemuck::cast_slice(data);
+        let usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC;
+        if split.pages < 2 {
+            return vec![self.ctx.buffer_with_data(what, bytes, usage)];
+        }
+        bytes
+            .chunks(split.page_bytes as usize)
+            .enumerate()
+            .map(|(page, chunk)| self.ctx.buffer_with_data(&format!("{what}, page {page}"), chunk, usage))
+            .collect()
+    }
+}
+
+/// Bytes of a paged array's buffers together.
+fn total_size(pages: &[wgpu::Buffer]) -> u64 {
+    pages.iter().map(wgpu::Buffer::size).sum()
 }
 
 /// The environment texture holding `environment`'s texels (the size was checked against the

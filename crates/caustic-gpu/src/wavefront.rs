@@ -377,6 +377,10 @@ fn storage(device: &wgpu::Device, label: &str, size: u64, extra: wgpu::BufferUsa
     })
 }
 
+/// Storage buffers of the wavefront entry points' group 1: paths, hits, shadow rays, queues,
+/// control.
+pub const BINDINGS: u32 = 5;
+
 /// Group 1 of the wavefront entry points: paths, hits, shadow rays, queues, control.
 fn bind_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
     let entry = |binding| wgpu::BindGroupLayoutEntry {
@@ -385,5 +389,5 @@ fn bind_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
         ty: wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Storage { read_only: false }, has_dynamic_offset: false, min_binding_size: None },
         count: None,
     };
-    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("wavefront"), entries: &(0..5).map(entry).collect::<Vec<_>>() })
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("wavefront"), entries: &(0..BINDINGS).map(entry).collect::<Vec<_>>() })
 }

@@ -1,12 +1,14 @@
-//! Scenes beyond the device's limits are refused with an error that names the buffer, what it
-//! needs and the limit, before anything is bound: never a device loss, a hang or a black image;
-//! an image beyond one binding is split into bands and renders exactly as in one. The device
-//! is opened with a deliberately small storage binding limit (64 KiB), so ordinary scenes
-//! exceed it.
+//! Scene arrays beyond one storage binding are split into pages and render exactly as from one
+//! binding; what cannot be paged, and scenes beyond the device's bindings or memory, are
+//! refused with an error that names the buffer, what it needs and the limit, before anything
+//! is bound: never a device loss, a hang or a black image. An image beyond one binding is
+//! split into bands and renders exactly as in one. The device is opened with a deliberately
+//! small storage binding limit (64 KiB), so ordinary scenes exceed it.
 
 use crate::support;
 use caustic_gpu::memory::DeviceMemory;
-use caustic_gpu::{GpuContext, GpuError, GpuScene, NodeLayout, PathTracer, PreparedScene, RenderSettings};
+use caustic_gpu::pages::PagedArray;
+use caustic_gpu::{GpuContext, GpuError, GpuScene, NodeLayout, PathTracer, PreparedScene, RayBench, RayKind, RenderSettings};
 use caustic_scene::{Environment, EnvironmentMap, Mesh, Scene};
 use glam::Vec3;
 
@@ -25,7 +27,16 @@ fn device_with(lower: impl FnOnce(&mut wgpu::Limits)) -> GpuContext {
 
 /// A device whose storage bindings hold at most [`SMALL_BINDING`] bytes.
 fn small_device() -> GpuContext {
-    let ctx = device_with(|limits| limits.max_storage_buffer_binding_size = SMALL_BINDING);
+    device_with_bindings_of(SMALL_BINDING)
+}
+
+/// Bindings of the device the paging tests render on: every array of
+/// [`scene_past_small_bindings`], its BVH nodes too, takes several.
+const PAGE_BINDING: u64 = 16 * 1024;
+
+/// A device whose storage bindings hold at most `bytes`.
+fn device_with_bindings_of(bytes: u64) -> GpuContext {
+    let ctx = device_with(|limits| limits.max_storage_buffer_binding_size = bytes);
     println!("adapter: {}, storage bindings limited to {} bytes", ctx.adapter, ctx.max_storage_binding());
     ctx
 }
@@ -58,16 +69,96 @@ fn limit_error(what: &str, result: Result<(), GpuError>) -> (String, u64, u64) {
     }
 }
 
-/// 2,080 triangles need about 97 KiB of gathered BVH triangles and 65 KiB of BVH nodes: the
-/// upload names the first buffer over the limit, its element count and size, the bytes it
-/// needs and the limit, and nothing reaches the device.
+/// The Cornell box with a textured grid of 2,048 triangles on its floor: 97.5 KiB of gathered
+/// BVH triangles, 163 KiB of shading entries, BVH nodes past 16 KiB and a 128x128 texture
+/// whose mip chain is 85 KiB.
+fn scene_past_small_bindings() -> Scene {
+    let mut scene = caustic_scene::cornell_box();
+    let mut grid = grid(32);
+    grid.uvs = grid.positions.iter().map(|p| glam::Vec2::new(p.x, p.z) / 32.0).collect();
+    let grid_scale = glam::Affine3A::from_scale_rotation_translation(Vec3::splat(10.0), glam::Quat::IDENTITY, Vec3::new(120.0, 1.0, 120.0));
+    grid.positions.iter_mut().for_each(|p| *p = grid_scale.transform_point3(*p));
+    let mut material = scene.materials[grid.material as usize].clone();
+    material.base_color_texture = Some(caustic_scene::TextureSlot::new(0));
+    grid.material = scene.materials.len() as u32;
+    scene.materials.push(material);
+    scene.meshes.push(grid);
+    let texels = (0..128 * 128).map(|i: u32| [(i % 128 * 2) as u8, (i / 128 * 2) as u8, 255 - (i % 7 * 30) as u8, 255]).collect();
+    scene.textures.push(caustic_scene::Texture { name: "gradient".into(), width: 128, height: 128, color_space: caustic_scene::ColorSpace::Srgb, texels });
+    scene.resolution = (48, 48);
+    scene
+}
+
+/// A scene whose BVH nodes, triangles, shading entries and texture each pass a 16 KiB
+/// binding is uploaded in pages (every array in two or more buffers, bound past the
+/// integrators' bindings and read through generated accessors), and renders bit for bit
+/// what a device with the adapter's own limits renders from one binding each (same seed, same
+/// arithmetic); its device memory is the same bytes.
 #[test]
-fn a_scene_beyond_the_storage_binding_limit_is_refused_by_name() {
+fn a_scene_beyond_the_storage_binding_limit_renders_from_pages() {
+    let small = device_with_bindings_of(PAGE_BINDING);
+    let full = support::device();
+    let scene = scene_past_small_bindings();
+    let render = |ctx: &GpuContext| {
+        let gpu = GpuScene::upload(ctx, &scene).expect("uploaded");
+        let mut tracer = PathTracer::new(ctx, &scene, &gpu, &RenderSettings::default()).expect("a tracer");
+        for _ in 0..2 {
+            tracer.render_sample().expect("a pass");
+        }
+        (tracer.accumulated().expect("read back").0, gpu.paging, gpu.device_memory())
+    };
+    let (paged, paging, paged_memory) = render(&small);
+    let (whole, whole_paging, whole_memory) = render(&full);
+    for array in PagedArray::ALL {
+        let split = paging.split(array);
+        println!("{}: {} pages of {} bytes", array.label(), split.pages, split.page_bytes);
+        assert!(split.pages >= 2 && split.page_bytes <= PAGE_BINDING, "{} paged within the limit: {split:?}", array.label());
+        assert_eq!(whole_paging.split(array).pages, 1, "one binding on the full device");
+    }
+    assert_eq!(paged_memory, whole_memory, "pages hold the same bytes");
+    let equal = paged.pixels.iter().zip(&whole.pixels).filter(|(a, b)| a == b).count();
+    let lit = whole.pixels.iter().filter(|p| p[0] + p[1] + p[2] > 0.0).count();
+    println!("paged render: {equal} of {} pixels bit-identical to one binding each ({lit} lit)", whole.pixels.len());
+    assert!(lit > whole.pixels.len() / 2, "the render sees the scene");
+    assert_eq!(equal, whole.pixels.len());
+    assert!(small.check().is_ok(), "{:?}", small.check());
+}
+
+/// The ray bench walks paged nodes and triangles in each node layout (the binary walk, the
+/// quantised and the exact four-wide ones) to the same hits as from one binding each.
+#[test]
+fn the_ray_bench_walks_paged_arrays_in_every_layout() {
+    let small = device_with_bindings_of(PAGE_BINDING);
+    let full = support::device();
+    let scene = scene_past_small_bindings();
+    for layout in [NodeLayout::Binary, NodeLayout::Wide, NodeLayout::WideExact] {
+        let trace = |ctx: &GpuContext| {
+            let gpu = GpuScene::upload_with_layout(ctx, &scene, &Default::default(), layout).expect("uploaded");
+            let bench = RayBench::new(ctx, &gpu, &scene.camera, 16).expect("bench");
+            bench.run(RayKind::Incoherent, 1).expect("traced");
+            (bench.traced_rays().expect("rays"), gpu.paging.split(PagedArray::Nodes).pages)
+        };
+        let ((paged, node_pages), (whole, _)) = (trace(&small), trace(&full));
+        let hits = whole.iter().filter(|r| r.triangle.is_some()).count();
+        let same = paged.iter().zip(&whole).filter(|(a, b)| a.triangle == b.triangle && a.t == b.t).count();
+        println!("{layout:?}: nodes in {node_pages} pages; {same} of {} rays hit alike ({hits} hits)", whole.len());
+        assert!(node_pages >= 2, "{layout:?}: nodes paged");
+        assert!(hits > whole.len() / 2, "{layout:?}: the rays hit the scene");
+        assert_eq!(same, whole.len(), "{layout:?}");
+    }
+}
+
+/// The arrays that are not paged (materials here: 700 of them take more than 64 KiB) are
+/// still refused by name with the element count, size and the limit, before anything reaches
+/// the device; so is a scene whose pages need more bindings than the device has.
+#[test]
+fn a_scene_beyond_the_bindings_is_refused_by_name() {
     let ctx = small_device();
     let mut scene: Scene = caustic_scene::cornell_box();
-    scene.meshes.push(grid(32));
+    let material = scene.materials[0].clone();
+    scene.materials.extend(std::iter::repeat_n(material, 700));
     let (what, need, limit) = limit_error("upload", GpuScene::upload(&ctx, &scene).map(|_| ()));
-    assert!(what.contains("BVH"), "names the buffer: {what}");
+    assert!(what.contains("materials"), "names the buffer: {what}");
     let numbers: Vec<u64> = what.split(' ').filter_map(|w| w.parse().ok()).collect();
     assert_eq!(numbers.iter().product::<u64>(), need, "element count x element size = the bytes needed: {what}");
     assert_eq!(limit, SMALL_BINDING);
@@ -75,6 +166,21 @@ fn a_scene_beyond_the_storage_binding_limit_is_refused_by_name() {
     let message = GpuError::Limit { what, need, limit }.to_string();
     assert!(message.contains("64 KiB") && message.contains("max_storage_buffer_binding_size"), "readable sizes and the limit's name: {message}");
     assert!(ctx.check().is_ok(), "nothing reached the device: {:?}", ctx.check());
+
+    let few = device_with(|limits| {
+        limits.max_storage_buffer_binding_size = SMALL_BINDING;
+        limits.max_storage_buffers_per_shader_stage = 20;
+    });
+    match GpuScene::upload(&few, &scene_past_small_bindings()) {
+        Err(GpuError::Scene(message)) => {
+            println!("bindings: {message}");
+            assert!(message.contains("max_storage_buffers_per_shader_stage") && message.contains("allows 20"), "the limit: {message}");
+            assert!(message.contains("triangle shading in 3 pages") && message.contains("64 KiB"), "the pages: {message}");
+        }
+        Err(other) => panic!("expected a binding count error, got {other}"),
+        Ok(_) => panic!("a scene needing more than 20 storage bindings was uploaded"),
+    }
+    assert!(few.check().is_ok(), "nothing reached the device: {:?}", few.check());
 }
 
 /// The scene fits but the image does not fit one binding: a 100x100 film is 312.5 KiB of

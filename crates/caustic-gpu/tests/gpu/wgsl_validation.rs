@@ -39,6 +39,44 @@ fn every_program_validates_with_the_wide_walk() {
     }
 }
 
+/// Every program with every node layout validates with all four scene arrays split into
+/// pages ([`caustic_gpu::pages`]): the reads go through the generated accessors, which declare
+/// the extra pages at bindings of their own, and no read of a paged array is left unrouted.
+#[test]
+fn every_program_validates_with_paged_arrays() {
+    use caustic_gpu::pages::{Extent, FIRST_PAGE_BINDING, PagedArray, Paging};
+    let extent = |element: u64, read_stride: u64| Extent { bytes: 100_000, element, read_stride };
+    for (layout, words_64) in [
+        (caustic_gpu::NodeLayout::Binary, false),
+        (caustic_gpu::NodeLayout::Wide, false),
+        (caustic_gpu::NodeLayout::Wide, true),
+        (caustic_gpu::NodeLayout::WideExact, false),
+    ] {
+        let node = if layout == caustic_gpu::NodeLayout::WideExact { 112 } else { 64 };
+        let paging = Paging::plan([extent(node, if words_64 { 32 } else { node }), extent(48, 48), extent(80, 80), extent(4, 4)], 30_000).expect("plan");
+        for program in Program::ALL {
+            let source = match caustic_gpu::shaders::wide_walk(layout, words_64) {
+                Some(walk) => program.source_replacing(caustic_gpu::specialize::TRAVERSAL_FILE, &walk),
+                None => program.source(),
+            };
+            let paged = paging.apply(&source);
+            let module = validate(&format!("{} paged ({layout:?}, 64-bit loads: {words_64})", program.label()), &paged);
+            let accessors = module.functions.iter().filter(|(_, f)| f.name.as_deref().is_some_and(|n| n.ends_with("_paged"))).count();
+            let highest = module.global_variables.iter().filter_map(|(_, v)| v.binding.as_ref().map(|b| b.binding)).max().unwrap_or(0);
+            println!("{} ({layout:?}, 64-bit loads {words_64}): {accessors} paged accessors, bindings up to {highest}", program.label());
+            let declared = PagedArray::ALL.iter().filter(|a| source.contains(&format!("> {}: array<", a.binding().name))).count();
+            assert_eq!(accessors, declared, "one accessor per paged array the program declares");
+            assert!(highest >= FIRST_PAGE_BINDING, "extra pages bound past the integrators' bindings");
+            for array in PagedArray::ALL {
+                let name = array.binding().name;
+                let direct = paged.matches(&format!("{name}[")).count() - paged.matches(&format!("_{name}[")).count();
+                let expected = if source.contains(&format!("> {name}: array<")) { 1 } else { 0 };
+                assert_eq!(direct, expected, "{name}: only the accessor reads the first page directly");
+            }
+        }
+    }
+}
+
 /// The ray bench with the quantised wide walk and the packet walk appended, as
 /// caustic_gpu::RayBench compiles it for devices with subgroups.
 #[test]
