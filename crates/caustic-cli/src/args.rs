@@ -56,13 +56,25 @@ pub struct DeviceArgs {
     /// wgpu cannot ask, so without this an allocation past its memory fails when it happens.
     #[arg(long, env = "CAUSTIC_DEVICE_MEMORY", value_name = "SIZE", value_parser = parse_bytes)]
     pub device_memory: Option<u64>,
+    /// The largest storage binding to use (bytes, or with K, M, G or T), at most the device's
+    /// own: scene arrays past it are split into more pages (docs/ARCHITECTURE.md, "Arrays
+    /// past one binding"). To see how a scene fits a device with smaller bindings, or to
+    /// measure what paging costs.
+    #[arg(long, env = "CAUSTIC_STORAGE_BINDING", value_name = "SIZE", value_parser = parse_bytes)]
+    pub storage_binding: Option<u64>,
 }
 
 impl DeviceArgs {
     /// Opens the device `--adapter` names (or the best one), its memory budget lowered to
-    /// `--device-memory` where that is given.
+    /// `--device-memory` and its largest storage binding to `--storage-binding` where they
+    /// are given.
     pub fn open(&self) -> anyhow::Result<caustic_gpu::GpuContext> {
-        let mut ctx = caustic_gpu::GpuContext::new(self.adapter.as_deref())?;
+        let binding = self.storage_binding;
+        let mut ctx = caustic_gpu::GpuContext::with_limits(self.adapter.as_deref(), |limits| {
+            if let Some(bytes) = binding {
+                limits.max_storage_buffer_binding_size = limits.max_storage_buffer_binding_size.min(bytes);
+            }
+        })?;
         if let Some(budget) = self.device_memory {
             ctx.device_memory = Some(ctx.device_memory.map_or(budget, |available| available.min(budget)));
         }

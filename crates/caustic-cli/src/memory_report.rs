@@ -3,6 +3,7 @@
 
 use crate::render::AdapterReport;
 use caustic_gpu::memory::{DeviceMemory, byte_size, peak_host_bytes, scene_host_bytes};
+use caustic_gpu::pages::PagedArray;
 use caustic_gpu::{GpuContext, PreparedScene};
 use caustic_scene::Scene;
 use serde::Serialize;
@@ -24,6 +25,11 @@ pub struct MemoryReport {
     host_prepared: u64,
     /// The most memory the process has held so far (`VmHWM`), where the system says.
     host_peak: Option<u64>,
+    /// The bindings (pages) each array that may span several takes on this device
+    /// ([`caustic_gpu::pages`]): 1 where it fits one.
+    bindings: BTreeMap<&'static str, u32>,
+    /// The device's largest storage binding, in bytes.
+    largest_binding: u64,
 }
 
 impl MemoryReport {
@@ -31,7 +37,10 @@ impl MemoryReport {
     /// read now.
     pub fn new(ctx: &GpuContext, scene: &Scene, prepared: &PreparedScene) -> MemoryReport {
         let device = prepared.device_memory();
+        let paging = prepared.paging(ctx).unwrap_or_default();
         MemoryReport {
+            bindings: PagedArray::ALL.iter().map(|&array| (memory_kind(array), paging.split(array).pages)).collect(),
+            largest_binding: ctx.max_storage_binding(),
             device: device.kinds().into_iter().collect(),
             device_total: device.total(),
             device_available: ctx.device_memory,
@@ -51,7 +60,13 @@ impl MemoryReport {
     /// and the host's figures.
     pub fn lines(&self, device: &DeviceMemory) -> Vec<String> {
         let mut lines = vec!["device memory:".to_string()];
-        lines.extend(device.kinds().iter().map(|(kind, bytes)| format!("  {kind:<22}{:>12}", byte_size(*bytes))));
+        lines.extend(device.kinds().iter().map(|(kind, bytes)| {
+            let pages = match self.bindings.get(kind) {
+                Some(&pages) if pages > 1 => format!(" in {pages} bindings of at most {}", byte_size(self.largest_binding)),
+                _ => String::new(),
+            };
+            format!("  {kind:<22}{:>12}{pages}", byte_size(*bytes))
+        }));
         let available = match self.device_available {
             Some(available) => format!(" of {} available", byte_size(available)),
             None => " (this device does not say how much it has)".to_string(),
@@ -60,6 +75,16 @@ impl MemoryReport {
         let peak = self.host_peak.map_or_else(String::new, |peak| format!(", process peak so far {}", byte_size(peak)));
         lines.push(format!("host memory: scene {}, BVH and buffer contents {}{peak}", byte_size(self.host_scene), byte_size(self.host_prepared)));
         lines
+    }
+}
+
+/// The [`DeviceMemory`] kind a paged array counts under.
+fn memory_kind(array: PagedArray) -> &'static str {
+    match array {
+        PagedArray::Nodes => "bvh_nodes",
+        PagedArray::Triangles => "triangles",
+        PagedArray::Shading => "shading",
+        PagedArray::Textures => "textures",
     }
 }
 
@@ -116,4 +141,17 @@ pub fn dry_run(ctx: &GpuContext, scene: &Scene, json: bool) -> anyhow::Result<()
         println!("{}", serde_json::to_string(&report)?);
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_paged_array_counts_under_a_memory_kind() {
+        let kinds = DeviceMemory::default().kinds().map(|(kind, _)| kind);
+        for array in PagedArray::ALL {
+            assert!(kinds.contains(&memory_kind(array)), "{array:?}");
+        }
+    }
 }

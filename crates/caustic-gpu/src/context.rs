@@ -47,13 +47,22 @@ impl GpuContext {
     /// Opens a device on the adapter whose name contains `wanted` (case-insensitive), or on the
     /// best adapter present (discrete, integrated, virtual, then CPU) when `wanted` is `None`.
     pub fn new(wanted: Option<&str>) -> Result<GpuContext, GpuError> {
+        GpuContext::with_limits(wanted, |_| {})
+    }
+
+    /// [`GpuContext::new`] with the adapter's limits as `lower` changes them (it may only lower
+    /// them): to see how a scene fits a device with smaller limits (`caustic render
+    /// --storage-binding`), and for the limit tests.
+    pub fn with_limits(wanted: Option<&str>, lower: impl FnOnce(&mut wgpu::Limits)) -> Result<GpuContext, GpuError> {
         let instance =
             wgpu::Instance::new(wgpu::InstanceDescriptor { backends: wgpu::Backends::VULKAN, ..wgpu::InstanceDescriptor::new_without_display_handle() });
         let adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::VULKAN));
         let adapter = GpuContext::choose_adapter(adapters, wanted)?;
         let info = adapter.get_info();
-        let (device, queue) = pollster::block_on(adapter.request_device(&GpuContext::device_descriptor(&adapter)))
-            .map_err(|e| GpuError::Device { adapter: info.name.clone(), message: e.to_string() })?;
+        let mut descriptor = GpuContext::device_descriptor(&adapter);
+        lower(&mut descriptor.required_limits);
+        let (device, queue) =
+            pollster::block_on(adapter.request_device(&descriptor)).map_err(|e| GpuError::Device { adapter: info.name.clone(), message: e.to_string() })?;
         Ok(GpuContext::from_parts(device, queue, &info))
     }
 

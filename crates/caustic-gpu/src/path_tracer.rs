@@ -69,6 +69,7 @@ pub struct PathTracer<'a> {
 impl<'a> PathTracer<'a> {
     /// Compiles the kernel and allocates the accumulation buffers for `scene`'s camera and size.
     pub fn new(ctx: &'a GpuContext, scene: &Scene, gpu: &GpuScene, settings: &RenderSettings) -> Result<Self, GpuError> {
+        fixed_bindings_fit(ctx)?;
         let film = Film::new(ctx, scene.resolution)?;
         let frame = frame_constants(scene, gpu, settings);
         let device = &ctx.device;
@@ -561,6 +562,18 @@ fn weighted_mean(sum: [f32; 4]) -> [f32; 4] {
         return [0.0, 0.0, 0.0, 1.0];
     }
     [sum[0] / sum[3], sum[1] / sum[3], sum[2] / sum[3], 1.0]
+}
+
+/// Fails when one of the integrators' buffers of fixed size (the frame constants, the pixel
+/// inspector's record) is larger than the device's largest storage binding: only a device
+/// opened with a binding far below any real one's (`--storage-binding`) has such a limit.
+fn fixed_bindings_fit(ctx: &GpuContext) -> Result<(), GpuError> {
+    let limit = ctx.max_storage_binding();
+    let fixed = [("the frame constants", std::mem::size_of::<Frame>()), ("the pixel inspector's record", std::mem::size_of::<InspectRecord>())];
+    match fixed.into_iter().find(|&(_, bytes)| bytes as u64 > limit) {
+        Some((what, bytes)) => Err(GpuError::Limit { what: what.to_string(), need: bytes as u64, limit }),
+        None => Ok(()),
+    }
 }
 
 /// Bindings of `shaders/integrator/bindings.wgsl` and `shaders/bvh/bindings.wgsl`, shared by

@@ -16,13 +16,7 @@ const SMALL_BINDING: u64 = 64 * 1024;
 
 /// A device on the chosen adapter with the adapter's limits as `lower` changes them.
 fn device_with(lower: impl FnOnce(&mut wgpu::Limits)) -> GpuContext {
-    let instance = wgpu::Instance::new(wgpu::InstanceDescriptor { backends: wgpu::Backends::VULKAN, ..wgpu::InstanceDescriptor::new_without_display_handle() });
-    let adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::VULKAN));
-    let adapter = GpuContext::choose_adapter(adapters, std::env::var("CAUSTIC_ADAPTER").ok().as_deref()).expect("adapter");
-    let mut descriptor = GpuContext::device_descriptor(&adapter);
-    lower(&mut descriptor.required_limits);
-    let (device, queue) = pollster::block_on(adapter.request_device(&descriptor)).expect("device with lowered limits");
-    GpuContext::from_parts(device, queue, &adapter.get_info())
+    GpuContext::with_limits(std::env::var("CAUSTIC_ADAPTER").ok().as_deref(), lower).expect("device with lowered limits")
 }
 
 /// A device whose storage bindings hold at most [`SMALL_BINDING`] bytes.
