@@ -105,10 +105,12 @@ fn bsdf_json(bsdf: &BsdfRecord) -> Value {
     json!({ "direction": vec3(bsdf.wi), "pdf": num(bsdf.pdf), "weight": vec3(bsdf.weight) })
 }
 
-/// The name of the mesh holding scene triangle `triangle`.
+/// The name of the mesh holding scene triangle `triangle`: the world's meshes number their
+/// triangles first, then the instanced meshes (prototypes) theirs, as the device's triangle
+/// ids do.
 fn mesh_of(scene: &Scene, triangle: u32) -> Option<&str> {
     let mut first = 0usize;
-    for mesh in &scene.meshes {
+    for mesh in scene.meshes.iter().chain(&scene.prototypes) {
         let end = first + mesh.triangle_count();
         if (triangle as usize) < end {
             return Some(&mesh.name);
@@ -158,5 +160,22 @@ fn write_json(value: &Value, indent: usize, out: &mut String) {
             out.push_str(&format!("[{}]", items.join(", ")));
         }
         scalar => out.push_str(&scalar.to_string()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use caustic_scene::Mesh;
+
+    fn mesh(name: &str, triangles: usize) -> Mesh {
+        Mesh { name: name.into(), positions: vec![Vec3::ZERO; 3], indices: vec![[0, 1, 2]; triangles], ..Mesh::default() }
+    }
+
+    #[test]
+    fn triangles_are_named_by_their_mesh_world_first_then_prototypes() {
+        let scene = Scene { meshes: vec![mesh("floor", 2), mesh("wall", 1)], prototypes: vec![mesh("dragon", 3)], ..caustic_scene::cornell_box() };
+        let names: Vec<_> = (0..7).map(|t| mesh_of(&scene, t)).collect();
+        assert_eq!(names, [Some("floor"), Some("floor"), Some("wall"), Some("dragon"), Some("dragon"), Some("dragon"), None]);
     }
 }

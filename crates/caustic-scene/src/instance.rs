@@ -41,6 +41,17 @@ impl Instance {
         self.object_to_world.determinant() < 0.0
     }
 
+    /// A world-space copy of `prototype` (this instance's mesh) as the instance places it:
+    /// transformed, named, moving and in the material the instance gives it.
+    pub fn placed(&self, prototype: &Mesh) -> Mesh {
+        let mut placed = prototype.clone();
+        placed.transform(self.object_to_world);
+        placed.name = self.name.clone();
+        placed.motion = self.motion;
+        placed.material = self.material.unwrap_or(placed.material);
+        placed
+    }
+
     /// Checks that the prototype exists and the transform is finite and invertible, naming
     /// the instance.
     pub fn validate(&self, index: usize, prototype_count: usize, material_count: usize) -> Result<(), SceneError> {
@@ -68,12 +79,7 @@ impl Instance {
 pub fn flatten_instances(scene: &mut crate::Scene) {
     let prototypes = std::mem::take(&mut scene.prototypes);
     for instance in std::mem::take(&mut scene.instances) {
-        let mut placed = prototypes[instance.prototype as usize].clone();
-        placed.transform(instance.object_to_world);
-        placed.name = instance.name;
-        placed.motion = instance.motion;
-        placed.material = instance.material.unwrap_or(placed.material);
-        scene.meshes.push(placed);
+        scene.meshes.push(instance.placed(&prototypes[instance.prototype as usize]));
     }
 }
 

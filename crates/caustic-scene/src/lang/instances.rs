@@ -119,12 +119,7 @@ impl Interpreter {
                     return a.fail(format!("more than {} triangles", super::interpreter::MAX_TRIANGLES));
                 }
                 w.triangles += mesh.triangle_count();
-                let mut copy = mesh.clone();
-                copy.transform(instance.object_to_world);
-                copy.name = instance.name.clone();
-                copy.motion = instance.motion;
-                copy.material = instance.material.unwrap_or(copy.material);
-                w.scene.meshes.push(copy);
+                w.scene.meshes.push(instance.placed(mesh));
                 w.open = None;
             } else {
                 w.scene.instances.push(instance);
