@@ -4,7 +4,7 @@
 //! Everything here works on a node's slice of the global index array and reorders it
 //! in place, so a finished build needs no gather step.
 
-use glam::Vec3;
+use glam::{Vec3, Vec3A};
 use rayon::prelude::*;
 
 use crate::aabb::Aabb;
@@ -15,11 +15,18 @@ pub const MAX_BINS: usize = 64;
 /// Primitives per rayon task when summarising or binning a large node in parallel.
 const PARALLEL_CHUNK: usize = 1024;
 
-/// Per-triangle data the builder reads: bounds for node boxes, centroids for binning.
+/// Per-triangle data the builder reads: bounds for node boxes, and their centres for
+/// binning (computed where read: one array to gather from instead of two).
 #[derive(Clone, Copy)]
 pub(crate) struct Prims<'a> {
     pub bounds: &'a [Aabb],
-    pub centroids: &'a [Vec3],
+}
+
+impl Prims<'_> {
+    /// The centroid of primitive `i`'s bounds.
+    fn centroid(&self, i: u32) -> Vec3 {
+        self.bounds[i as usize].centroid()
+    }
 }
 
 /// The bounds of a node's triangles and of their centroids.
@@ -42,7 +49,7 @@ pub(crate) fn summarize(prims: Prims, indices: &[u32], parallel: bool) -> Summar
     let sequential = |chunk: &[u32]| {
         chunk.iter().fold(Summary::EMPTY, |mut s, &i| {
             s.bounds = s.bounds.union(&prims.bounds[i as usize]);
-            s.centroids.grow(prims.centroids[i as usize]);
+            s.centroids.grow(prims.centroid(i));
             s
         })
     };
@@ -71,38 +78,58 @@ impl Binning {
         let position = (centroid[axis] - self.origin[axis]) * self.scale[axis];
         (position as usize).min(self.bins - 1)
     }
+
+    /// The bins of `centroid` on the three axes: [`Binning::bin`]'s arithmetic, lane by lane.
+    fn bins(&self, centroid: Vec3A) -> [usize; 3] {
+        let position = (centroid - Vec3A::from(self.origin)) * Vec3A::from(self.scale);
+        [0, 1, 2].map(|axis| (position[axis] as usize).min(self.bins - 1))
+    }
 }
 
-/// Triangle count and bounds accumulated in one bin.
+/// Triangle count and bounds accumulated in one bin, the corners in SIMD lanes (binning
+/// grows three bins per primitive).
 #[derive(Clone, Copy)]
 struct Bin {
-    bounds: Aabb,
+    min: Vec3A,
+    max: Vec3A,
     count: u32,
 }
 
-/// One row of bins per axis.
+impl Bin {
+    const EMPTY: Bin = Bin { min: Vec3A::splat(f32::MAX), max: Vec3A::splat(-f32::MAX), count: 0 };
+
+    fn bounds(&self) -> Aabb {
+        Aabb { min: self.min.into(), max: self.max.into() }
+    }
+}
+
+/// One row of `B` bins per axis, on the stack: sized to the bins in use (a node's grid is
+/// filled and swept for every interior node, so its size is paid millions of times).
 #[derive(Clone, Copy)]
-struct BinGrid([[Bin; MAX_BINS]; 3]);
+struct BinGrid<const B: usize>([[Bin; B]; 3]);
 
-impl BinGrid {
-    const EMPTY: BinGrid = BinGrid([[Bin { bounds: Aabb::empty(), count: 0 }; MAX_BINS]; 3]);
+impl<const B: usize> BinGrid<B> {
+    const EMPTY: BinGrid<B> = BinGrid([[Bin::EMPTY; B]; 3]);
 
-    fn fill(mut self, prims: Prims, indices: &[u32], binning: &Binning) -> BinGrid {
+    fn fill(&mut self, prims: Prims, indices: &[u32], binning: &Binning) {
         for &i in indices {
-            let centroid = prims.centroids[i as usize];
-            for axis in 0..3 {
-                let bin = &mut self.0[axis][binning.bin(centroid, axis)];
-                bin.bounds = bin.bounds.union(&prims.bounds[i as usize]);
+            let bounds = &prims.bounds[i as usize];
+            let bins = binning.bins(bounds.centroid().into());
+            let (min, max) = (Vec3A::from(bounds.min), Vec3A::from(bounds.max));
+            for (row, bin) in self.0.iter_mut().zip(bins) {
+                let bin = &mut row[bin];
+                bin.min = bin.min.min(min);
+                bin.max = bin.max.max(max);
                 bin.count += 1;
             }
         }
-        self
     }
 
-    fn merge(mut self, other: BinGrid) -> BinGrid {
+    fn merge(mut self, other: BinGrid<B>) -> BinGrid<B> {
         for (row, other_row) in self.0.iter_mut().zip(&other.0) {
             for (bin, other_bin) in row.iter_mut().zip(other_row) {
-                bin.bounds = bin.bounds.union(&other_bin.bounds);
+                bin.min = bin.min.min(other_bin.min);
+                bin.max = bin.max.max(other_bin.max);
                 bin.count += other_bin.count;
             }
         }
@@ -118,55 +145,73 @@ pub(crate) struct BinnedSplit {
     binning: Binning,
     /// `area(left) * count(left) + area(right) * count(right)`, the unscaled SAH term.
     pub weighted_area: f32,
+    /// The bounds of the primitives on each side (the union of their bins): the children's
+    /// bounds, known before the partition.
+    sides: [Aabb; 2],
 }
 
 /// The cheapest binned SAH split of `indices` over all axes with centroid extent,
 /// or `None` when every centroid coincides (nothing to separate).
 pub(crate) fn best_binned_split(prims: Prims, indices: &[u32], centroids: &Aabb, bins: usize, parallel: bool) -> Option<BinnedSplit> {
+    match bins {
+        0..=8 => best_split_in::<8>(prims, indices, centroids, bins, parallel),
+        9..=16 => best_split_in::<16>(prims, indices, centroids, bins, parallel),
+        17..=32 => best_split_in::<32>(prims, indices, centroids, bins, parallel),
+        _ => best_split_in::<MAX_BINS>(prims, indices, centroids, bins, parallel),
+    }
+}
+
+/// [`best_binned_split`] with a grid of `B >= bins` bins per axis.
+fn best_split_in<const B: usize>(prims: Prims, indices: &[u32], centroids: &Aabb, bins: usize, parallel: bool) -> Option<BinnedSplit> {
     let binning = Binning::new(centroids, bins);
-    let grid = if parallel {
-        indices.par_chunks(PARALLEL_CHUNK).map(|chunk| BinGrid::EMPTY.fill(prims, chunk, &binning)).reduce(|| BinGrid::EMPTY, BinGrid::merge)
-    } else {
-        BinGrid::EMPTY.fill(prims, indices, &binning)
+    let filled = |chunk: &[u32]| {
+        let mut grid = BinGrid::<B>::EMPTY;
+        grid.fill(prims, chunk, &binning);
+        grid
     };
+    let grid = if parallel { indices.par_chunks(PARALLEL_CHUNK).map(filled).reduce(|| BinGrid::EMPTY, BinGrid::merge) } else { filled(indices) };
     (0..3)
         .filter(|&axis| binning.scale[axis] > 0.0)
         .filter_map(|axis| {
-            let (bin, weighted_area) = sweep(&grid.0[axis][..bins])?;
-            Some(BinnedSplit { axis, bin, binning, weighted_area })
+            let (bin, weighted_area, sides) = sweep::<B>(&grid.0[axis][..bins])?;
+            Some(BinnedSplit { axis, bin, binning, weighted_area, sides })
         })
         .min_by(|a, b| a.weighted_area.total_cmp(&b.weighted_area))
 }
 
-/// Sweeps the planes between bins of one axis and returns the best `(last left bin, cost)`,
-/// skipping planes with an empty side.
-fn sweep(bins: &[Bin]) -> Option<(usize, f32)> {
+/// Sweeps the planes between bins of one axis and returns the best `(last left bin, cost,
+/// [left bounds, right bounds])`, skipping planes with an empty side.
+fn sweep<const B: usize>(bins: &[Bin]) -> Option<(usize, f32, [Aabb; 2])> {
     let planes = bins.len() - 1;
-    let mut left_area = [0.0f32; MAX_BINS];
-    let mut left_count = [0u32; MAX_BINS];
-    let mut bounds = Aabb::empty();
-    let mut count = 0;
+    let mut left_area = [0.0f32; B];
+    let mut left_count = [0u32; B];
+    let mut bounds = Bin::EMPTY;
     for (i, bin) in bins[..planes].iter().enumerate() {
-        bounds = bounds.union(&bin.bounds);
-        count += bin.count;
-        left_area[i] = bounds.surface_area();
-        left_count[i] = count;
+        bounds = grown(bounds, bin);
+        left_area[i] = bounds.bounds().surface_area();
+        left_count[i] = bounds.count;
     }
-    let mut best: Option<(usize, f32)> = None;
-    bounds = Aabb::empty();
-    count = 0;
+    let mut best: Option<(usize, f32, Aabb)> = None;
+    bounds = Bin::EMPTY;
     for plane in (0..planes).rev() {
-        bounds = bounds.union(&bins[plane + 1].bounds);
-        count += bins[plane + 1].count;
-        if count == 0 || left_count[plane] == 0 {
+        bounds = grown(bounds, &bins[plane + 1]);
+        if bounds.count == 0 || left_count[plane] == 0 {
             continue;
         }
-        let cost = left_area[plane] * left_count[plane] as f32 + bounds.surface_area() * count as f32;
-        if best.is_none_or(|(_, best_cost)| cost < best_cost) {
-            best = Some((plane, cost));
+        let right = bounds.bounds();
+        let cost = left_area[plane] * left_count[plane] as f32 + right.surface_area() * bounds.count as f32;
+        if best.is_none_or(|(_, best_cost, _)| cost < best_cost) {
+            best = Some((plane, cost, right));
         }
     }
-    best
+    let (plane, cost, right) = best?;
+    let left = bins[..=plane].iter().fold(Bin::EMPTY, grown).bounds();
+    Some((plane, cost, [left, right]))
+}
+
+/// `sum` with `bin`'s bounds and count added.
+fn grown(sum: Bin, bin: &Bin) -> Bin {
+    Bin { min: sum.min.min(bin.min), max: sum.max.max(bin.max), count: sum.count + bin.count }
 }
 
 /// A split found by sweeping every primitive boundary of one axis (exact SAH, no bins).
@@ -217,24 +262,29 @@ pub(crate) fn partition_sweep(prims: Prims, indices: &mut [u32], split: &SweepSp
 
 fn sort_by_centroid(prims: Prims, indices: &mut [u32], axis: usize) {
     indices.sort_unstable_by(|&a, &b| {
-        let (ca, cb) = (prims.centroids[a as usize][axis], prims.centroids[b as usize][axis]);
+        let (ca, cb) = (prims.centroid(a)[axis], prims.centroid(b)[axis]);
         ca.total_cmp(&cb).then(a.cmp(&b))
     });
 }
 
-/// Reorders `indices` so the left side of `split` comes first; returns the left size.
-pub(crate) fn partition_binned(prims: Prims, indices: &mut [u32], split: &BinnedSplit) -> usize {
-    let goes_left = |i: u32| split.binning.bin(prims.centroids[i as usize], split.axis) <= split.bin;
+/// Reorders `indices` so the left side of `split` comes first; returns the left size and
+/// the two sides' summaries (bounds from the bins, centroid bounds gathered on the way).
+pub(crate) fn partition_binned(prims: Prims, indices: &mut [u32], split: &BinnedSplit) -> (usize, [Summary; 2]) {
     let (mut left, mut right) = (0, indices.len());
+    let (mut left_centroids, mut right_centroids) = (Aabb::empty(), Aabb::empty());
     while left < right {
-        if goes_left(indices[left]) {
+        let centroid = prims.centroid(indices[left]);
+        if split.binning.bin(centroid, split.axis) <= split.bin {
+            left_centroids.grow(centroid);
             left += 1;
         } else {
+            right_centroids.grow(centroid);
             right -= 1;
             indices.swap(left, right);
         }
     }
-    left
+    let [left_bounds, right_bounds] = split.sides;
+    (left, [Summary { bounds: left_bounds, centroids: left_centroids }, Summary { bounds: right_bounds, centroids: right_centroids }])
 }
 
 /// Reorders `indices` so the centroids below the middle of the widest centroid axis come
@@ -245,7 +295,7 @@ pub(crate) fn partition_midpoint(prims: Prims, indices: &mut [u32], centroids: &
     let middle = centroids.centroid()[axis];
     let (mut left, mut right) = (0, indices.len());
     while left < right {
-        if prims.centroids[indices[left] as usize][axis] < middle {
+        if prims.centroid(indices[left])[axis] < middle {
             left += 1;
         } else {
             right -= 1;
@@ -273,7 +323,7 @@ fn widest_axis(bounds: &Aabb) -> usize {
 pub(crate) fn partition_median(prims: Prims, indices: &mut [u32], centroids: &Aabb) -> usize {
     let axis = widest_axis(centroids);
     let mid = indices.len() / 2;
-    indices.select_nth_unstable_by(mid, |&a, &b| prims.centroids[a as usize][axis].total_cmp(&prims.centroids[b as usize][axis]));
+    indices.select_nth_unstable_by(mid, |&a, &b| prims.centroid(a)[axis].total_cmp(&prims.centroid(b)[axis]));
     mid
 }
 
@@ -281,34 +331,35 @@ pub(crate) fn partition_median(prims: Prims, indices: &mut [u32], centroids: &Aa
 mod tests {
     use super::*;
 
-    fn line_of_boxes(n: usize) -> (Vec<Aabb>, Vec<Vec3>) {
-        let bounds: Vec<Aabb> = (0..n).map(|i| Aabb { min: Vec3::new(i as f32, 0.0, 0.0), max: Vec3::new(i as f32 + 0.5, 1.0, 1.0) }).collect();
-        let centroids = bounds.iter().map(Aabb::centroid).collect();
-        (bounds, centroids)
+    fn line_of_boxes(n: usize) -> Vec<Aabb> {
+        (0..n).map(|i| Aabb { min: Vec3::new(i as f32, 0.0, 0.0), max: Vec3::new(i as f32 + 0.5, 1.0, 1.0) }).collect()
     }
 
     #[test]
     fn binned_split_separates_two_clusters_and_partition_matches() {
-        let (mut bounds, mut centroids) = line_of_boxes(8);
-        for i in 4..8 {
-            bounds[i].min.x += 100.0;
-            bounds[i].max.x += 100.0;
-            centroids[i].x += 100.0;
+        let mut bounds = line_of_boxes(8);
+        for b in &mut bounds[4..] {
+            b.min.x += 100.0;
+            b.max.x += 100.0;
         }
-        let prims = Prims { bounds: &bounds, centroids: &centroids };
+        let prims = Prims { bounds: &bounds };
         let mut indices: Vec<u32> = (0..8).rev().collect();
         let summary = summarize(prims, &indices, false);
         let split = best_binned_split(prims, &indices, &summary.centroids, 16, false).unwrap();
         assert_eq!(split.axis, 0);
-        let mid = partition_binned(prims, &mut indices, &split);
+        let (mid, sides) = partition_binned(prims, &mut indices, &split);
         assert_eq!(mid, 4);
         assert!(indices[..mid].iter().all(|&i| i < 4));
+        for (side, ids) in sides.iter().zip([&indices[..mid], &indices[mid..]]) {
+            let direct = summarize(prims, ids, false);
+            assert_eq!((side.bounds, side.centroids), (direct.bounds, direct.centroids), "the sides' summaries are their primitives' bounds");
+        }
     }
 
     #[test]
     fn parallel_and_sequential_binning_agree() {
-        let (bounds, centroids) = line_of_boxes(5000);
-        let prims = Prims { bounds: &bounds, centroids: &centroids };
+        let bounds = line_of_boxes(5000);
+        let prims = Prims { bounds: &bounds };
         let indices: Vec<u32> = (0..5000).collect();
         let a = summarize(prims, &indices, false);
         let b = summarize(prims, &indices, true);
@@ -335,8 +386,7 @@ mod tests {
                     b
                 })
                 .collect();
-            let centroids: Vec<Vec3> = bounds.iter().map(Aabb::centroid).collect();
-            let prims = Prims { bounds: &bounds, centroids: &centroids };
+            let prims = Prims { bounds: &bounds };
             let mut indices: Vec<u32> = (0..48).collect();
             let summary = summarize(prims, &indices, false);
             let binned = best_binned_split(prims, &indices, &summary.centroids, 16, false).unwrap();
@@ -351,8 +401,9 @@ mod tests {
 
     #[test]
     fn midpoint_splits_at_the_middle_of_the_centroid_bounds() {
-        let (bounds, centroids) = line_of_boxes(10);
-        let prims = Prims { bounds: &bounds, centroids: &centroids };
+        let bounds = line_of_boxes(10);
+        let centroids: Vec<Vec3> = bounds.iter().map(Aabb::centroid).collect();
+        let prims = Prims { bounds: &bounds };
         let mut indices: Vec<u32> = (0..10).rev().collect();
         let summary = summarize(prims, &indices, false);
         let middle = summary.centroids.centroid().x;
@@ -365,8 +416,7 @@ mod tests {
     #[test]
     fn coincident_centroids_have_no_binned_split_but_split_by_median() {
         let bounds = vec![Aabb { min: Vec3::ZERO, max: Vec3::ONE }; 7];
-        let centroids = vec![Vec3::splat(0.5); 7];
-        let prims = Prims { bounds: &bounds, centroids: &centroids };
+        let prims = Prims { bounds: &bounds };
         let mut indices: Vec<u32> = (0..7).collect();
         let summary = summarize(prims, &indices, false);
         assert!(best_binned_split(prims, &indices, &summary.centroids, 16, false).is_none());
