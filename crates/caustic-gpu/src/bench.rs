@@ -255,7 +255,9 @@ impl<'a> RayBench<'a> {
         // instance tests (and only such a scene has the packet walk).
         let constants = [("SCENE_REQUIRES", f64::from(geometry))];
         let pipeline = |entry: &str| ctx.compute_pipeline_with(&pipeline_layout, &module, entry, &constants);
-        let mut entries = gpu.paging.bind_entries(&[(PagedArray::Nodes, &gpu.nodes), (PagedArray::Triangles, &gpu.triangles)]);
+        let paged = [(PagedArray::Nodes, &gpu.nodes[..]), (PagedArray::Triangles, &gpu.triangles[..])];
+        let buffer_arrays = gpu.paging.buffer_arrays(&paged);
+        let mut entries = gpu.paging.bind_entries(&paged, &buffer_arrays);
         entries.extend([
             wgpu::BindGroupEntry { binding: 0, resource: params.as_entire_binding() },
             wgpu::BindGroupEntry { binding: 3, resource: rays_buffer.as_entire_binding() },

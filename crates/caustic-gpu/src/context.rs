@@ -85,13 +85,14 @@ impl GpuContext {
     }
 
     /// The device Caustic asks an adapter for: subgroup operations (the ray bench's packet
-    /// walk, `shaders/bench/packet.wgsl`) and 64-bit integers (wide nodes read with 64-bit
-    /// loads, `shaders/bvh/wide_nodes_64.wgsl`) where the adapter has them, and the adapter's own
+    /// walk, `shaders/bench/packet.wgsl`), 64-bit integers (wide nodes read with 64-bit
+    /// loads, `shaders/bvh/wide_nodes_64.wgsl`) and binding arrays of storage buffers (pages
+    /// of very large scenes, [`crate::pages`]) where the adapter has them, and the adapter's own
     /// limits (not wgpu's conservative defaults), so large scenes fit in storage bindings.
     pub fn device_descriptor(adapter: &wgpu::Adapter) -> wgpu::DeviceDescriptor<'static> {
         wgpu::DeviceDescriptor {
             label: Some("caustic"),
-            required_features: adapter.features() & (wgpu::Features::SUBGROUP | wgpu::Features::SHADER_INT64),
+            required_features: adapter.features() & (wgpu::Features::SUBGROUP | wgpu::Features::SHADER_INT64 | crate::pages::BINDING_ARRAY_FEATURES),
             required_limits: adapter.limits(),
             ..Default::default()
         }

@@ -4,7 +4,9 @@
 //! binding ([`crate::bindings`]), the others are bound past the integrators' bindings, and the
 //! kernels read a paged array through a generated accessor that picks the page. A scene whose
 //! arrays each fit one binding compiles the program unchanged, so the limit on a scene is the
-//! device's memory, not one binding.
+//! device's memory, not one binding. Where the pages would need more storage buffers than a
+//! shader stage may bind (48 on lavapipe), each array's extra pages are bound as one binding
+//! array instead ([`PageBinding::Arrays`]), on devices that have them.
 
 use crate::bake::replace_reads;
 use crate::bindings::{self, Binding};
@@ -87,16 +89,41 @@ impl Split {
     }
 }
 
+/// How the pages past each array's first are bound.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum PageBinding {
+    /// One storage binding per page: every device has them, but they count against the
+    /// storage buffers a shader stage may bind.
+    #[default]
+    Buffers,
+    /// One binding array per paged array (`binding_array<...>`, indexed per lane), for scenes
+    /// whose pages pass the storage buffers per stage; needs the device's binding arrays of
+    /// storage buffers ([`binding_arrays_supported`]).
+    Arrays,
+}
+
+/// The device features binding arrays of storage buffers indexed per lane need; requested
+/// where the adapter has them ([`crate::GpuContext::device_descriptor`]).
+pub const BINDING_ARRAY_FEATURES: wgpu::Features = wgpu::Features::BUFFER_BINDING_ARRAY
+    .union(wgpu::Features::STORAGE_RESOURCE_BINDING_ARRAY)
+    .union(wgpu::Features::SAMPLED_TEXTURE_AND_STORAGE_BUFFER_ARRAY_NON_UNIFORM_INDEXING);
+
+/// Whether `ctx`'s device can bind pages as binding arrays ([`PageBinding::Arrays`]).
+pub fn binding_arrays_supported(ctx: &GpuContext) -> bool {
+    ctx.device.features().contains(BINDING_ARRAY_FEATURES) && ctx.limits.max_binding_array_elements_per_shader_stage > 0
+}
+
 /// The pages of a scene's four paged arrays; part of the [`crate::kernel::Kernel`], since
 /// a paged array's reads are compiled for its page size.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Paging {
     splits: [Split; 4],
+    binding: PageBinding,
 }
 
 impl Default for Paging {
     fn default() -> Paging {
-        Paging { splits: [Split::WHOLE; 4] }
+        Paging { splits: [Split::WHOLE; 4], binding: PageBinding::Buffers }
     }
 }
 
@@ -130,7 +157,47 @@ impl Paging {
             let pages = u32::try_from(extent.bytes.div_ceil(page_bytes)).expect("fewer pages than elements");
             *split = Split { pages, page_bytes, read_stride: extent.read_stride };
         }
-        Ok(Paging { splits })
+        Ok(Paging { splits, binding: PageBinding::Buffers })
+    }
+
+    /// This paging with its extra pages bound as `binding`.
+    pub fn bound_as(self, binding: PageBinding) -> Paging {
+        Paging { binding, ..self }
+    }
+
+    /// How the extra pages are bound.
+    pub fn binding(&self) -> PageBinding {
+        self.binding
+    }
+
+    /// The paging a pipeline binding `base_storage` storage buffers besides the pages can use
+    /// on `ctx`'s device: pages as storage buffers where they fit the storage buffers per
+    /// shader stage, else as binding arrays where the device has them and their elements
+    /// fit. Fails naming the pages and the limits when neither fits.
+    pub fn fit(self, ctx: &GpuContext, base_storage: u32) -> Result<Paging, GpuError> {
+        let extra = self.extra_pages().len() as u32;
+        let allowed = ctx.limits.max_storage_buffers_per_shader_stage;
+        if base_storage + extra <= allowed {
+            return Ok(self.bound_as(PageBinding::Buffers));
+        }
+        let elements = ctx.limits.max_binding_array_elements_per_shader_stage;
+        if binding_arrays_supported(ctx) && extra <= elements {
+            return Ok(self.bound_as(PageBinding::Arrays));
+        }
+        let pages: Vec<String> =
+            PagedArray::ALL.iter().filter(|&&a| self.split(a).pages > 1).map(|&a| format!("{} in {} pages", a.label(), self.split(a).pages)).collect();
+        let arrays = if binding_arrays_supported(ctx) {
+            format!("binding arrays of at most {elements} elements (max_binding_array_elements_per_shader_stage)")
+        } else {
+            "no binding arrays of storage buffers".to_string()
+        };
+        Err(GpuError::Scene(format!(
+            "the scene needs {} storage bindings ({}, of at most {} each), but this device allows {allowed} per shader stage \
+             (max_storage_buffers_per_shader_stage) and has {arrays}: render a smaller scene, or use a device with larger or more bindings",
+            base_storage + extra,
+            pages.join(", "),
+            crate::memory::byte_size(ctx.max_storage_binding()),
+        )))
     }
 
     /// How `array` is split.
@@ -150,44 +217,69 @@ impl Paging {
         pages.zip(FIRST_PAGE_BINDING..).map(|((array, page), binding)| (array, page, binding)).collect()
     }
 
-    /// Fails, naming the arrays' pages and the device's limit, when a pipeline binding
-    /// `base_storage` storage buffers besides the extra pages would pass the device's storage
-    /// buffers per shader stage.
-    pub fn check(&self, ctx: &GpuContext, base_storage: u32) -> Result<(), GpuError> {
-        let extra = self.extra_pages().len() as u32;
-        let allowed = ctx.limits.max_storage_buffers_per_shader_stage;
-        if base_storage + extra <= allowed {
-            return Ok(());
-        }
-        let pages: Vec<String> =
-            PagedArray::ALL.iter().filter(|&&a| self.split(a).pages > 1).map(|&a| format!("{} in {} pages", a.label(), self.split(a).pages)).collect();
-        Err(GpuError::Scene(format!(
-            "the scene needs {} storage bindings ({}, of at most {} each), but this device allows {allowed} per shader stage \
-             (max_storage_buffers_per_shader_stage): render a smaller scene, or use a device with larger or more bindings",
-            base_storage + extra,
-            pages.join(", "),
-            crate::memory::byte_size(ctx.max_storage_binding()),
-        )))
+    /// The binding of each paged array's binding array ([`PageBinding::Arrays`]): numbered
+    /// from [`FIRST_PAGE_BINDING`] in [`PagedArray::ALL`]'s order, for the arrays with pages
+    /// past their first.
+    fn array_bindings(&self) -> Vec<(PagedArray, u32)> {
+        let paged = PagedArray::ALL.into_iter().filter(|&a| self.split(a).pages > 1);
+        paged.zip(FIRST_PAGE_BINDING..).collect()
     }
 
-    /// The layout entries of the extra pages of `arrays` (read-only storage, compute).
+    /// The layout entries of the extra pages of `arrays` (read-only storage, compute): one
+    /// per page, or one binding array per array.
     pub fn layout_entries(&self, arrays: &[PagedArray]) -> Vec<wgpu::BindGroupLayoutEntry> {
         let storage = wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Storage { read_only: true }, has_dynamic_offset: false, min_binding_size: None };
-        self.extra_pages()
+        let entry = |binding, count| wgpu::BindGroupLayoutEntry { binding, visibility: wgpu::ShaderStages::COMPUTE, ty: storage, count };
+        match self.binding {
+            PageBinding::Buffers => {
+                self.extra_pages().into_iter().filter(|(array, _, _)| arrays.contains(array)).map(|(_, _, binding)| entry(binding, None)).collect()
+            }
+            PageBinding::Arrays => self
+                .array_bindings()
+                .into_iter()
+                .filter(|(array, _)| arrays.contains(array))
+                .map(|(array, binding)| entry(binding, std::num::NonZeroU32::new(self.split(array).pages - 1)))
+                .collect(),
+        }
+    }
+
+    /// The buffer lists the binding arrays of `arrays` bind ([`PageBinding::Arrays`]; none
+    /// otherwise), kept by the caller for [`Paging::bind_entries`].
+    pub fn buffer_arrays<'a>(&self, arrays: &[(PagedArray, &'a [wgpu::Buffer])]) -> Vec<(u32, Vec<wgpu::BufferBinding<'a>>)> {
+        if self.binding == PageBinding::Buffers {
+            return Vec::new();
+        }
+        let pages = |array| arrays.iter().find(|(a, _)| *a == array).map(|(_, pages)| *pages);
+        self.array_bindings()
             .into_iter()
-            .filter(|(array, _, _)| arrays.contains(array))
-            .map(|(_, _, binding)| wgpu::BindGroupLayoutEntry { binding, visibility: wgpu::ShaderStages::COMPUTE, ty: storage, count: None })
+            .filter_map(|(array, binding)| Some((binding, pages(array)?[1..].iter().map(|b| b.as_entire_buffer_binding()).collect())))
             .collect()
     }
 
     /// The bind group entries of every page of the arrays given with their buffers (one
-    /// buffer per page, as [`crate::GpuScene`] holds them).
-    pub fn bind_entries<'a>(&self, arrays: &[(PagedArray, &'a [wgpu::Buffer])]) -> Vec<wgpu::BindGroupEntry<'a>> {
+    /// buffer per page, as [`crate::GpuScene`] holds them); `buffer_arrays` is
+    /// [`Paging::buffer_arrays`] of the same arrays.
+    pub fn bind_entries<'a>(
+        &self,
+        arrays: &[(PagedArray, &'a [wgpu::Buffer])],
+        buffer_arrays: &'a [(u32, Vec<wgpu::BufferBinding<'a>>)],
+    ) -> Vec<wgpu::BindGroupEntry<'a>> {
         let mut entries: Vec<_> =
             arrays.iter().map(|(array, pages)| wgpu::BindGroupEntry { binding: array.binding().index, resource: pages[0].as_entire_binding() }).collect();
-        for (array, page, binding) in self.extra_pages() {
-            if let Some((_, pages)) = arrays.iter().find(|(a, _)| *a == array) {
-                entries.push(wgpu::BindGroupEntry { binding, resource: pages[page as usize].as_entire_binding() });
+        match self.binding {
+            PageBinding::Buffers => {
+                for (array, page, binding) in self.extra_pages() {
+                    if let Some((_, pages)) = arrays.iter().find(|(a, _)| *a == array) {
+                        entries.push(wgpu::BindGroupEntry { binding, resource: pages[page as usize].as_entire_binding() });
+                    }
+                }
+            }
+            PageBinding::Arrays => {
+                entries.extend(
+                    buffer_arrays
+                        .iter()
+                        .map(|(binding, buffers)| wgpu::BindGroupEntry { binding: *binding, resource: wgpu::BindingResource::BufferArray(buffers) }),
+                );
             }
         }
         entries
@@ -195,7 +287,8 @@ impl Paging {
 
     /// `program` reading each paged array it declares through an accessor that picks the
     /// page: its reads `name[i]` become `name_paged(i)`, and the extra pages' declarations
-    /// and the accessors are appended. Unchanged when nothing is paged.
+    /// and the accessors are appended (after `enable wgpu_binding_array;` at the top for
+    /// [`PageBinding::Arrays`]). Unchanged when nothing is paged.
     pub fn apply(&self, program: &str) -> String {
         let mut source = program.to_string();
         let mut generated = String::new();
@@ -206,12 +299,22 @@ impl Paging {
             }
             let Some(element) = declared_element(program, name) else { continue };
             source = replace_reads(&source, name, &format!("{name}_paged"));
-            generated.push_str(&accessor(*array, name, &element, split, &self.extra_pages()));
+            generated.push_str(&match self.binding {
+                PageBinding::Buffers => accessor(*array, name, &element, split, &self.extra_pages()),
+                PageBinding::Arrays => {
+                    let binding = self.array_bindings().into_iter().find(|(a, _)| a == array).map(|(_, b)| b).expect("a paged array");
+                    array_accessor(name, &element, split, binding)
+                }
+            });
         }
-        if !generated.is_empty() {
-            source.push_str("// ---- generated by crates/caustic-gpu/src/pages.rs: arrays past one binding ----\n");
-            source.push_str(&generated);
+        if generated.is_empty() {
+            return source;
         }
+        if self.binding == PageBinding::Arrays {
+            source.insert_str(0, "enable wgpu_binding_array;\n");
+        }
+        source.push_str("// ---- generated by crates/caustic-gpu/src/pages.rs: arrays past one binding ----\n");
+        source.push_str(&generated);
         source
     }
 }
@@ -240,6 +343,23 @@ fn accessor(array: PagedArray, name: &str, element: &str, split: Split, extra: &
     }
     text.push_str(&format!("fn {name}_paged(i: u32) -> {element} {{\n{body}}}\n"));
     text
+}
+
+/// WGSL declaring the binding array of `name`'s extra pages (at `binding`, each page a
+/// struct around its elements, as binding arrays of storage buffers need) and `name_paged(i)`,
+/// which reads element `i` of the whole array from its page: the first page's binding, or the
+/// binding array indexed by the page (per lane: the index need not be uniform).
+fn array_accessor(name: &str, element: &str, split: Split, binding: u32) -> String {
+    let (per_page, pages) = (split.page_elements(), split.pages - 1);
+    format!(
+        "struct {name}_page {{ items: array<{element}> }}\n\
+         @group(0) @binding({binding}) var<storage, read> {name}_pages: binding_array<{name}_page, {pages}>;\n\
+         fn {name}_paged(i: u32) -> {element} {{\n\
+         \x20   if i < {per_page}u {{ return {name}[i]; }}\n\
+         \x20   let page = i / {per_page}u - 1u;\n\
+         \x20   return {name}_pages[page].items[i - (page + 1u) * {per_page}u];\n\
+         }}\n"
+    )
 }
 
 #[cfg(test)]
@@ -278,5 +398,12 @@ mod tests {
             "    if i < 4u { return bvh_triangles[i]; }\n    if i < 8u { return bvh_triangles_page1[i - 4u]; }\n    return bvh_triangles_page2[i - 8u];\n"
         ));
         assert_eq!(Paging::default().apply(program), program, "nothing paged: the program as it is");
+        let arrays = paging.bound_as(PageBinding::Arrays).apply(program);
+        println!("{arrays}");
+        assert!(arrays.starts_with("enable wgpu_binding_array;\n"));
+        assert!(
+            arrays.contains(&format!("@group(0) @binding({FIRST_PAGE_BINDING}) var<storage, read> bvh_triangles_pages: binding_array<bvh_triangles_page, 2>;"))
+        );
+        assert!(arrays.contains("    let page = i / 4u - 1u;\n    return bvh_triangles_pages[page].items[i - (page + 1u) * 4u];\n"));
     }
 }

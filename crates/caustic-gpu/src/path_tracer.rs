@@ -478,12 +478,14 @@ fn bind_groups(
     queue: &wgpu::Buffer,
 ) -> Vec<wgpu::BindGroup> {
     let bind = |band: &crate::film::FilmBand| {
-        let mut entries = scene.paging.bind_entries(&[
-            (PagedArray::Nodes, &scene.nodes),
-            (PagedArray::Triangles, &scene.triangles),
-            (PagedArray::Shading, &scene.shading),
-            (PagedArray::Textures, &scene.textures),
-        ]);
+        let paged = [
+            (PagedArray::Nodes, &scene.nodes[..]),
+            (PagedArray::Triangles, &scene.triangles[..]),
+            (PagedArray::Shading, &scene.shading[..]),
+            (PagedArray::Textures, &scene.textures[..]),
+        ];
+        let buffer_arrays = scene.paging.buffer_arrays(&paged);
+        let mut entries = scene.paging.bind_entries(&paged, &buffer_arrays);
         entries.extend([
             wgpu::BindGroupEntry { binding: bindings::FRAME.index, resource: frame.as_entire_binding() },
             wgpu::BindGroupEntry { binding: bindings::MATERIALS.index, resource: scene.materials.as_entire_binding() },

@@ -170,7 +170,7 @@ impl PreparedScene {
         if let Some((what, need)) = buffers.into_iter().find(|(_, need)| *need > limit) {
             return Err(GpuError::Limit { what, need, limit });
         }
-        self.paging(ctx)?.check(ctx, PAGED_PIPELINE_BASE_BINDINGS)?;
+        self.paging(ctx)?;
         self.environment.check(ctx)?;
         let memory = self.device_memory();
         match ctx.device_memory {
@@ -186,7 +186,8 @@ impl PreparedScene {
 impl PreparedScene {
     /// The pages the BVH nodes, triangles, shading entries and textures are uploaded in on
     /// `ctx`'s device: one per array that fits the device's largest storage binding, more for
-    /// one that does not ([`crate::pages`]).
+    /// one that does not, bound as storage buffers or binding arrays as the device allows
+    /// ([`crate::pages`]). Fails when the device can bind neither.
     pub fn paging(&self, ctx: &GpuContext) -> Result<Paging, GpuError> {
         let words_64 = self.node_layout() == NodeLayout::Wide && ctx.device.features().contains(wgpu::Features::SHADER_INT64);
         let nodes = match &self.nodes {
@@ -195,7 +196,7 @@ impl PreparedScene {
             NodeContents::WideExact(nodes) => extent(nodes),
         };
         let extents = [nodes, extent(&self.bvh.triangles), extent(&self.data.shading), extent(&self.textures)];
-        Paging::plan(extents, ctx.max_storage_binding())
+        Paging::plan(extents, ctx.max_storage_binding())?.fit(ctx, PAGED_PIPELINE_BASE_BINDINGS)
     }
 }
 

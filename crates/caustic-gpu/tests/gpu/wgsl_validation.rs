@@ -40,11 +40,12 @@ fn every_program_validates_with_the_wide_walk() {
 }
 
 /// Every program with every node layout validates with all four scene arrays split into
-/// pages ([`caustic_gpu::pages`]): the reads go through the generated accessors, which declare
-/// the extra pages at bindings of their own, and no read of a paged array is left unrouted.
+/// pages ([`caustic_gpu::pages`]), bound as storage buffers and as binding arrays: the reads
+/// go through the generated accessors, which declare the extra pages at bindings of their own,
+/// and no read of a paged array is left unrouted.
 #[test]
 fn every_program_validates_with_paged_arrays() {
-    use caustic_gpu::pages::{Extent, FIRST_PAGE_BINDING, PagedArray, Paging};
+    use caustic_gpu::pages::{Extent, FIRST_PAGE_BINDING, PageBinding, PagedArray, Paging};
     let extent = |element: u64, read_stride: u64| Extent { bytes: 100_000, element, read_stride };
     for (layout, words_64) in [
         (caustic_gpu::NodeLayout::Binary, false),
@@ -53,17 +54,18 @@ fn every_program_validates_with_paged_arrays() {
         (caustic_gpu::NodeLayout::WideExact, false),
     ] {
         let node = if layout == caustic_gpu::NodeLayout::WideExact { 112 } else { 64 };
-        let paging = Paging::plan([extent(node, if words_64 { 32 } else { node }), extent(48, 48), extent(80, 80), extent(4, 4)], 30_000).expect("plan");
-        for program in Program::ALL {
+        let planned = Paging::plan([extent(node, if words_64 { 32 } else { node }), extent(48, 48), extent(80, 80), extent(4, 4)], 30_000).expect("plan");
+        for (program, paging) in Program::ALL.into_iter().flat_map(|p| [PageBinding::Buffers, PageBinding::Arrays].map(|b| (p, planned.bound_as(b)))) {
             let source = match caustic_gpu::shaders::wide_walk(layout, words_64) {
                 Some(walk) => program.source_replacing(caustic_gpu::specialize::TRAVERSAL_FILE, &walk),
                 None => program.source(),
             };
             let paged = paging.apply(&source);
-            let module = validate(&format!("{} paged ({layout:?}, 64-bit loads: {words_64})", program.label()), &paged);
+            let binding = paging.binding();
+            let module = validate(&format!("{} paged ({layout:?}, 64-bit loads: {words_64}, {binding:?})", program.label()), &paged);
             let accessors = module.functions.iter().filter(|(_, f)| f.name.as_deref().is_some_and(|n| n.ends_with("_paged"))).count();
             let highest = module.global_variables.iter().filter_map(|(_, v)| v.binding.as_ref().map(|b| b.binding)).max().unwrap_or(0);
-            println!("{} ({layout:?}, 64-bit loads {words_64}): {accessors} paged accessors, bindings up to {highest}", program.label());
+            println!("{} ({layout:?}, 64-bit loads {words_64}, {binding:?}): {accessors} paged accessors, bindings up to {highest}", program.label());
             let declared = PagedArray::ALL.iter().filter(|a| source.contains(&format!("> {}: array<", a.binding().name))).count();
             assert_eq!(accessors, declared, "one accessor per paged array the program declares");
             assert!(highest >= FIRST_PAGE_BINDING, "extra pages bound past the integrators' bindings");
