@@ -259,7 +259,7 @@ impl Builder<'_> {
             return Part::Dense(nodes);
         }
         let mut node = Node { bounds: summary.bounds, ..Node::default() };
-        let Some((mid, [left_summary, right_summary])) = self.split(&mut node, indices, offset, depth, &summary) else {
+        let Some((mid, [left_summary, right_summary])) = self.divide(&mut node, indices, offset, depth, &summary) else {
             return Part::Dense(vec![node]);
         };
         let (left, right) = indices.split_at_mut(mid);
@@ -271,7 +271,7 @@ impl Builder<'_> {
     /// appending them to `nodes` (the sequential build below the parallel threshold).
     fn subdivide(&self, nodes: &mut Vec<Node>, node: usize, indices: &mut [u32], offset: usize, depth: usize, summary: Summary) {
         nodes[node].bounds = summary.bounds;
-        let Some((mid, [left_summary, right_summary])) = self.split(&mut nodes[node], indices, offset, depth, &summary) else {
+        let Some((mid, [left_summary, right_summary])) = self.divide(&mut nodes[node], indices, offset, depth, &summary) else {
             return;
         };
         let (left, right) = indices.split_at_mut(mid);
@@ -285,7 +285,7 @@ impl Builder<'_> {
     /// Makes `node` a leaf of `indices` (returning `None`), or partitions `indices` and
     /// returns the left size and both sides' summaries: from the split's bins and the
     /// partition pass for a binned split, else summarised anew.
-    fn split(&self, node: &mut Node, indices: &mut [u32], offset: usize, depth: usize, summary: &Summary) -> Option<(usize, [Summary; 2])> {
+    fn divide(&self, node: &mut Node, indices: &mut [u32], offset: usize, depth: usize, summary: &Summary) -> Option<(usize, [Summary; 2])> {
         let parallel = indices.len() >= self.parallel_threshold;
         let mid = match self.decide(indices, summary, depth, parallel) {
             Decision::Leaf => {
@@ -334,9 +334,9 @@ impl Builder<'_> {
 
     /// Bins per axis for a node of `count` primitives: `4 + count / 16`, at most
     /// [`BuildOptions::bins`] (so nodes of 192 primitives or more use them all). Most nodes
-    /// are small, and for them the fixed cost of a grid and its sweep outweighed the
-    /// primitives: on a 10M-triangle mesh the build took 25% less, for a tree 0.5% worse by
-    /// the SAH (docs/PERFORMANCE.md). Embree's binner does the same (`4 + 5%`).
+    /// are small, and for them a full grid and its sweep cost more than their primitives
+    /// (docs/PERFORMANCE.md, "The builder, 1.8x faster", has the trade); Embree's binner
+    /// scales its bins with the node the same way.
     fn bins_for(&self, count: usize) -> usize {
         self.bins.min(4 + count / 16).max(2)
     }

@@ -4,7 +4,7 @@
 //! Everything here works on a node's slice of the global index array and reorders it
 //! in place, so a finished build needs no gather step.
 
-use glam::{Vec3, Vec3A};
+use glam::Vec3;
 use rayon::prelude::*;
 
 use crate::aabb::Aabb;
@@ -78,28 +78,21 @@ impl Binning {
         let position = (centroid[axis] - self.origin[axis]) * self.scale[axis];
         (position as usize).min(self.bins - 1)
     }
-
-    /// The bins of `centroid` on the three axes: [`Binning::bin`]'s arithmetic, lane by lane.
-    fn bins(&self, centroid: Vec3A) -> [usize; 3] {
-        let position = (centroid - Vec3A::from(self.origin)) * Vec3A::from(self.scale);
-        [0, 1, 2].map(|axis| (position[axis] as usize).min(self.bins - 1))
-    }
 }
 
-/// Triangle count and bounds accumulated in one bin, the corners in SIMD lanes (binning
-/// grows three bins per primitive).
+/// Triangle count and bounds accumulated in one bin.
 #[derive(Clone, Copy)]
 struct Bin {
-    min: Vec3A,
-    max: Vec3A,
+    bounds: Aabb,
     count: u32,
 }
 
 impl Bin {
-    const EMPTY: Bin = Bin { min: Vec3A::splat(f32::MAX), max: Vec3A::splat(-f32::MAX), count: 0 };
+    const EMPTY: Bin = Bin { bounds: Aabb::empty(), count: 0 };
 
-    fn bounds(&self) -> Aabb {
-        Aabb { min: self.min.into(), max: self.max.into() }
+    /// This bin with `other`'s triangles added.
+    fn grown(self, other: &Bin) -> Bin {
+        Bin { bounds: self.bounds.union(&other.bounds), count: self.count + other.count }
     }
 }
 
@@ -114,12 +107,10 @@ impl<const B: usize> BinGrid<B> {
     fn fill(&mut self, prims: Prims, indices: &[u32], binning: &Binning) {
         for &i in indices {
             let bounds = &prims.bounds[i as usize];
-            let bins = binning.bins(bounds.centroid().into());
-            let (min, max) = (Vec3A::from(bounds.min), Vec3A::from(bounds.max));
-            for (row, bin) in self.0.iter_mut().zip(bins) {
-                let bin = &mut row[bin];
-                bin.min = bin.min.min(min);
-                bin.max = bin.max.max(max);
+            let centroid = bounds.centroid();
+            for (axis, row) in self.0.iter_mut().enumerate() {
+                let bin = &mut row[binning.bin(centroid, axis)];
+                bin.bounds = bin.bounds.union(bounds);
                 bin.count += 1;
             }
         }
@@ -128,9 +119,7 @@ impl<const B: usize> BinGrid<B> {
     fn merge(mut self, other: BinGrid<B>) -> BinGrid<B> {
         for (row, other_row) in self.0.iter_mut().zip(&other.0) {
             for (bin, other_bin) in row.iter_mut().zip(other_row) {
-                bin.min = bin.min.min(other_bin.min);
-                bin.max = bin.max.max(other_bin.max);
-                bin.count += other_bin.count;
+                *bin = bin.grown(other_bin);
             }
         }
         self
@@ -187,31 +176,26 @@ fn sweep<const B: usize>(bins: &[Bin]) -> Option<(usize, f32, [Aabb; 2])> {
     let mut left_count = [0u32; B];
     let mut bounds = Bin::EMPTY;
     for (i, bin) in bins[..planes].iter().enumerate() {
-        bounds = grown(bounds, bin);
-        left_area[i] = bounds.bounds().surface_area();
+        bounds = bounds.grown(bin);
+        left_area[i] = bounds.bounds.surface_area();
         left_count[i] = bounds.count;
     }
     let mut best: Option<(usize, f32, Aabb)> = None;
     bounds = Bin::EMPTY;
     for plane in (0..planes).rev() {
-        bounds = grown(bounds, &bins[plane + 1]);
+        bounds = bounds.grown(&bins[plane + 1]);
         if bounds.count == 0 || left_count[plane] == 0 {
             continue;
         }
-        let right = bounds.bounds();
+        let right = bounds.bounds;
         let cost = left_area[plane] * left_count[plane] as f32 + right.surface_area() * bounds.count as f32;
         if best.is_none_or(|(_, best_cost, _)| cost < best_cost) {
             best = Some((plane, cost, right));
         }
     }
     let (plane, cost, right) = best?;
-    let left = bins[..=plane].iter().fold(Bin::EMPTY, grown).bounds();
+    let left = bins[..=plane].iter().fold(Bin::EMPTY, |sum, bin| sum.grown(bin)).bounds;
     Some((plane, cost, [left, right]))
-}
-
-/// `sum` with `bin`'s bounds and count added.
-fn grown(sum: Bin, bin: &Bin) -> Bin {
-    Bin { min: sum.min.min(bin.min), max: sum.max.max(bin.max), count: sum.count + bin.count }
 }
 
 /// A split found by sweeping every primitive boundary of one axis (exact SAH, no bins).
