@@ -240,7 +240,7 @@ impl<'a> RayBench<'a> {
         let geometry =
             gpu.requirements & (crate::requirements::REQUIRES_SHAPES | crate::requirements::REQUIRES_PLANES | crate::requirements::REQUIRES_INSTANCES);
         // The packet walk reads nodes and triangles as words of one binding each.
-        let paged = gpu.paging.split(PagedArray::Nodes).pages > 1 || gpu.paging.split(PagedArray::Triangles).pages > 1;
+        let paged = gpu.paging.is_paged(&[PagedArray::Nodes, PagedArray::Triangles]);
         let packet = ctx.packet_walk_supported() && gpu.node_layout == crate::NodeLayout::Wide && geometry == 0 && !paged;
         let source = gpu.paging.apply(&crate::shaders::ray_bench_source(gpu.node_layout, gpu.node_words_64, packet));
         let module = device
@@ -255,9 +255,9 @@ impl<'a> RayBench<'a> {
         // instance tests (and only such a scene has the packet walk).
         let constants = [("SCENE_REQUIRES", f64::from(geometry))];
         let pipeline = |entry: &str| ctx.compute_pipeline_with(&pipeline_layout, &module, entry, &constants);
-        let paged = [(PagedArray::Nodes, &gpu.nodes[..]), (PagedArray::Triangles, &gpu.triangles[..])];
-        let buffer_arrays = gpu.paging.buffer_arrays(&paged);
-        let mut entries = gpu.paging.bind_entries(&paged, &buffer_arrays);
+        let scene_arrays = [(PagedArray::Nodes, &gpu.nodes[..]), (PagedArray::Triangles, &gpu.triangles[..])];
+        let buffer_arrays = gpu.paging.buffer_arrays(&scene_arrays);
+        let mut entries = gpu.paging.bind_entries(&scene_arrays, &buffer_arrays);
         entries.extend([
             wgpu::BindGroupEntry { binding: 0, resource: params.as_entire_binding() },
             wgpu::BindGroupEntry { binding: 3, resource: rays_buffer.as_entire_binding() },

@@ -181,12 +181,12 @@ impl Paging {
             return Ok(self.bound_as(PageBinding::Buffers));
         }
         let elements = ctx.limits.max_binding_array_elements_per_shader_stage;
-        if binding_arrays_supported(ctx) && extra <= elements {
+        let arrays_supported = binding_arrays_supported(ctx);
+        if arrays_supported && extra <= elements {
             return Ok(self.bound_as(PageBinding::Arrays));
         }
-        let pages: Vec<String> =
-            PagedArray::ALL.iter().filter(|&&a| self.split(a).pages > 1).map(|&a| format!("{} in {} pages", a.label(), self.split(a).pages)).collect();
-        let arrays = if binding_arrays_supported(ctx) {
+        let pages: Vec<String> = self.array_bindings().iter().map(|&(a, _)| format!("{} in {} pages", a.label(), self.split(a).pages)).collect();
+        let arrays = if arrays_supported {
             format!("binding arrays of at most {elements} elements (max_binding_array_elements_per_shader_stage)")
         } else {
             "no binding arrays of storage buffers".to_string()
@@ -205,9 +205,9 @@ impl Paging {
         self.splits[array.index()]
     }
 
-    /// Whether some array spans more than one binding.
-    pub fn is_paged(&self) -> bool {
-        self.splits.iter().any(|s| s.pages > 1)
+    /// Whether one of `arrays` spans more than one binding.
+    pub fn is_paged(&self, arrays: &[PagedArray]) -> bool {
+        arrays.iter().any(|&a| self.split(a).pages > 1)
     }
 
     /// The pages past each array's first: (array, page, binding), bindings numbered from

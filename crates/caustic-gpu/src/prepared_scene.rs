@@ -6,7 +6,7 @@
 
 use crate::memory::{DeviceMemory, film_bytes, stored_bytes};
 use crate::pages::{Extent, Paging};
-use crate::scene_buffers::{MAX_BVH_DEPTH, NodeLayout};
+use crate::scene_buffers::{MAX_BVH_DEPTH, NodeLayout, reads_words_64};
 use crate::scene_data::SceneData;
 use crate::{GpuContext, GpuError};
 use caustic_bvh::{BuildOptions, BuildStats, GpuBvh, GpuShape, GpuWideExactNode, GpuWideNode, PrimitiveMotions, Prototype, WideError};
@@ -162,15 +162,16 @@ impl PreparedScene {
     /// (the arrays that may grow with the scene are split into pages: [`PreparedScene::paging`]),
     /// the pages need more bindings than the device has, the environment texture exceeds its
     /// largest texture, or everything together the device's memory (where it is known:
-    /// [`GpuContext::device_memory`]); nothing reaches the device either way.
-    pub fn check(&self, ctx: &GpuContext) -> Result<(), GpuError> {
+    /// [`GpuContext::device_memory`]); nothing reaches the device either way. Returns the
+    /// paging the upload takes.
+    pub fn check(&self, ctx: &GpuContext) -> Result<Paging, GpuError> {
         let limit = ctx.max_storage_binding();
         let data = &self.data;
         let buffers = [sized("shapes", &self.shapes), sized("materials", &data.materials), sized("lights", &data.lights)];
         if let Some((what, need)) = buffers.into_iter().find(|(_, need)| *need > limit) {
             return Err(GpuError::Limit { what, need, limit });
         }
-        self.paging(ctx)?;
+        let paging = self.paging(ctx)?;
         self.environment.check(ctx)?;
         let memory = self.device_memory();
         match ctx.device_memory {
@@ -178,21 +179,18 @@ impl PreparedScene {
                 let (kind, bytes) = memory.largest();
                 Err(GpuError::Memory { need: memory.total(), available, largest: format!("{kind}: {}", crate::memory::byte_size(bytes)) })
             }
-            _ => Ok(()),
+            _ => Ok(paging),
         }
     }
-}
 
-impl PreparedScene {
     /// The pages the BVH nodes, triangles, shading entries and textures are uploaded in on
     /// `ctx`'s device: one per array that fits the device's largest storage binding, more for
     /// one that does not, bound as storage buffers or binding arrays as the device allows
     /// ([`crate::pages`]). Fails when the device can bind neither.
     pub fn paging(&self, ctx: &GpuContext) -> Result<Paging, GpuError> {
-        let words_64 = self.node_layout() == NodeLayout::Wide && ctx.device.features().contains(wgpu::Features::SHADER_INT64);
         let nodes = match &self.nodes {
             NodeContents::Binary => extent(&self.bvh.nodes),
-            NodeContents::Wide(nodes) => Extent { read_stride: if words_64 { 32 } else { 64 }, ..extent(nodes) },
+            NodeContents::Wide(nodes) => Extent { read_stride: if reads_words_64(ctx, NodeLayout::Wide) { 32 } else { 64 }, ..extent(nodes) },
             NodeContents::WideExact(nodes) => extent(nodes),
         };
         let extents = [nodes, extent(&self.bvh.triangles), extent(&self.data.shading), extent(&self.textures)];

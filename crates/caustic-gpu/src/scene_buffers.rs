@@ -170,8 +170,7 @@ impl GpuScene {
     /// refused before its first buffer is created. Arrays past one binding are uploaded in
     /// pages ([`PreparedScene::paging`]).
     pub fn upload_prepared(ctx: &GpuContext, prepared: PreparedScene) -> Result<GpuScene, GpuError> {
-        prepared.check(ctx)?;
-        let paging = prepared.paging(ctx)?;
+        let paging = prepared.check(ctx)?;
         let PreparedScene {
             bounds,
             units,
@@ -202,7 +201,7 @@ impl GpuScene {
             NodeContents::Wide(wide) => (uploader.pages("BVH wide nodes", wide, split(PagedArray::Nodes)), NodeLayout::Wide),
             NodeContents::WideExact(wide) => (uploader.pages("BVH wide exact nodes", wide, split(PagedArray::Nodes)), NodeLayout::WideExact),
         };
-        let node_words_64 = node_layout == NodeLayout::Wide && ctx.device.features().contains(wgpu::Features::SHADER_INT64);
+        let node_words_64 = reads_words_64(ctx, node_layout);
         let uploaded = GpuScene {
             nodes,
             node_layout,
@@ -300,6 +299,12 @@ impl GpuScene {
     }
 }
 
+/// Whether kernels on `ctx`'s device read nodes of `layout` with 64-bit loads
+/// (`bvh/wide_nodes_64.wgsl`): the quantised wide layout, on a device with `SHADER_INT64`.
+pub(crate) fn reads_words_64(ctx: &GpuContext, layout: NodeLayout) -> bool {
+    layout == NodeLayout::Wide && ctx.device.features().contains(wgpu::Features::SHADER_INT64)
+}
+
 struct Uploader<'a> {
     ctx: &'a GpuContext,
 }
@@ -308,15 +313,12 @@ impl Uploader<'_> {
     /// A read-only storage buffer holding `data` (one zeroed element when `data` is empty,
     /// since bindings may not be empty).
     fn storage<T: bytemuck::Pod>(&self, what: &str, data: &[T]) -> Result<wgpu::Buffer, GpuError> {
-        let zero = [T::zeroed()];
-        let data = if data.is_empty() { &zero[..] } else { data };
-        let bytes: &[u8] = bytemuck::cast_slice(data);
-        let limit = self.ctx.max_storage_binding();
-        if bytes.len() as u64 > limit {
-            let what = format!("{} {what} of {} bytes", data.len(), std::mem::size_of::<T>());
-            return Err(GpuError::Limit { what, need: bytes.len() as u64, limit });
+        let (need, limit) = (crate::memory::stored_bytes(data), self.ctx.max_storage_binding());
+        if need > limit {
+            let what = format!("{} {what} of {} bytes", data.len().max(1), std::mem::size_of::<T>());
+            return Err(GpuError::Limit { what, need, limit });
         }
-        Ok(self.ctx.buffer_with_data(what, bytes, wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC))
+        Ok(self.pages(what, data, Split::WHOLE).remove(0))
     }
 
     /// `data` (one zeroed element when empty) in buffers of `split.page_bytes` (the last
