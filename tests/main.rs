@@ -8,6 +8,7 @@ mod support;
 mod accumulation;
 mod aovs;
 mod bench;
+mod bidirectional;
 mod classic_cli;
 mod classic_scenes;
 mod cli;

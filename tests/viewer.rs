@@ -272,7 +272,7 @@ fn render_takes_the_camera_and_integrator_flags_the_viewer_saves() {
     assert_ne!(classic, plain, "--integrator raytracer changed nothing");
     let bad = support::caustic(&["render", "--integrator", "photon-mapper", "-o", dir.join("x.png").to_str().unwrap()]);
     let message = String::from_utf8_lossy(&bad.stderr);
-    assert!(!bad.status.success() && message.contains("pathtracer, raytracer, direct, analyticdirect"), "{message}");
+    assert!(!bad.status.success() && message.contains("pathtracer, raytracer, direct, analyticdirect, lighttracer"), "{message}");
 }
 
 #[test]

@@ -69,6 +69,10 @@ struct Frame {
     _queue_pad0: u32,
     _queue_pad1: u32,
     _queue_pad2: u32,
+    // The scene's bounding sphere (device coordinates): where directional lights and the
+    // environment emit light paths from (lights/emit.wgsl).
+    scene_centre: vec3<f32>,
+    scene_radius: f32,
 }
 
 // How pixels are sampled: the stratified sampler's strata per axis (blocks of strata^2

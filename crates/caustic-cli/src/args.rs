@@ -227,7 +227,7 @@ pub struct SceneOverrides {
     /// gradient sky `sky:ZENITH:HORIZON` or the CIE overcast sky `overcast:ZENITH`.
     #[arg(long, value_name = "COLOR|FILE|sky:Z:H|overcast:Z")]
     pub environment: Option<String>,
-    /// Integrator: pathtracer, raytracer, direct or analyticdirect (default: the scene's,
+    /// Integrator: pathtracer, raytracer, direct, analyticdirect, lighttracer or bdpt (default: the scene's,
     /// pathtracer for glTF and mesh files).
     #[arg(long, value_name = "NAME", value_parser = parse_integrator)]
     pub integrator: Option<Integrator>,
@@ -694,7 +694,7 @@ fn parse_debug_view(text: &str) -> Result<DebugView, String> {
 }
 
 fn parse_integrator(text: &str) -> Result<Integrator, String> {
-    let all = [Integrator::PathTracer, Integrator::RayTracer, Integrator::Direct, Integrator::AnalyticDirect];
+    let all = Integrator::ALL;
     all.into_iter().find(|i| integrator_name(*i) == text.trim().to_lowercase()).ok_or_else(|| {
         let names: Vec<&str> = all.into_iter().map(integrator_name).collect();
         format!("unknown integrator '{text}'; expected one of: {}", names.join(", "))

@@ -458,6 +458,16 @@ pub fn accumulate(
     if let Some(note) = gpu_scene.layout_note() {
         eprintln!("{note}");
     }
+    let bdpt_depth = caustic_gpu::light_tracer::BDPT_MAX_DEPTH;
+    if settings.integrator == caustic_scene::Integrator::Bdpt && settings.max_depth.is_none_or(|depth| depth > bdpt_depth) {
+        eprintln!("note: bidirectional path tracing renders paths of at most {bdpt_depth} bounces (--max-depth caps it lower)");
+    }
+    if budget.adaptive && matches!(settings.integrator, caustic_scene::Integrator::LightTracer | caustic_scene::Integrator::Bdpt) {
+        anyhow::bail!(
+            "--adaptive gives pixels their own sample counts; --integrator {} splats light paths on any pixel, so it samples every pixel alike (use --adaptive false)",
+            settings.integrator.keyword()
+        );
+    }
     // Kernels compile for seconds on a CPU device when the driver's cache lacks them: say so.
     let compiling = ProgressBar::new_spinner().with_message("compiling the kernels");
     compiling.enable_steady_tick(std::time::Duration::from_millis(100));

@@ -66,9 +66,14 @@ pub const INSPECTION: Binding = binding(10, "inspection", Access::ReadWrite);
 pub const TEXTURES: Binding = binding(11, "textures", Access::Read);
 /// Adaptive sampling's pixel queue (`vec2<u32>` per entry: pixel, samples it held).
 pub const PIXEL_QUEUE: Binding = binding(12, "pixel_queue", Access::Read);
+/// The light tracer's contributions of the pass in progress, three f32 words per pixel added
+/// atomically from any invocation (`integrator/splat.wgsl`); a placeholder for other kernels.
+pub const SPLATS: Binding = binding(13, "splats", Access::ReadWrite);
+/// The light tracer's splats summed over the passes, one Kahan-compensated texel per pixel.
+pub const SPLAT_SUMS: Binding = binding(14, "splat_sums", Access::ReadWrite);
 
 /// Every binding of the integrators' group, in binding order.
-pub const INTEGRATOR_BINDINGS: [Binding; 13] = [
+pub const INTEGRATOR_BINDINGS: [Binding; 15] = [
     FRAME,
     BVH_NODES,
     BVH_TRIANGLES,
@@ -82,6 +87,8 @@ pub const INTEGRATOR_BINDINGS: [Binding; 13] = [
     INSPECTION,
     TEXTURES,
     PIXEL_QUEUE,
+    SPLATS,
+    SPLAT_SUMS,
 ];
 
 /// Storage buffers among [`INTEGRATOR_BINDINGS`] (all but the environment texture), which

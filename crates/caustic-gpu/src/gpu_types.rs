@@ -88,6 +88,11 @@ pub struct Frame {
     pub queued_tile: u32,
     /// Rounds the struct to 16 bytes.
     pub _queue_pad: [u32; 3],
+    /// Centre of the scene's bounding sphere (device coordinates): directional lights and the
+    /// environment emit the light tracer's paths from a disk of its radius just outside it.
+    pub scene_centre: [f32; 3],
+    /// Radius of the scene's bounding sphere.
+    pub scene_radius: f32,
 }
 
 /// How pixels are sampled (`PixelSampling` in WGSL): the stratified sampler's strata per

@@ -37,6 +37,7 @@ pub const SHARED_CONSTANTS: &[(&str, u32)] = &[
     ("MATERIAL_FLAT", MATERIAL_FLAT),
     ("PROJECTION_PERSPECTIVE", PROJECTION_PERSPECTIVE),
     ("PROJECTION_ORTHOGRAPHIC", PROJECTION_ORTHOGRAPHIC),
+    ("BDPT_MAX_DEPTH", crate::light_tracer::BDPT_MAX_DEPTH),
 ];
 
 /// Every shared `f32` constant by its name on both sides.

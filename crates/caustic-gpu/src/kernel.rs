@@ -72,6 +72,9 @@ impl Kernel {
             _ => 1,
         };
         let specialised = specialised_traversal(gpu, settings).is_some();
+        // Those shadow-ray shortcuts assume shadow rays end at lights; the light tracer's and
+        // bidirectional path tracing's also end at the camera and at surfaces.
+        let light_shadows = specialised && !crate::light_tracer::splats(entry_point);
         Kernel {
             entry_point,
             traversal: traversal(gpu, settings),
@@ -86,9 +89,9 @@ impl Kernel {
                 DataPath::Auto | DataPath::Traversal => gpu.requirements,
                 DataPath::Buffers => REQUIRES_ALL,
             },
-            shadow_hull_cull: gpu.shadow_hull_cull && specialised,
-            shadow_convex_occluders: gpu.shadow_occluder_clip && specialised,
-            shadow_light_planes: gpu.shadow_light_plane_skip && specialised,
+            shadow_hull_cull: gpu.shadow_hull_cull && light_shadows,
+            shadow_convex_occluders: gpu.shadow_occluder_clip && light_shadows,
+            shadow_light_planes: gpu.shadow_light_plane_skip && light_shadows,
             paths_per_invocation,
             paging: gpu.paging,
         }
@@ -213,6 +216,8 @@ fn entry_point(settings: &RenderSettings) -> &'static str {
         (RenderPass::Photo, _) | (RenderPass::Image, Integrator::PathTracer | Integrator::Direct) => "render_sample",
         (RenderPass::Image, Integrator::RayTracer) => "render_classic",
         (RenderPass::Image, Integrator::AnalyticDirect) => "render_analytic_direct",
+        (RenderPass::Image, Integrator::LightTracer) => crate::light_tracer::ENTRY_POINT,
+        (RenderPass::Image, Integrator::Bdpt) => crate::light_tracer::BDPT_ENTRY_POINT,
     }
 }
 

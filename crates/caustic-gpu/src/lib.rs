@@ -32,6 +32,7 @@ pub mod kernel;
 pub mod kernel_test;
 pub mod light_kind;
 pub mod light_plane;
+pub mod light_tracer;
 pub mod memory;
 pub mod motion;
 pub mod pages;

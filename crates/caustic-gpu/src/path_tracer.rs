@@ -8,6 +8,7 @@ use crate::film::Film;
 use crate::gpu_types::{AccumTexel, Frame, InspectRecord, NO_PIXEL, PROJECTION_ORTHOGRAPHIC, PROJECTION_PERSPECTIVE, PixelSampling, transport_flags};
 use crate::inspector::PathRecord;
 use crate::kernel::Kernel;
+use crate::light_tracer::Splats;
 use crate::pages::{PagedArray, Paging};
 use crate::readback::read_buffer;
 use crate::render_settings::RenderSettings;
@@ -64,6 +65,8 @@ pub struct PathTracer<'a> {
     pixel_samples: Option<Vec<u32>>,
     /// The scene's buffers the bind groups hold.
     scene_bindings: SceneBindings,
+    /// The light tracer's splats ([`crate::light_tracer`]); placeholders for other kernels.
+    splats: Splats,
 }
 
 impl<'a> PathTracer<'a> {
@@ -76,7 +79,9 @@ impl<'a> PathTracer<'a> {
         let frame_buffer = ctx.buffer_with_data("frame", bytemuck::bytes_of(&frame), wgpu::BufferUsages::STORAGE);
         let layout = bind_group_layout(device, &gpu.paging);
         let kernel = Kernel::for_render(ctx, gpu, settings);
+        light_tracer_fits(scene, gpu, settings, &kernel, &film)?;
         let stages = Stages::new(ctx, &kernel, &layout, settings.shape, &frame)?;
+        let splats = Splats::for_kernel(ctx, &kernel, &layout, frame.width * frame.height)?;
         let inspection = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("inspection"),
             size: std::mem::size_of::<InspectRecord>() as u64,
@@ -85,7 +90,8 @@ impl<'a> PathTracer<'a> {
         });
         let queue = PixelQueue::new(ctx);
         let scene_bindings = SceneBindings::of(gpu);
-        let bind_groups = bind_groups(device, &layout, &frame_buffer, &scene_bindings, &film, &inspection, &queue.buffer);
+        let tracer_buffers = TracerBuffers { frame: &frame_buffer, inspection: &inspection, queue: &queue.buffer, splats: &splats };
+        let bind_groups = bind_groups(device, &layout, &scene_bindings, &film, &tracer_buffers);
         ctx.check()?;
         let mut tracer = PathTracer {
             ctx,
@@ -107,6 +113,7 @@ impl<'a> PathTracer<'a> {
             queue,
             pixel_samples: None,
             scene_bindings,
+            splats,
         };
         tracer.warm_up()?;
         Ok(tracer)
@@ -134,17 +141,24 @@ impl<'a> PathTracer<'a> {
         let wanted = Kernel::for_render(self.ctx, gpu, settings);
         let frame = frame_constants(scene, gpu, settings);
         let recompile = wanted != self.kernel || !self.stages.fit(settings.shape, &frame);
+        let resized = scene.resolution != (self.frame.width, self.frame.height);
+        let film = if resized { Some(Film::new(self.ctx, scene.resolution)?) } else { None };
+        light_tracer_fits(scene, gpu, settings, &wanted, film.as_ref().unwrap_or(&self.film))?;
         if wanted.paging != self.kernel.paging {
             self.layout = bind_group_layout(&self.ctx.device, &wanted.paging);
+        }
+        if recompile || resized {
+            self.splats = Splats::for_kernel(self.ctx, &wanted, &self.layout, frame.width * frame.height)?;
+        } else {
+            self.splats.clear(self.ctx);
         }
         if recompile {
             self.stages = Stages::new(self.ctx, &wanted, &self.layout, settings.shape, &frame)?;
             self.kernel = wanted;
         }
-        if scene.resolution == (self.frame.width, self.frame.height) {
-            self.film.clear(self.ctx);
-        } else {
-            self.film = Film::new(self.ctx, scene.resolution)?;
+        match film {
+            Some(film) => self.film = film,
+            None => self.film.clear(self.ctx),
         }
         self.frame = frame;
         self.units = gpu.units;
@@ -163,8 +177,8 @@ impl<'a> PathTracer<'a> {
 
     /// Makes the bind groups again (after the film, the scene or the pixel queue changed).
     fn rebind(&mut self) {
-        self.bind_groups =
-            bind_groups(&self.ctx.device, &self.layout, &self.frame_buffer, &self.scene_bindings, &self.film, &self.inspection, &self.queue.buffer);
+        let tracer_buffers = TracerBuffers { frame: &self.frame_buffer, inspection: &self.inspection, queue: &self.queue.buffer, splats: &self.splats };
+        self.bind_groups = bind_groups(&self.ctx.device, &self.layout, &self.scene_bindings, &self.film, &tracer_buffers);
     }
 
     /// Sets the target duration of one submit ([`RenderSettings::target_submit`]) from now
@@ -204,15 +218,18 @@ impl<'a> PathTracer<'a> {
         }
         self.next_pixel = 0;
         self.complete_passes += 1;
+        self.splats.resolve(self.ctx, &self.bind_groups[0])?;
         Ok(PassOutcome::Complete)
     }
 
     fn dispatch_tile(&mut self, start: u32, pixels: u32) -> Result<(), GpuError> {
         self.write_tile(start, pixels);
         match &self.stages {
-            Stages::Megakernel(pipeline) => self.run_megakernel(pipeline, self.kernel.invocations(pixels).div_ceil(WORKGROUP_SIZE)),
-            Stages::Wavefront(wavefront) => wavefront.trace_tile(self.ctx, self.tile_bind_group(), pixels, self.frame.max_depth.min(SAFETY_MAX_BOUNCES)),
+            Stages::Megakernel(pipeline) => self.run_megakernel(pipeline, self.kernel.invocations(pixels).div_ceil(WORKGROUP_SIZE))?,
+            Stages::Wavefront(wavefront) => wavefront.trace_tile(self.ctx, self.tile_bind_group(), pixels, self.frame.max_depth.min(SAFETY_MAX_BOUNCES))?,
         }
+        self.splats.traced(pixels);
+        Ok(())
     }
 
     /// Pixels from `pixel` to the end of its band of the film: a tile stays within one band.
@@ -286,10 +303,11 @@ impl<'a> PathTracer<'a> {
     /// `sum[3]` counting the pixel's samples. For passes that read it on the device, such as
     /// an interactive view's display transform; valid until the next [`PathTracer::restart`].
     /// `None` when the image is larger than one storage binding holds and the film is split
-    /// into bands ([`PathTracer::accumulated`] reads those).
+    /// into bands, and for the light tracer, whose image adds its splats
+    /// ([`PathTracer::accumulated`] reads those).
     pub fn accumulation_buffer(&self) -> Option<&wgpu::Buffer> {
         match self.film.bands.as_slice() {
-            [one] => Some(&one.accumulation),
+            [one] if !self.splats.active() => Some(&one.accumulation),
             _ => None,
         }
     }
@@ -329,7 +347,8 @@ impl<'a> PathTracer<'a> {
     /// small weight, and a flat region must stay flat.
     pub fn accumulated(&self) -> Result<(Image, Vec<u32>), GpuError> {
         let texels: Vec<AccumTexel> = self.film.texels(self.ctx)?;
-        let rgba: Vec<[f32; 4]> = texels.iter().map(|t| weighted_mean(t.sum)).collect();
+        let mut rgba: Vec<[f32; 4]> = texels.iter().map(|t| weighted_mean(t.sum)).collect();
+        self.splats.add_to(self.ctx, &self.bind_groups[0], &mut rgba)?;
         let counts = texels.iter().map(|t| t.sum[3] as u32).collect();
         Ok((Image::from_rgba(self.frame.width, self.frame.height, &rgba), counts))
     }
@@ -379,6 +398,13 @@ impl<'a> PathTracer<'a> {
                 pipeline
             }
         }
+    }
+
+    /// The light tracer's splat sums per pixel (row-major) and the light paths traced into
+    /// them, every pending splat resolved first: for checking that no splat is lost. Zero
+    /// paths for other kernels.
+    pub fn splat_sums(&self) -> Result<(Vec<[f32; 3]>, u64), GpuError> {
+        self.splats.sums(self.ctx, &self.bind_groups[0])
     }
 
     /// Total samples rejected as non-finite.
@@ -467,16 +493,16 @@ impl SceneBindings {
     }
 }
 
+/// The tracer's own buffers every bind group holds (beside the scene's and the film's).
+struct TracerBuffers<'b> {
+    frame: &'b wgpu::Buffer,
+    inspection: &'b wgpu::Buffer,
+    queue: &'b wgpu::Buffer,
+    splats: &'b Splats,
+}
+
 /// The integrators' bind groups, one per band of `film`.
-fn bind_groups(
-    device: &wgpu::Device,
-    layout: &wgpu::BindGroupLayout,
-    frame: &wgpu::Buffer,
-    scene: &SceneBindings,
-    film: &Film,
-    inspection: &wgpu::Buffer,
-    queue: &wgpu::Buffer,
-) -> Vec<wgpu::BindGroup> {
+fn bind_groups(device: &wgpu::Device, layout: &wgpu::BindGroupLayout, scene: &SceneBindings, film: &Film, own: &TracerBuffers) -> Vec<wgpu::BindGroup> {
     let bind = |band: &crate::film::FilmBand| {
         let paged = [
             (PagedArray::Nodes, &scene.nodes[..]),
@@ -487,16 +513,17 @@ fn bind_groups(
         let buffer_arrays = scene.paging.buffer_arrays(&paged);
         let mut entries = scene.paging.bind_entries(&paged, &buffer_arrays);
         entries.extend([
-            wgpu::BindGroupEntry { binding: bindings::FRAME.index, resource: frame.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: bindings::FRAME.index, resource: own.frame.as_entire_binding() },
             wgpu::BindGroupEntry { binding: bindings::MATERIALS.index, resource: scene.materials.as_entire_binding() },
             wgpu::BindGroupEntry { binding: bindings::LIGHTS.index, resource: scene.lights.as_entire_binding() },
             wgpu::BindGroupEntry { binding: bindings::ACCUMULATION.index, resource: band.accumulation.as_entire_binding() },
             wgpu::BindGroupEntry { binding: bindings::NONFINITE_COUNTS.index, resource: band.nonfinite_counts.as_entire_binding() },
             wgpu::BindGroupEntry { binding: bindings::ENVIRONMENT_MAP.index, resource: wgpu::BindingResource::TextureView(&scene.environment_view) },
             wgpu::BindGroupEntry { binding: bindings::BVH_SHAPES.index, resource: scene.shapes.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: bindings::INSPECTION.index, resource: inspection.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: bindings::PIXEL_QUEUE.index, resource: queue.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: bindings::INSPECTION.index, resource: own.inspection.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: bindings::PIXEL_QUEUE.index, resource: own.queue.as_entire_binding() },
         ]);
+        entries.extend(crate::light_tracer::bind_entries(own.splats));
         device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("path tracer"), layout, entries: &entries })
     };
     film.bands.iter().map(bind).collect()
@@ -544,8 +571,28 @@ fn frame_constants(scene: &Scene, gpu: &GpuScene, settings: &RenderSettings) -> 
         classic_frost_samples: settings.features.frost_samples(scene.options.frost_samples),
         world_origin: (scene.origin + gpu.units.origin).as_vec3().to_array(),
         world_scale: gpu.units.scale as f32,
+        scene_centre: ((gpu.units.point(gpu.bounds.0) + gpu.units.point(gpu.bounds.1)) * 0.5).to_array(),
+        scene_radius: gpu.units.length((gpu.bounds.1 - gpu.bounds.0).length() * 0.5),
         ..Default::default()
     }
+}
+
+/// For the light tracer's kernel, what [`crate::light_tracer::check`] refuses, and a film
+/// split into bands (its splats land on any pixel, so the image must be one band).
+fn light_tracer_fits(scene: &Scene, gpu: &GpuScene, settings: &RenderSettings, kernel: &Kernel, film: &Film) -> Result<(), GpuError> {
+    if !crate::light_tracer::splats(kernel.entry_point) {
+        return Ok(());
+    }
+    crate::light_tracer::check(scene, gpu, settings)?;
+    if film.bands.len() > 1 {
+        return Err(GpuError::Scene(format!(
+            "{} cannot render a {}x{} image: it is larger than one storage binding holds and the film is split into bands",
+            settings.integrator.keyword(),
+            scene.resolution.0,
+            scene.resolution.1
+        )));
+    }
+    Ok(())
 }
 
 /// The scene's next-event estimation mode, except that CSE168's `direct` integrator samples

@@ -1,12 +1,13 @@
 //! Building the BVH and uploading a scene into the buffers the kernels read.
 
 use crate::convex_occluder::ConvexOccluders;
+use crate::gpu_types::FLAG_LIGHT_LISTED;
 use crate::light_plane::LightPlanes;
 use crate::memory::DeviceMemory;
 use crate::pages::{PagedArray, Paging, Split};
 use crate::prepared_scene::{EnvironmentTexels, NodeContents, PreparedScene, environment_texels};
 use crate::requirements::{GEOMETRY_REQUIREMENTS, shading_requirements};
-use crate::scene_data::{device_lights, device_materials};
+use crate::scene_data::{SceneData, device_lights, device_materials};
 use crate::shadow_hull::ShadowHull;
 use crate::specialize;
 use crate::{GpuContext, GpuError};
@@ -89,6 +90,10 @@ pub struct GpuScene {
     /// Bounds of the scene in its own coordinates (relative to `Scene::origin`, as its camera
     /// is; zero box when empty).
     pub bounds: (Vec3, Vec3),
+    /// Emissive primitives that are not in the light list (textured or moving emitters,
+    /// boxes, ellipsoids, planes, instances' emitters): BSDF sampling alone finds them, and
+    /// no light path can start on them ([`crate::light_tracer::check`]).
+    pub unlisted_emitters: usize,
     /// The coordinates the device works in ([`Units::for_scene`]; relative to the scene's):
     /// every buffer holds the scene rebased and rescaled in f64, and cameras are converted as
     /// they are set.
@@ -223,6 +228,7 @@ impl GpuScene {
             triangle_count: data.triangles.len(),
             bvh_stats,
             bounds,
+            unlisted_emitters: unlisted_emitters(&data),
             units,
             tables: match traversal {
                 Some(_) => crate::bake::BakedTables::new(&data.shading, &data.materials, &data.lights),
@@ -365,4 +371,11 @@ fn upload_environment(ctx: &GpuContext, environment: EnvironmentTexels) -> wgpu:
         bytemuck::cast_slice(&texels),
     );
     texture.create_view(&Default::default())
+}
+
+/// How many of `data`'s triangles and shapes are emissive without being in the light list.
+fn unlisted_emitters(data: &SceneData) -> usize {
+    let primitives = data.triangles.len() + data.shapes.len();
+    let emissive = |material: u32| data.materials.get(material as usize).is_some_and(|m| m.emission.iter().any(|&c| c > 0.0));
+    data.shading[..primitives.min(data.shading.len())].iter().filter(|s| s.flags & FLAG_LIGHT_LISTED == 0 && emissive(s.material)).count()
 }

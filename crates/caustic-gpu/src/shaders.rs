@@ -88,7 +88,7 @@ pub fn ray_bench_source(layout: crate::NodeLayout, words_64: bool, packet_walk: 
     source
 }
 
-const PATH_TRACER: [ShaderFile; 28] = [
+const PATH_TRACER: [ShaderFile; 35] = [
     shader_file!("integrator/bindings.wgsl"),
     shader_file!("integrator/camera.wgsl"),
     shader_file!("integrator/environment.wgsl"),
@@ -107,7 +107,14 @@ const PATH_TRACER: [ShaderFile; 28] = [
     shader_file!("bsdf/bsdf.wgsl"),
     shader_file!("lights/shapes.wgsl"),
     shader_file!("lights/sample.wgsl"),
+    shader_file!("lights/emit.wgsl"),
     shader_file!("integrator/path.wgsl"),
+    shader_file!("integrator/importance.wgsl"),
+    shader_file!("integrator/splat.wgsl"),
+    shader_file!("integrator/connect.wgsl"),
+    shader_file!("integrator/light_tracer.wgsl"),
+    shader_file!("integrator/bdpt_vertex.wgsl"),
+    shader_file!("integrator/bdpt.wgsl"),
     shader_file!("integrator/wavefront.wgsl"),
     shader_file!("classic/features.wgsl"),
     shader_file!("classic/interface.wgsl"),

@@ -15,6 +15,30 @@ pub enum Integrator {
     AnalyticDirect,
     /// Monte Carlo direct lighting from quad lights (CSE168 `direct`).
     Direct,
+    /// Particle tracing: light paths connected to the camera (the t = 1 strategy of
+    /// bidirectional path tracing) plus the emission camera rays see directly.
+    LightTracer,
+    /// Bidirectional path tracing: camera and light subpaths joined by every strategy,
+    /// weighted by multiple importance sampling.
+    Bdpt,
+}
+
+impl Integrator {
+    /// Every integrator, in the order `--integrator` and the scene language list them.
+    pub const ALL: [Integrator; 6] =
+        [Integrator::PathTracer, Integrator::RayTracer, Integrator::Direct, Integrator::AnalyticDirect, Integrator::LightTracer, Integrator::Bdpt];
+
+    /// The name the scene language's `integrator` and `--integrator` take.
+    pub fn keyword(self) -> &'static str {
+        match self {
+            Integrator::PathTracer => "pathtracer",
+            Integrator::RayTracer => "raytracer",
+            Integrator::AnalyticDirect => "analyticdirect",
+            Integrator::Direct => "direct",
+            Integrator::LightTracer => "lighttracer",
+            Integrator::Bdpt => "bdpt",
+        }
+    }
 }
 
 /// Next-event estimation in the path tracer.

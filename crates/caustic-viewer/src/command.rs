@@ -42,12 +42,7 @@ pub struct Reproduction {
 
 /// The name `--integrator` takes for `integrator` (the scene language's keywords).
 pub fn integrator_name(integrator: Integrator) -> &'static str {
-    match integrator {
-        Integrator::PathTracer => "pathtracer",
-        Integrator::RayTracer => "raytracer",
-        Integrator::AnalyticDirect => "analyticdirect",
-        Integrator::Direct => "direct",
-    }
+    integrator.keyword()
 }
 
 /// `x,y,z` with each number printed so that it parses back to the same `f32`.

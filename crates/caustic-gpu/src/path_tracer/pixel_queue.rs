@@ -124,6 +124,11 @@ impl PathTracer<'_> {
         if self.next_pixel != 0 {
             return Err(GpuError::Scene("a round cannot start while a sample pass is part-way".into()));
         }
+        if self.splats.active() {
+            return Err(GpuError::Scene(
+                "adaptive sampling gives pixels their own sample counts; the light tracer's paths land on any pixel, so it samples every pixel alike".into(),
+            ));
+        }
         let held = self.pixel_samples();
         let starts: Vec<u32> = self.film.bands.iter().map(|b| b.start).collect();
         let round = RoundLayout::new(extra, &held, &starts);

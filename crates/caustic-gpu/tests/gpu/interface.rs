@@ -87,6 +87,8 @@ fn mirrors() -> Vec<(&'static str, RustLayout)> {
                 world_scale,
                 queued_tile,
                 _queue_pad,
+                scene_centre,
+                scene_radius,
             }),
         ),
         ("TriangleShading", rust_layout!(TriangleShading { n0, material, n1, flags, n2, extension, uv0, uv1, uv2, _pad1 })),

@@ -11,6 +11,7 @@ mod anisotropic;
 mod aovs;
 mod ashikhmin_gpu;
 mod assets_render;
+mod bidirectional;
 mod bloom;
 mod bsdf_gpu;
 mod classic;

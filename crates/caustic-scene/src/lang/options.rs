@@ -154,8 +154,8 @@ impl Interpreter {
             }
             "integrator" => {
                 a.expect(&[1])?;
-                const KINDS: [Integrator; 4] = [Integrator::RayTracer, Integrator::AnalyticDirect, Integrator::Direct, Integrator::PathTracer];
-                w.scene.options.integrator = KINDS[a.keyword(0, &["raytracer", "analyticdirect", "direct", "pathtracer"])?.min(3)];
+                let keywords = Integrator::ALL.map(Integrator::keyword);
+                w.scene.options.integrator = Integrator::ALL[a.keyword(0, &keywords)?];
             }
             "lightsamples" => {
                 a.expect(&[1])?;

@@ -1,0 +1,206 @@
+//! The light tracer's film of splats and what it refuses (`shaders/integrator/light_tracer.wgsl`,
+//! `integrator/splat.wgsl`): light paths land on any pixel, so their contributions are added
+//! atomically to a pass buffer, moved into Kahan-compensated sums after each sample pass
+//! (`resolve_splats`), and divided by the light paths per pixel when the image is read. A
+//! pixel's value is the mean of its camera samples (the emission they see directly) plus its
+//! splat sum times pixels / light paths traced: unbiased whenever it is read, a stopped pass
+//! included, since every light path traced so far is counted.
+
+use crate::bindings;
+use crate::film::TEXEL_BYTES;
+use crate::gpu_types::AccumTexel;
+use crate::kernel::Kernel;
+use crate::readback::read_buffer;
+use crate::render_settings::RenderSettings;
+use crate::requirements::{REQUIRES_DIRECTIONAL_LIGHTS, REQUIRES_ENVIRONMENT_LIGHT, REQUIRES_MEDIA};
+use crate::{GpuContext, GpuError, GpuScene};
+use caustic_scene::{Projection, Scene};
+use std::cell::Cell;
+
+/// The light tracer's entry point (`integrator/light_tracer.wgsl`).
+pub const ENTRY_POINT: &str = "render_light_trace";
+
+/// Bidirectional path tracing's entry point (`integrator/bdpt.wgsl`), whose t = 1 strategy
+/// splats as the light tracer does.
+pub const BDPT_ENTRY_POINT: &str = "render_bdpt";
+
+/// Most scattering vertices bidirectional path tracing's paths have (`integrator/bdpt.wgsl`
+/// keeps each subpath's vertices in private arrays of this many and two more): a deeper
+/// `--max-depth`, or none, renders paths up to this depth.
+pub const BDPT_MAX_DEPTH: u32 = 14;
+
+/// Whether the kernel of `entry_point` splats light paths (and so needs [`check`]'s scenes and
+/// a film of one band).
+pub fn splats(entry_point: &str) -> bool {
+    entry_point == ENTRY_POINT || entry_point == BDPT_ENTRY_POINT
+}
+
+/// The entry point that moves a pass's splats into their sums (`integrator/splat.wgsl`).
+const RESOLVE_ENTRY_POINT: &str = "resolve_splats";
+
+const WORKGROUP_SIZE: u32 = 64;
+
+/// The splat buffers bound at [`bindings::SPLATS`] and [`bindings::SPLAT_SUMS`]: sized for the
+/// image where the kernel is the light tracer, one-element placeholders otherwise.
+pub(crate) struct Splats {
+    /// The pass in progress: three f32 words per pixel, added atomically.
+    pub(crate) pass: wgpu::Buffer,
+    /// One [`AccumTexel`] per pixel: the resolved passes' sums.
+    pub(crate) sums: wgpu::Buffer,
+    /// `resolve_splats` of the light tracer's program; `None` for placeholders.
+    resolve: Option<wgpu::ComputePipeline>,
+    pixels: u32,
+    /// Light paths traced whose splats are still in `pass`.
+    pending: Cell<u64>,
+    /// Light paths whose splats are in `sums`.
+    resolved: Cell<u64>,
+}
+
+impl Splats {
+    /// Buffers for `kernel` on an image of `pixels` pixels: zeroed, image-sized ones and the
+    /// resolve pipeline for the light tracer, placeholders for every other kernel.
+    pub(crate) fn for_kernel(ctx: &GpuContext, kernel: &Kernel, layout: &wgpu::BindGroupLayout, pixels: u32) -> Result<Splats, GpuError> {
+        let light_tracer = splats(kernel.entry_point);
+        let (pass_bytes, sum_bytes) = if light_tracer { (u64::from(pixels) * 12, u64::from(pixels) * TEXEL_BYTES) } else { (4, TEXEL_BYTES) };
+        let limit = ctx.max_storage_binding();
+        if sum_bytes > limit {
+            return Err(GpuError::Limit { what: "the light tracer's splat sums (one band of the film)".into(), need: sum_bytes, limit });
+        }
+        let storage = |label, size: u64| {
+            ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            })
+        };
+        let resolve = light_tracer.then(|| Kernel { entry_point: RESOLVE_ENTRY_POINT, ..kernel.clone() }.compile(&ctx.device, layout));
+        let splats = Splats {
+            pass: storage("splats", pass_bytes),
+            sums: storage("splat sums", sum_bytes),
+            resolve,
+            pixels,
+            pending: Cell::new(0),
+            resolved: Cell::new(0),
+        };
+        ctx.check()?;
+        Ok(splats)
+    }
+
+    /// Whether these are the light tracer's buffers (not placeholders).
+    pub(crate) fn active(&self) -> bool {
+        self.resolve.is_some()
+    }
+
+    /// Notes that a dispatch traced `paths` more light paths into the pass buffer.
+    pub(crate) fn traced(&self, paths: u32) {
+        if self.active() {
+            self.pending.set(self.pending.get() + u64::from(paths));
+        }
+    }
+
+    /// Moves the pass buffer into the sums (one dispatch over the image, waited for) when
+    /// light paths are pending. `bind_group` is the film's (one band).
+    pub(crate) fn resolve(&self, ctx: &GpuContext, bind_group: &wgpu::BindGroup) -> Result<(), GpuError> {
+        let Some(pipeline) = &self.resolve else { return Ok(()) };
+        if self.pending.get() == 0 {
+            return Ok(());
+        }
+        let mut encoder = ctx.device.create_command_encoder(&Default::default());
+        {
+            let mut pass = encoder.begin_compute_pass(&Default::default());
+            pass.set_pipeline(pipeline);
+            pass.set_bind_group(0, bind_group, &[]);
+            pass.dispatch_workgroups(self.pixels.div_ceil(WORKGROUP_SIZE), 1, 1);
+        }
+        ctx.queue.submit([encoder.finish()]);
+        ctx.wait()?;
+        self.resolved.set(self.resolved.get() + self.pending.get());
+        self.pending.set(0);
+        Ok(())
+    }
+
+    /// Zeroes both buffers and the counts (a restart).
+    pub(crate) fn clear(&self, ctx: &GpuContext) {
+        let mut encoder = ctx.device.create_command_encoder(&Default::default());
+        encoder.clear_buffer(&self.pass, 0, None);
+        encoder.clear_buffer(&self.sums, 0, None);
+        ctx.queue.submit([encoder.finish()]);
+        self.pending.set(0);
+        self.resolved.set(0);
+    }
+
+    /// Adds each pixel's splat sum over the light paths per pixel to `rgba` (the camera
+    /// samples' means), after resolving what is pending. Nothing for placeholders or before
+    /// the first light path.
+    pub(crate) fn add_to(&self, ctx: &GpuContext, bind_group: &wgpu::BindGroup, rgba: &mut [[f32; 4]]) -> Result<(), GpuError> {
+        if !self.active() {
+            return Ok(());
+        }
+        self.resolve(ctx, bind_group)?;
+        let paths = self.resolved.get();
+        if paths == 0 {
+            return Ok(());
+        }
+        let sums: Vec<AccumTexel> = read_buffer(ctx, &self.sums)?;
+        let scale = (f64::from(self.pixels) / paths as f64) as f32;
+        for (pixel, texel) in rgba.iter_mut().zip(&sums) {
+            for (value, sum) in pixel.iter_mut().zip(&texel.sum).take(3) {
+                *value += sum * scale;
+            }
+        }
+        Ok(())
+    }
+
+    /// The splat sums as resolved so far, and the light paths they hold (for tests that
+    /// check no splat is lost).
+    pub(crate) fn sums(&self, ctx: &GpuContext, bind_group: &wgpu::BindGroup) -> Result<(Vec<[f32; 3]>, u64), GpuError> {
+        self.resolve(ctx, bind_group)?;
+        let sums: Vec<AccumTexel> = read_buffer(ctx, &self.sums)?;
+        Ok((sums.iter().map(|t| [t.sum[0], t.sum[1], t.sum[2]]).collect(), self.resolved.get()))
+    }
+}
+
+/// The two splat bindings' entries.
+pub(crate) fn bind_entries(splats: &Splats) -> [wgpu::BindGroupEntry<'_>; 2] {
+    [
+        wgpu::BindGroupEntry { binding: bindings::SPLATS.index, resource: splats.pass.as_entire_binding() },
+        wgpu::BindGroupEntry { binding: bindings::SPLAT_SUMS.index, resource: splats.sums.as_entire_binding() },
+    ]
+}
+
+/// Fails, naming what, when the light tracer (or bidirectional path tracing, which also
+/// refuses absorbing media) cannot render `scene` under `settings` without a silent error: an orthographic camera (its directions are a delta no light path connects to),
+/// a reconstruction filter other than the box of radius 0.5 (splats land in one pixel), the
+/// seed's `flat` material (a toon ramp of direct light, not a BSDF a light path can scatter
+/// from), emitters that are not in the light list (no light path starts on them: textured or
+/// moving emitters, boxes, ellipsoids, planes, instances' emitters), and directional lights or
+/// the environment in a scene with infinite planes (they emit from a disk around the scene's
+/// bounds, which a plane exceeds).
+pub fn check(scene: &Scene, gpu: &GpuScene, settings: &RenderSettings) -> Result<(), GpuError> {
+    let name = if settings.integrator == caustic_scene::Integrator::Bdpt { "bidirectional path tracing" } else { "the light tracer" };
+    let refuse = |why: String| Err(GpuError::Scene(format!("{name} cannot render this scene: {why}")));
+    if settings.integrator == caustic_scene::Integrator::Bdpt && gpu.requirements & REQUIRES_MEDIA != 0 {
+        return refuse("its absorbing media (KHR_materials_volume) would need the attenuation of connections inside them; use --integrator pathtracer".into());
+    }
+    if matches!(scene.camera.projection, Projection::Orthographic { .. }) {
+        return refuse("its camera is orthographic (light paths connect to perspective cameras only); use --integrator pathtracer".into());
+    }
+    if settings.filter != crate::filter::PixelFilter::default() {
+        return refuse(format!("it splats light paths into single pixels (the box filter of radius 0.5), not with the {} filter", settings.filter));
+    }
+    if scene.materials.iter().any(|m| m.model == caustic_scene::ShadingModel::Flat) {
+        return refuse("the `flat` material is a toon ramp of direct light, not a BSDF light paths can scatter from".into());
+    }
+    if gpu.unlisted_emitters > 0 {
+        return refuse(format!(
+            "{} emissive primitives are not light sources light paths can start from (textured or moving emitters, boxes, ellipsoids, planes, or emitters inside instances)",
+            gpu.unlisted_emitters
+        ));
+    }
+    let distant = gpu.requirements & (REQUIRES_DIRECTIONAL_LIGHTS | REQUIRES_ENVIRONMENT_LIGHT) != 0;
+    if distant && gpu.first_plane < gpu.shape_count {
+        return refuse("directional lights and the environment emit from a disk around the scene's bounds, which its infinite planes exceed".into());
+    }
+    Ok(())
+}

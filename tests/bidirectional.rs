@@ -1,0 +1,65 @@
+//! `--integrator lighttracer` and `--integrator bdpt` from the command line: against the Mitsuba
+//! reference of the Cornell box (relMSE at the noise level the render's own estimate predicts,
+//! mean within 1%), the scene language's `integrator` keyword, and the requests they refuse.
+
+use crate::support;
+use caustic_image::{Image, metrics};
+
+/// Renders the built-in Cornell box at the reference's 512x512 with `integrator` and returns
+/// the relMSE against the Mitsuba reference, the render's own estimate of its relMSE, and the
+/// mean ratio per channel.
+fn against_reference(reference: &Image, integrator: &str, spp: &str) -> (f64, f64, [f64; 3]) {
+    let out = support::scratch("bidirectional").join(format!("{integrator}.exr"));
+    let report = support::caustic_json(&["render", "cornell", "--integrator", integrator, "--spp", spp, "-o", out.to_str().unwrap(), "--json"]);
+    assert_eq!(report["nonfinite_samples"], 0, "{report}");
+    let image = Image::load(&out).expect("render");
+    let relmse = metrics::relative_mse(&image, reference, metrics::RELMSE_EPSILON).expect("same size");
+    let ratio = metrics::mean_ratio(&image, reference).expect("same size");
+    let estimate = report["estimated_relmse"].as_f64().expect("estimate");
+    println!("{integrator} {spp} spp: relMSE {relmse:.3e} against the reference, own estimate {estimate:.3e}, mean ratio {ratio:.4?}");
+    (relmse, estimate, ratio)
+}
+
+#[test]
+fn both_converge_to_the_mitsuba_reference_of_the_cornell_box() {
+    let Some(shared) = support::shared() else { return };
+    let reference = Image::load(&shared.join("references/cornell/reference.exr")).expect("reference");
+    // The reference's own noise (relMSE about 1e-5) and the depth cap of bidirectional path
+    // tracing (14 bounces: 0.05% of the energy) sit well below the renders' noise.
+    for (integrator, spp) in [("lighttracer", "16"), ("bdpt", "8")] {
+        let (relmse, estimate, ratio) = against_reference(&reference, integrator, spp);
+        assert!(relmse < 1.5 * estimate + 2e-4, "{integrator}: relMSE {relmse:.3e} beyond its noise ({estimate:.3e})");
+        for (channel, r) in ratio.iter().enumerate() {
+            assert!((r - 1.0).abs() < 0.01, "{integrator}, channel {channel}: mean {r:.4} of the reference");
+        }
+    }
+}
+
+#[test]
+fn the_scene_language_selects_them_and_bad_requests_are_refused() {
+    let dir = support::scratch("bidirectional_cli");
+    let scene = dir.join("box.scene");
+    std::fs::write(
+        &scene,
+        "size 32 32\ncamera 0 4 5  0 0.5 0  0 1 0  45\nintegrator bdpt\nmaxdepth 3\nambient 0 0 0\nspecular 0 0 0\ndiffuse 0.6 0.6 0.6\n\
+         maxverts 4\nvertex -3 0 -3\nvertex 3 0 -3\nvertex 3 0 3\nvertex -3 0 3\ntri 0 2 1\ntri 0 3 2\nquadLight -0.5 2.5 -0.5  0 0 1  1 0 0  5 5 5\n",
+    )
+    .unwrap();
+    let out = dir.join("box.exr");
+    let report = support::caustic_json(&["render", scene.to_str().unwrap(), "--samples", "0..4", "-o", out.to_str().unwrap(), "--json"]);
+    let lit = Image::load(&out).expect("render").pixels.iter().filter(|p| p[0] > 0.0).count();
+    println!("scene language `integrator bdpt`: {lit} of 1024 pixels lit; {report}");
+    assert!(lit > 500, "{lit} pixels lit");
+    for (args, expected) in [
+        (vec!["--integrator", "bdpt", "--adaptive", "true"], "--adaptive false"),
+        (vec!["--integrator", "lighttracer", "--filter", "gaussian"], "box filter"),
+        (vec!["--integrator", "photons"], "unknown integrator 'photons'"),
+    ] {
+        let mut all = vec!["render", "cornell", "--size", "16x16", "--spp", "2", "-o", out.to_str().unwrap()];
+        all.extend(args);
+        let run = support::caustic(&all);
+        let message = String::from_utf8_lossy(&run.stderr);
+        println!("{all:?}: {}", message.trim());
+        assert!(!run.status.success() && message.contains(expected), "{message}");
+    }
+}
