@@ -4,6 +4,7 @@ one run, on the same scenes at 512x512.
 
     python3 scripts/anchors/suite.py [--scenes cornell,env_mesh] [--spp 64] [--rounds 1]
                                      [--caustic target/release/caustic] [--json suite.json]
+                                     [--integrator bdpt]
 
 Mitsuba 3 is installed as common.py says. The suite (docs/PERFORMANCE.md describes it):
 `cornell` (the built-in box; Mitsuba `../shared/references/cornell/scene.xml`),
@@ -129,6 +130,7 @@ def main():
     parser.add_argument("--rounds", type=int, default=1, help="renders of each scene by each renderer")
     parser.add_argument("--caustic", default=os.path.join(ROOT, "target", "release", "caustic"))
     parser.add_argument("--json", metavar="OUT", help="write every measurement to this JSON file")
+    parser.add_argument("--integrator", help="Caustic's integrator (caustic converge --integrator; default: the scene's)")
     args = parser.parse_args()
     scenes = suite()
     names = [n for n in args.scenes.split(",") if n]
@@ -167,7 +169,8 @@ def main():
 
     for round_index in range(args.rounds):
         for name, p in plan.items():
-            rate, error, half, spp, points = run_caustic(args.caustic, p["scene"], p["extra"], p["reference"],
+            extra = p["extra"] + (["--integrator", args.integrator] if args.integrator else [])
+            rate, error, half, spp, points = run_caustic(args.caustic, p["scene"], extra, p["reference"],
                                                          args.spp, round_index)
             p["caustic_rounds"].append({"mpaths_per_s": rate, "relmse_raw": error, "relmse_half_spp_raw": half,
                                         "spp": spp, "points": points})

@@ -19,28 +19,40 @@ fn atomic_add_f32(index: u32, value: f32) {
     }
 }
 
-// Adds `value` to the pixel under film position `film`; a non-finite value is counted there
-// instead (the film is one band when splats are bound: PathTracer refuses others).
-fn splat(film: vec2<f32>, value: vec3<f32>) {
+// The pixel (row-major index) under film position `film`.
+fn film_pixel(film: vec2<f32>) -> u32 {
     let x = min(u32(max(film.x, 0.0)), frame.width - 1u);
     let y = min(u32(max(film.y, 0.0)), frame.height - 1u);
-    let pixel = y * frame.width + x;
+    return y * frame.width + x;
+}
+
+// Adds `value` to the pixel under film position `film`.
+fn splat(film: vec2<f32>, value: vec3<f32>) {
+    splat_pixel(0u, film_pixel(film), value);
+}
+
+// Adds `value` to `pixel` of image `layer` of the splats (layer 0 the image; bidirectional
+// path tracing's strategy images are further layers); a non-finite value is counted at the
+// pixel instead (the film is one band when splats are bound: PathTracer refuses others).
+fn splat_pixel(layer: u32, pixel: u32, value: vec3<f32>) {
     if !is_finite3(value) {
         atomicAdd(&nonfinite_counts[pixel], 1u);
         return;
     }
+    let base = 3u * (layer * frame.width * frame.height + pixel);
     for (var c = 0u; c < 3u; c++) {
         if value[c] != 0.0 {
-            atomic_add_f32(3u * pixel + c, value[c]);
+            atomic_add_f32(base + c, value[c]);
         }
     }
 }
 
-// Moves pixel id.x's splats of the pass into its Kahan-compensated sum.
+// Moves texel id.x's splats of the pass into its Kahan-compensated sum (one texel per pixel
+// and layer; a dispatch of more than 65,535 workgroups spreads over y).
 @compute @workgroup_size(64)
-fn resolve_splats(@builtin(global_invocation_id) id: vec3<u32>) {
-    let pixel = id.x;
-    if pixel >= frame.width * frame.height {
+fn resolve_splats(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let pixel = id.x + id.y * groups.x * 64u;
+    if pixel >= arrayLength(&splat_sums) {
         return;
     }
     let pass_sum = vec4<f32>(

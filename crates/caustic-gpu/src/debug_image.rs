@@ -33,7 +33,7 @@ pub fn debug_picture(view: DebugView, image: &Image, nonfinite: &[u32]) -> Debug
         DebugView::NodeVisits | DebugView::PrimitiveTests | DebugView::Bounces => heat_map(image),
         DebugView::BvhLevel => level_map(image),
         DebugView::MaterialId => DebugPicture { image: map_pixels(image, |p| id_color(p[0])), legend_range: None, marked: None },
-        DebugView::Uv | DebugView::Albedo => DebugPicture { image: image.clone(), legend_range: None, marked: None },
+        DebugView::Uv | DebugView::Albedo | DebugView::BdptStrategies => DebugPicture { image: image.clone(), legend_range: None, marked: None },
         DebugView::NonFinite => nonfinite_marks(image, nonfinite),
     }
 }

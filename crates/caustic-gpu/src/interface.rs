@@ -38,6 +38,7 @@ pub const SHARED_CONSTANTS: &[(&str, u32)] = &[
     ("PROJECTION_PERSPECTIVE", PROJECTION_PERSPECTIVE),
     ("PROJECTION_ORTHOGRAPHIC", PROJECTION_ORTHOGRAPHIC),
     ("BDPT_MAX_DEPTH", crate::light_tracer::BDPT_MAX_DEPTH),
+    ("STRATEGY_MAX_DEPTH", crate::light_tracer::STRATEGY_MAX_DEPTH),
 ];
 
 /// Every shared `f32` constant by its name on both sides.

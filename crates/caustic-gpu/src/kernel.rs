@@ -61,6 +61,9 @@ pub struct Kernel {
     /// The scene's arrays past one storage binding, read through generated accessors
     /// ([`crate::pages`]); nothing paged for most scenes.
     pub paging: Paging,
+    /// The `BDPT_STRATEGIES` override (`integrator/bdpt.wgsl`): each strategy's contribution
+    /// splatted into its own image ([`DebugView::BdptStrategies`]).
+    pub bdpt_strategies: bool,
 }
 
 impl Kernel {
@@ -94,6 +97,7 @@ impl Kernel {
             shadow_light_planes: gpu.shadow_light_plane_skip && light_shadows,
             paths_per_invocation,
             paging: gpu.paging,
+            bdpt_strategies: settings.debug == Some(DebugView::BdptStrategies),
         }
     }
 
@@ -149,6 +153,7 @@ impl Kernel {
         constants.push(("SHADOW_HULL_CULL", f64::from(u8::from(self.shadow_hull_cull))));
         constants.push(("SHADOW_CONVEX_OCCLUDERS", f64::from(u8::from(self.shadow_convex_occluders))));
         constants.push(("SHADOW_LIGHT_PLANES", f64::from(u8::from(self.shadow_light_planes))));
+        constants.push(("BDPT_STRATEGIES", f64::from(u8::from(self.bdpt_strategies))));
         device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some(entry_point),
             layout: Some(&pipeline_layout),
@@ -204,6 +209,9 @@ fn classic_constants(gpu: &GpuScene, settings: &RenderSettings) -> FeatureConsta
 
 /// The entry point that accumulates the pass and integrator `settings` ask for.
 fn entry_point(settings: &RenderSettings) -> &'static str {
+    if settings.debug == Some(DebugView::BdptStrategies) {
+        return crate::light_tracer::BDPT_ENTRY_POINT;
+    }
     if settings.debug.is_some() {
         return "render_debug";
     }

@@ -14,6 +14,7 @@ use crate::readback::read_buffer;
 use crate::render_settings::RenderSettings;
 use crate::requirements::{REQUIRES_DIRECTIONAL_LIGHTS, REQUIRES_ENVIRONMENT_LIGHT, REQUIRES_MEDIA};
 use crate::{GpuContext, GpuError, GpuScene};
+use caustic_image::Image;
 use caustic_scene::{Projection, Scene};
 use std::cell::Cell;
 
@@ -29,6 +30,43 @@ pub const BDPT_ENTRY_POINT: &str = "render_bdpt";
 /// `--max-depth`, or none, renders paths up to this depth.
 pub const BDPT_MAX_DEPTH: u32 = 14;
 
+/// Deepest strategies the `bdpt-strategies` debug view shows apart (bounces s + t - 2).
+pub const STRATEGY_MAX_DEPTH: u32 = 4;
+
+/// Strategies of at most [`STRATEGY_MAX_DEPTH`] bounces: k + 2 of depth k (s = 0 ..= k + 1).
+pub const STRATEGIES: u32 = (STRATEGY_MAX_DEPTH + 1) * (STRATEGY_MAX_DEPTH + 4) / 2;
+
+/// The splat layer of strategy (s, t) in the strategies view: 1 + its index by depth, then s
+/// (`strategy_layer` in `integrator/bdpt.wgsl`); layer 0 is the image's splats.
+pub fn strategy_layer(s: u32, t: u32) -> u32 {
+    let k = s + t - 2;
+    1 + k * (k + 3) / 2 + s
+}
+
+/// The strategy images of the `bdpt-strategies` view as one picture (Veach's figure): row k
+/// for k bounces, column s for s light vertices, so cell (k, s) is strategy (s, k + 2 - s);
+/// cells without a strategy (s > k + 1, and (1, 1), which BDPT leaves out) are black.
+/// `layers` holds the splat sums of every layer, `scale` turns a sum into a mean.
+pub fn strategy_grid(layers: &[[f32; 3]], width: u32, height: u32, scale: f32) -> Image {
+    let (columns, rows) = (STRATEGY_MAX_DEPTH + 2, STRATEGY_MAX_DEPTH + 1);
+    let mut grid = Image::new(width * columns, height * rows);
+    let pixels = (width * height) as usize;
+    for k in 0..rows {
+        for s in 0..=k + 1 {
+            let t = k + 2 - s;
+            if (s, t) == (1, 1) {
+                continue;
+            }
+            let layer = &layers[strategy_layer(s, t) as usize * pixels..][..pixels];
+            for (i, value) in layer.iter().enumerate() {
+                let (x, y) = (i as u32 % width + s * width, i as u32 / width + k * height);
+                grid.pixels[(y * grid.width + x) as usize] = value.map(|v| v * scale);
+            }
+        }
+    }
+    grid
+}
+
 /// Whether the kernel of `entry_point` splats light paths (and so needs [`check`]'s scenes and
 /// a film of one band).
 pub fn splats(entry_point: &str) -> bool {
@@ -39,6 +77,7 @@ pub fn splats(entry_point: &str) -> bool {
 const RESOLVE_ENTRY_POINT: &str = "resolve_splats";
 
 const WORKGROUP_SIZE: u32 = 64;
+const MAX_WORKGROUPS: u32 = 65_535;
 
 /// The splat buffers bound at [`bindings::SPLATS`] and [`bindings::SPLAT_SUMS`]: sized for the
 /// image where the kernel is the light tracer, one-element placeholders otherwise.
@@ -50,6 +89,8 @@ pub(crate) struct Splats {
     /// `resolve_splats` of the light tracer's program; `None` for placeholders.
     resolve: Option<wgpu::ComputePipeline>,
     pixels: u32,
+    /// Texels of the sums: `pixels` per layer (one, or the strategies view's).
+    texels: u32,
     /// Light paths traced whose splats are still in `pass`.
     pending: Cell<u64>,
     /// Light paths whose splats are in `sums`.
@@ -61,10 +102,17 @@ impl Splats {
     /// resolve pipeline for the light tracer, placeholders for every other kernel.
     pub(crate) fn for_kernel(ctx: &GpuContext, kernel: &Kernel, layout: &wgpu::BindGroupLayout, pixels: u32) -> Result<Splats, GpuError> {
         let light_tracer = splats(kernel.entry_point);
-        let (pass_bytes, sum_bytes) = if light_tracer { (u64::from(pixels) * 12, u64::from(pixels) * TEXEL_BYTES) } else { (4, TEXEL_BYTES) };
+        let layers = if kernel.bdpt_strategies { 1 + u64::from(STRATEGIES) } else { 1 };
+        let texels = layers * u64::from(pixels);
+        let (pass_bytes, sum_bytes) = if light_tracer { (texels * 12, texels * TEXEL_BYTES) } else { (4, TEXEL_BYTES) };
         let limit = ctx.max_storage_binding();
         if sum_bytes > limit {
-            return Err(GpuError::Limit { what: "the light tracer's splat sums (one band of the film)".into(), need: sum_bytes, limit });
+            let what = if layers > 1 {
+                format!("the {layers} strategy images of the bdpt-strategies view (render a smaller image)")
+            } else {
+                "the light tracer's splat sums (one band of the film)".into()
+            };
+            return Err(GpuError::Limit { what, need: sum_bytes, limit });
         }
         let storage = |label, size: u64| {
             ctx.device.create_buffer(&wgpu::BufferDescriptor {
@@ -80,6 +128,7 @@ impl Splats {
             sums: storage("splat sums", sum_bytes),
             resolve,
             pixels,
+            texels: texels as u32,
             pending: Cell::new(0),
             resolved: Cell::new(0),
         };
@@ -111,7 +160,9 @@ impl Splats {
             let mut pass = encoder.begin_compute_pass(&Default::default());
             pass.set_pipeline(pipeline);
             pass.set_bind_group(0, bind_group, &[]);
-            pass.dispatch_workgroups(self.pixels.div_ceil(WORKGROUP_SIZE), 1, 1);
+            let groups = self.texels.div_ceil(WORKGROUP_SIZE);
+            let x = groups.min(MAX_WORKGROUPS);
+            pass.dispatch_workgroups(x, groups.div_ceil(x), 1);
         }
         ctx.queue.submit([encoder.finish()]);
         ctx.wait()?;
@@ -152,8 +203,16 @@ impl Splats {
         Ok(())
     }
 
-    /// The splat sums as resolved so far, and the light paths they hold (for tests that
-    /// check no splat is lost).
+    /// Each light path's share of a pixel's value: pixels / light paths resolved (0 before any).
+    pub(crate) fn scale(&self) -> f32 {
+        match self.resolved.get() {
+            0 => 0.0,
+            paths => (f64::from(self.pixels) / paths as f64) as f32,
+        }
+    }
+
+    /// The splat sums as resolved so far (every layer), and the light paths they hold (for
+    /// tests that check no splat is lost, and the strategies view).
     pub(crate) fn sums(&self, ctx: &GpuContext, bind_group: &wgpu::BindGroup) -> Result<(Vec<[f32; 3]>, u64), GpuError> {
         self.resolve(ctx, bind_group)?;
         let sums: Vec<AccumTexel> = read_buffer(ctx, &self.sums)?;
@@ -178,9 +237,10 @@ pub(crate) fn bind_entries(splats: &Splats) -> [wgpu::BindGroupEntry<'_>; 2] {
 /// the environment in a scene with infinite planes (they emit from a disk around the scene's
 /// bounds, which a plane exceeds).
 pub fn check(scene: &Scene, gpu: &GpuScene, settings: &RenderSettings) -> Result<(), GpuError> {
-    let name = if settings.integrator == caustic_scene::Integrator::Bdpt { "bidirectional path tracing" } else { "the light tracer" };
+    let bdpt = settings.integrator == caustic_scene::Integrator::Bdpt || settings.debug == Some(crate::DebugView::BdptStrategies);
+    let name = if bdpt { "bidirectional path tracing" } else { "the light tracer" };
     let refuse = |why: String| Err(GpuError::Scene(format!("{name} cannot render this scene: {why}")));
-    if settings.integrator == caustic_scene::Integrator::Bdpt && gpu.requirements & REQUIRES_MEDIA != 0 {
+    if bdpt && gpu.requirements & REQUIRES_MEDIA != 0 {
         return refuse("its absorbing media (KHR_materials_volume) would need the attenuation of connections inside them; use --integrator pathtracer".into());
     }
     if matches!(scene.camera.projection, Projection::Orthographic { .. }) {

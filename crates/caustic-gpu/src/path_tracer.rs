@@ -341,11 +341,20 @@ impl<'a> PathTracer<'a> {
     /// The per-pixel mean (as [`PathTracer::image`]) and the number of samples it is over:
     /// complete passes plus a stopped pass's finished tiles, less non-finite samples.
     ///
+    /// The `bdpt-strategies` debug view's image is its grid of strategy images
+    /// ([`crate::light_tracer::strategy_grid`]), each count the complete passes.
+    ///
     /// Each pixel is its weighted sum divided by the sum of its signed filter weights whatever
     /// that sum is (pbrt-v4's `RGBFilm`), 0 only where it is exactly 0 (no samples): with the
     /// negative lobes of Mitchell-Netravali and Lanczos a few samples may sum to a negative or
     /// small weight, and a flat region must stay flat.
     pub fn accumulated(&self) -> Result<(Image, Vec<u32>), GpuError> {
+        if self.kernel.bdpt_strategies {
+            let (sums, _) = self.splat_sums()?;
+            let grid = crate::light_tracer::strategy_grid(&sums, self.frame.width, self.frame.height, self.splats.scale());
+            let counts = vec![self.complete_passes; grid.pixels.len()];
+            return Ok((grid, counts));
+        }
         let texels: Vec<AccumTexel> = self.film.texels(self.ctx)?;
         let mut rgba: Vec<[f32; 4]> = texels.iter().map(|t| weighted_mean(t.sum)).collect();
         self.splats.add_to(self.ctx, &self.bind_groups[0], &mut rgba)?;

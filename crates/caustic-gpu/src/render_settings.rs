@@ -163,11 +163,16 @@ pub enum DebugView {
     /// 0 where it escapes or meets a plane); [`caustic_bvh::GpuBvh::closest_hit_level`] is
     /// its CPU twin.
     BvhLevel = 8,
+    /// Bidirectional path tracing's strategies apart (Veach's figure): the weighted
+    /// contribution of each (s, t) up to [`crate::light_tracer::STRATEGY_MAX_DEPTH`] bounces, a
+    /// cell each of a grid whose rows are the depths and columns the light vertices s
+    /// ([`crate::light_tracer::strategy_grid`]); the cells sum to the BDPT image.
+    BdptStrategies = 9,
 }
 
 impl DebugView {
     /// Every view, with its command-line name.
-    pub const ALL: [(&'static str, DebugView); 8] = [
+    pub const ALL: [(&'static str, DebugView); 9] = [
         ("node-visits", DebugView::NodeVisits),
         ("primitive-tests", DebugView::PrimitiveTests),
         ("uv", DebugView::Uv),
@@ -176,6 +181,7 @@ impl DebugView {
         ("bounces", DebugView::Bounces),
         ("nonfinite", DebugView::NonFinite),
         ("bvh-level", DebugView::BvhLevel),
+        ("bdpt-strategies", DebugView::BdptStrategies),
     ];
 
     /// Whether the view is a count, shown as a heat map.

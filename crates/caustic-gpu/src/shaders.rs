@@ -113,7 +113,7 @@ const PATH_TRACER: [ShaderFile; 35] = [
     shader_file!("integrator/splat.wgsl"),
     shader_file!("integrator/connect.wgsl"),
     shader_file!("integrator/light_tracer.wgsl"),
-    shader_file!("integrator/bdpt_vertex.wgsl"),
+    shader_file!("integrator/bdpt_pdf.wgsl"),
     shader_file!("integrator/bdpt.wgsl"),
     shader_file!("integrator/wavefront.wgsl"),
     shader_file!("classic/features.wgsl"),

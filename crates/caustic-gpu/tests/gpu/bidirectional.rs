@@ -219,3 +219,53 @@ fn scenes_the_light_tracer_cannot_render_are_refused_by_name() {
         .expect("refused");
     assert!(error.to_string().contains("orthographic"), "{error}");
 }
+
+/// The bdpt-strategies view (Veach's figure) shows each strategy's weighted contribution: the
+/// cells of its grid sum to the BDPT image of the same samples, pixel for pixel (the same
+/// random numbers; only the order of float additions differs).
+#[test]
+fn the_strategy_images_sum_to_the_bdpt_image() {
+    use caustic_gpu::DebugView;
+    use caustic_gpu::light_tracer::{STRATEGY_MAX_DEPTH, strategy_layer};
+    let ctx = device();
+    let scene =
+        parse(&format!("{ROOM}quadLight -0.5 2.5 -0.5  0 0 1  1 0 0  5 5 5\nmaterial glass\ndiffuse 0 0 0\ntransparency 1\nior 1.5\nsphere 0.9 0.6 0.6 0.5\n"));
+    let depth = Some(STRATEGY_MAX_DEPTH);
+    let rendered = |debug: Option<DebugView>| {
+        let gpu = GpuScene::upload(&ctx, &scene).expect("upload");
+        let settings = RenderSettings { integrator: Integrator::Bdpt, max_depth: depth, debug, ..RenderSettings::default() };
+        let mut tracer = PathTracer::new(&ctx, &scene, &gpu, &settings).expect("tracer");
+        (0..16).for_each(|_| tracer.render_sample().expect("pass"));
+        tracer.image().expect("image")
+    };
+    let image = rendered(None);
+    let grid = rendered(Some(DebugView::BdptStrategies));
+    let (width, height) = scene.resolution;
+    assert_eq!((grid.width, grid.height), (width * (STRATEGY_MAX_DEPTH + 2), height * (STRATEGY_MAX_DEPTH + 1)));
+    let mut sum = vec![[0.0f32; 3]; (width * height) as usize];
+    let mut shares = Vec::new();
+    for k in 0..=STRATEGY_MAX_DEPTH {
+        for s in 0..=k + 1 {
+            let mut energy = 0.0f64;
+            for (i, pixel) in sum.iter_mut().enumerate() {
+                let (x, y) = (i as u32 % width + s * width, i as u32 / width + k * height);
+                let cell = grid.pixels[(y * grid.width + x) as usize];
+                for c in 0..3 {
+                    pixel[c] += cell[c];
+                    energy += f64::from(cell[c]);
+                }
+            }
+            assert!(strategy_layer(s, k + 2 - s) >= 1);
+            shares.push(format!("({s},{}) {energy:.1}", k + 2 - s));
+        }
+    }
+    println!("strategies' totals: {}", shares.join(", "));
+    let worst = image.pixels.iter().zip(&sum).flat_map(|(a, b)| (0..3).map(move |c| (a[c] - b[c]).abs() / a[c].abs().max(1e-2))).fold(0.0f32, f32::max);
+    let total = |pixels: &[[f32; 3]]| pixels.iter().map(|p| f64::from(p[0] + p[1] + p[2])).sum::<f64>();
+    println!(
+        "strategy images summed against the BDPT image: worst pixel difference {worst:.2e} (relative), totals {:.3} / {:.3}",
+        total(&sum),
+        total(&image.pixels)
+    );
+    assert!(worst < 1e-3, "the strategy images do not sum to the image: worst difference {worst}");
+}
