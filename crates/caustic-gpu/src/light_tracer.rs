@@ -1,4 +1,5 @@
-//! The light tracer's film of splats and what it refuses (`shaders/integrator/light_tracer.wgsl`,
+//! The film of splats of the light tracer and of bidirectional path tracing, and what they
+//! refuse (`shaders/integrator/light_tracer.wgsl`, `integrator/bdpt.wgsl`,
 //! `integrator/splat.wgsl`): light paths land on any pixel, so their contributions are added
 //! atomically to a pass buffer, moved into Kahan-compensated sums after each sample pass
 //! (`resolve_splats`), and divided by the light paths per pixel when the image is read. A
@@ -26,8 +27,8 @@ pub const ENTRY_POINT: &str = "render_light_trace";
 pub const BDPT_ENTRY_POINT: &str = "render_bdpt";
 
 /// Most scattering vertices bidirectional path tracing's paths have (`integrator/bdpt.wgsl`
-/// keeps each subpath's vertices in private arrays of this many and two more): a deeper
-/// `--max-depth`, or none, renders paths up to this depth.
+/// keeps the light subpath's vertices in private arrays of this many): a deeper `--max-depth`,
+/// or none, renders paths up to this depth.
 pub const BDPT_MAX_DEPTH: u32 = 14;
 
 /// Deepest strategies the `bdpt-strategies` debug view shows apart (bounces s + t - 2).
@@ -263,4 +264,31 @@ pub fn check(scene: &Scene, gpu: &GpuScene, settings: &RenderSettings) -> Result
         return refuse("directional lights and the environment emit from a disk around the scene's bounds, which its infinite planes exceed".into());
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_strategy_up_to_the_view_depth_has_its_own_layer() {
+        let mut layers: Vec<u32> = (0..=STRATEGY_MAX_DEPTH).flat_map(|k| (0..=k + 1).map(move |s| strategy_layer(s, k + 2 - s))).collect();
+        layers.sort_unstable();
+        assert_eq!(layers, (1..=STRATEGIES).collect::<Vec<_>>());
+    }
+
+    #[test]
+    fn the_grid_puts_strategy_s_t_in_row_s_plus_t_minus_2_and_column_s() {
+        let (width, height) = (2, 3);
+        let pixels = (width * height) as usize;
+        // Each layer's pixels hold the layer's number.
+        let layers: Vec<[f32; 3]> = (0..=STRATEGIES as usize).flat_map(|layer| std::iter::repeat_n([layer as f32; 3], pixels)).collect();
+        let grid = strategy_grid(&layers, width, height, 0.5);
+        assert_eq!((grid.width, grid.height), (width * (STRATEGY_MAX_DEPTH + 2), height * (STRATEGY_MAX_DEPTH + 1)));
+        let cell = |k: u32, s: u32| grid.pixels[((k * height + 1) * grid.width + s * width + 1) as usize][0];
+        assert_eq!(cell(2, 3), 0.5 * strategy_layer(3, 1) as f32);
+        assert_eq!(cell(0, 0), 0.5 * strategy_layer(0, 2) as f32);
+        assert_eq!(cell(0, 1), 0.0, "(1, 1) is left out");
+        assert_eq!(cell(1, 3), 0.0, "no strategy past s = k + 1");
+    }
 }
