@@ -462,7 +462,7 @@ pub fn accumulate(
     if settings.integrator == caustic_scene::Integrator::Bdpt && settings.max_depth.is_none_or(|depth| depth > bdpt_depth) {
         eprintln!("note: bidirectional path tracing renders paths of at most {bdpt_depth} bounces (--max-depth caps it lower)");
     }
-    if budget.adaptive && matches!(settings.integrator, caustic_scene::Integrator::LightTracer | caustic_scene::Integrator::Bdpt) {
+    if budget.adaptive && caustic_gpu::light_tracer::splats_for(settings) {
         anyhow::bail!(
             "--adaptive gives pixels their own sample counts; --integrator {} splats light paths on any pixel, so it samples every pixel alike (use --adaptive false)",
             settings.integrator.keyword()

@@ -208,7 +208,7 @@ fn classic_constants(gpu: &GpuScene, settings: &RenderSettings) -> FeatureConsta
 }
 
 /// The entry point that accumulates the pass and integrator `settings` ask for.
-fn entry_point(settings: &RenderSettings) -> &'static str {
+pub(crate) fn entry_point(settings: &RenderSettings) -> &'static str {
     if settings.debug == Some(DebugView::BdptStrategies) {
         return crate::light_tracer::BDPT_ENTRY_POINT;
     }

@@ -74,6 +74,12 @@ pub fn splats(entry_point: &str) -> bool {
     entry_point == ENTRY_POINT || entry_point == BDPT_ENTRY_POINT
 }
 
+/// Whether the kernel `settings` ask for splats light paths ([`splats`] of its entry point):
+/// the light tracer, BDPT, and the `bdpt-strategies` view.
+pub fn splats_for(settings: &RenderSettings) -> bool {
+    splats(crate::kernel::entry_point(settings))
+}
+
 /// The entry point that moves a pass's splats into their sums (`integrator/splat.wgsl`).
 const RESOLVE_ENTRY_POINT: &str = "resolve_splats";
 
@@ -238,7 +244,7 @@ pub(crate) fn bind_entries(splats: &Splats) -> [wgpu::BindGroupEntry<'_>; 2] {
 /// the environment in a scene with infinite planes (they emit from a disk around the scene's
 /// bounds, which a plane exceeds).
 pub fn check(scene: &Scene, gpu: &GpuScene, settings: &RenderSettings) -> Result<(), GpuError> {
-    let bdpt = settings.integrator == caustic_scene::Integrator::Bdpt || settings.debug == Some(crate::DebugView::BdptStrategies);
+    let bdpt = crate::kernel::entry_point(settings) == BDPT_ENTRY_POINT;
     let name = if bdpt { "bidirectional path tracing" } else { "the light tracer" };
     let refuse = |why: String| Err(GpuError::Scene(format!("{name} cannot render this scene: {why}")));
     if bdpt && gpu.requirements & REQUIRES_MEDIA != 0 {
