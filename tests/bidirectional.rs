@@ -1,6 +1,7 @@
-//! `--integrator lighttracer` and `--integrator bdpt` from the command line: against the Mitsuba
-//! reference of the Cornell box (relMSE at the noise level the render's own estimate predicts,
-//! mean within 1%), the scene language's `integrator` keyword, and the requests they refuse.
+//! `--integrator lighttracer`, `bdpt` and `sppm` from the command line: against the Mitsuba
+//! reference of the Cornell box (the unbiased ones at the noise level the render's own
+//! estimate predicts, mean within 1%; photon mapping's error falling with the iterations at a
+//! printed rate), the scene language's `integrator` keyword, and the requests they refuse.
 
 use crate::support;
 use caustic_image::{Image, metrics};
@@ -35,6 +36,31 @@ fn both_converge_to_the_mitsuba_reference_of_the_cornell_box() {
     }
 }
 
+/// Photon mapping is consistent, not unbiased: its error against the reference falls as the
+/// iterations grow (bias and noise both), which the rate printed measures.
+#[test]
+fn photon_mapping_converges_to_the_mitsuba_reference_of_the_cornell_box() {
+    let Some(shared) = support::shared() else { return };
+    let reference = Image::load(&shared.join("references/cornell/reference.exr")).expect("reference");
+    let errors: Vec<(u32, f64, [f64; 3])> = [4u32, 16, 64]
+        .into_iter()
+        .map(|spp| {
+            let (relmse, _, ratio) = against_reference(&reference, "sppm", &spp.to_string());
+            (spp, relmse, ratio)
+        })
+        .collect();
+    let (first, last) = (&errors[0], &errors[errors.len() - 1]);
+    let rate = (last.1 / first.1).ln() / (f64::from(last.0) / f64::from(first.0)).ln();
+    println!("sppm against the Mitsuba reference: relMSE ~ iterations^{rate:.2}");
+    for pair in errors.windows(2) {
+        assert!(pair[1].1 < pair[0].1, "the error did not fall from {} to {} iterations: {errors:?}", pair[0].0, pair[1].0);
+    }
+    assert!(rate < -0.5, "relMSE falls as iterations^{rate:.2}");
+    for (channel, r) in last.2.iter().enumerate() {
+        assert!((r - 1.0).abs() < 0.01, "sppm, channel {channel}: mean {r:.4} of the reference");
+    }
+}
+
 #[test]
 fn the_scene_language_selects_them_and_bad_requests_are_refused() {
     let dir = support::scratch("bidirectional_cli");
@@ -53,6 +79,8 @@ fn the_scene_language_selects_them_and_bad_requests_are_refused() {
     for (args, expected) in [
         (vec!["--integrator", "bdpt", "--adaptive", "true"], "--adaptive false"),
         (vec!["--integrator", "lighttracer", "--filter", "gaussian"], "box filter"),
+        (vec!["--integrator", "sppm", "--adaptive", "true"], "--adaptive false"),
+        (vec!["--integrator", "sppm", "--filter", "gaussian"], "box filter"),
         (vec!["--integrator", "photons"], "unknown integrator 'photons'"),
     ] {
         let mut all = vec!["render", "cornell", "--size", "16x16", "--spp", "2", "-o", out.to_str().unwrap()];

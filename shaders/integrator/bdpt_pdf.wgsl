@@ -8,8 +8,6 @@
 // Vertices of a light subpath: BDPT_MAX_DEPTH (generated/interface.wgsl) surfaces at most.
 const BDPT_VERTICES: u32 = BDPT_MAX_DEPTH;
 
-const LIGHT_NONE: u32 = 0xffffffffu;
-
 // Solid-angle density of the camera ray along unit `direction` (pbrt's Pdf_We: 1 / (A cos^3),
 // A the film's area at distance 1); 0 outside the film.
 fn camera_direction_pdf(direction: vec3<f32>) -> f32 {

@@ -227,7 +227,7 @@ pub struct SceneOverrides {
     /// gradient sky `sky:ZENITH:HORIZON` or the CIE overcast sky `overcast:ZENITH`.
     #[arg(long, value_name = "COLOR|FILE|sky:Z:H|overcast:Z")]
     pub environment: Option<String>,
-    /// Integrator: pathtracer, raytracer, direct, analyticdirect, lighttracer or bdpt (default: the scene's,
+    /// Integrator: pathtracer, raytracer, direct, analyticdirect, lighttracer, bdpt or sppm (default: the scene's,
     /// pathtracer for glTF and mesh files).
     #[arg(long, value_name = "NAME", value_parser = parse_integrator)]
     pub integrator: Option<Integrator>,

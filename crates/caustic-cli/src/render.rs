@@ -468,6 +468,11 @@ pub fn accumulate(
             settings.integrator.keyword()
         );
     }
+    if budget.adaptive && settings.integrator == caustic_scene::Integrator::Sppm {
+        anyhow::bail!(
+            "--adaptive gives pixels their own sample counts; --integrator sppm traces each iteration's photons for every pixel alike (use --adaptive false)"
+        );
+    }
     // Kernels compile for seconds on a CPU device when the driver's cache lacks them: say so.
     let compiling = ProgressBar::new_spinner().with_message("compiling the kernels");
     compiling.enable_steady_tick(std::time::Duration::from_millis(100));

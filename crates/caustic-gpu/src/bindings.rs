@@ -71,9 +71,15 @@ pub const PIXEL_QUEUE: Binding = binding(12, "pixel_queue", Access::Read);
 pub const SPLATS: Binding = binding(13, "splats", Access::ReadWrite);
 /// The light tracer's splats summed over the passes, one Kahan-compensated texel per pixel.
 pub const SPLAT_SUMS: Binding = binding(14, "splat_sums", Access::ReadWrite);
+/// Stochastic progressive photon mapping's photons and their hash grid (`atomic<u32>` words
+/// laid out by [`crate::sppm`]); a placeholder for other kernels.
+pub const PHOTON_MAP: Binding = binding(15, "photon_map", Access::ReadWrite);
+/// Photon mapping's progressive statistics per pixel (`SppmPixel`); a placeholder for other
+/// kernels.
+pub const SPPM_PIXELS: Binding = binding(16, "sppm_pixels", Access::ReadWrite);
 
 /// Every binding of the integrators' group, in binding order.
-pub const INTEGRATOR_BINDINGS: [Binding; 15] = [
+pub const INTEGRATOR_BINDINGS: [Binding; 17] = [
     FRAME,
     BVH_NODES,
     BVH_TRIANGLES,
@@ -89,6 +95,8 @@ pub const INTEGRATOR_BINDINGS: [Binding; 15] = [
     PIXEL_QUEUE,
     SPLATS,
     SPLAT_SUMS,
+    PHOTON_MAP,
+    SPPM_PIXELS,
 ];
 
 /// Storage buffers among [`INTEGRATOR_BINDINGS`] (all but the environment texture), which

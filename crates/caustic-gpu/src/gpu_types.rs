@@ -392,6 +392,22 @@ pub struct AccumTexel {
     pub compensation: [f32; 4],
 }
 
+/// A pixel's statistics under stochastic progressive photon mapping (`SppmPixel` in
+/// `integrator/sppm.wgsl`): the gathered flux rescaled to the current radius, the photons
+/// accumulated and the radius.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct SppmPixel {
+    /// Flux gathered (tau), rgb.
+    pub tau: [f32; 3],
+    /// Photons accumulated (N, counted with the reduction's gamma).
+    pub photons: f32,
+    /// The gather radius, in the device's scene units.
+    pub radius: f32,
+    /// Padding to 32 bytes.
+    pub _pad: [f32; 3],
+}
+
 /// Bounces an [`InspectRecord`] holds (`INSPECT_MAX_BOUNCES` in WGSL); longer paths keep
 /// their first ones.
 pub const INSPECT_MAX_BOUNCES: usize = 64;

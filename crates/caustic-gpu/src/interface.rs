@@ -39,6 +39,13 @@ pub const SHARED_CONSTANTS: &[(&str, u32)] = &[
     ("PROJECTION_ORTHOGRAPHIC", PROJECTION_ORTHOGRAPHIC),
     ("BDPT_MAX_DEPTH", crate::light_tracer::BDPT_MAX_DEPTH),
     ("STRATEGY_MAX_DEPTH", crate::light_tracer::STRATEGY_MAX_DEPTH),
+    ("PHOTON_HEADER_WORDS", crate::sppm::HEADER_WORDS),
+    ("PHOTON_COUNT", crate::sppm::COUNT),
+    ("PHOTON_CAPACITY", crate::sppm::CAPACITY),
+    ("PHOTON_BUCKETS", crate::sppm::BUCKETS),
+    ("PHOTON_RADIUS", crate::sppm::RADIUS),
+    ("PHOTON_WORDS", crate::sppm::PHOTON_WORDS),
+    ("PHOTON_SEED", crate::sppm::PHOTON_SEED),
 ];
 
 /// Every shared `f32` constant by its name on both sides.

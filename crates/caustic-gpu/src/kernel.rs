@@ -116,7 +116,13 @@ impl Kernel {
 
     /// Compiles the kernel against the integrators' bind group layout.
     pub fn compile(&self, device: &wgpu::Device, layout: &wgpu::BindGroupLayout) -> wgpu::ComputePipeline {
-        self.pipeline(device, &self.module(device), &[layout], self.entry_point)
+        self.compile_entry(device, layout, self.entry_point)
+    }
+
+    /// Compiles another entry point of the kernel's program with its specialisation (a pass
+    /// an integrator runs beside its main one: splats' resolve, photon mapping's photons).
+    pub fn compile_entry(&self, device: &wgpu::Device, layout: &wgpu::BindGroupLayout, entry_point: &str) -> wgpu::ComputePipeline {
+        self.pipeline(device, &self.module(device), &[layout], entry_point)
     }
 
     /// The kernel's program: the path tracer's WGSL with the traversal and tables replaced, and
@@ -226,6 +232,7 @@ pub(crate) fn entry_point(settings: &RenderSettings) -> &'static str {
         (RenderPass::Image, Integrator::AnalyticDirect) => "render_analytic_direct",
         (RenderPass::Image, Integrator::LightTracer) => crate::light_tracer::ENTRY_POINT,
         (RenderPass::Image, Integrator::Bdpt) => crate::light_tracer::BDPT_ENTRY_POINT,
+        (RenderPass::Image, Integrator::Sppm) => crate::sppm::ENTRY_POINT,
     }
 }
 

@@ -46,6 +46,7 @@ mod scene_data;
 pub mod shaders;
 pub mod shadow_hull;
 pub mod specialize;
+pub mod sppm;
 pub mod wavefront;
 
 pub use aov::{Aov, AovImages, render_aovs};

@@ -129,7 +129,7 @@ impl Splats {
                 mapped_at_creation: false,
             })
         };
-        let resolve = light_tracer.then(|| Kernel { entry_point: RESOLVE_ENTRY_POINT, ..kernel.clone() }.compile(&ctx.device, layout));
+        let resolve = light_tracer.then(|| kernel.compile_entry(&ctx.device, layout, RESOLVE_ENTRY_POINT));
         let splats = Splats {
             pass: storage("splats", pass_bytes),
             sums: storage("splat sums", sum_bytes),
@@ -237,12 +237,8 @@ pub(crate) fn bind_entries(splats: &Splats) -> [wgpu::BindGroupEntry<'_>; 2] {
 
 /// Fails, naming what, when the light tracer (or bidirectional path tracing, which also
 /// refuses absorbing media) cannot render `scene` under `settings` without a silent error: an orthographic camera (its directions are a delta no light path connects to),
-/// a reconstruction filter other than the box of radius 0.5 (splats land in one pixel), the
-/// seed's `flat` material (a toon ramp of direct light, not a BSDF a light path can scatter
-/// from), emitters that are not in the light list (no light path starts on them: textured or
-/// moving emitters, boxes, ellipsoids, planes, instances' emitters), and directional lights or
-/// the environment in a scene with infinite planes (they emit from a disk around the scene's
-/// bounds, which a plane exceeds).
+/// a reconstruction filter other than the box of radius 0.5 (splats land in one pixel), and
+/// what [`light_path_refusal`] names.
 pub fn check(scene: &Scene, gpu: &GpuScene, settings: &RenderSettings) -> Result<(), GpuError> {
     let bdpt = crate::kernel::entry_point(settings) == BDPT_ENTRY_POINT;
     let name = if bdpt { "bidirectional path tracing" } else { "the light tracer" };
@@ -256,20 +252,33 @@ pub fn check(scene: &Scene, gpu: &GpuScene, settings: &RenderSettings) -> Result
     if settings.filter != crate::filter::PixelFilter::default() {
         return refuse(format!("it splats light paths into single pixels (the box filter of radius 0.5), not with the {} filter", settings.filter));
     }
+    match light_path_refusal(scene, gpu) {
+        Some(why) => refuse(why),
+        None => Ok(()),
+    }
+}
+
+/// Why light paths (the light tracer's, bidirectional path tracing's, photon mapping's
+/// photons) cannot leave `scene`'s lights or scatter in it, if they cannot: the seed's `flat`
+/// material (a toon ramp of direct light, not a BSDF), emitters outside the light list (no
+/// light path starts on them: textured or moving emitters, boxes, ellipsoids, planes,
+/// instances' emitters), and directional lights or the environment in a scene with infinite
+/// planes (they emit from a disk around the scene's bounds, which a plane exceeds).
+pub(crate) fn light_path_refusal(scene: &Scene, gpu: &GpuScene) -> Option<String> {
     if scene.materials.iter().any(|m| m.model == caustic_scene::ShadingModel::Flat) {
-        return refuse("the `flat` material is a toon ramp of direct light, not a BSDF light paths can scatter from".into());
+        return Some("the `flat` material is a toon ramp of direct light, not a BSDF light paths can scatter from".into());
     }
     if gpu.unlisted_emitters > 0 {
-        return refuse(format!(
+        return Some(format!(
             "{} emissive primitives are not light sources light paths can start from (textured or moving emitters, boxes, ellipsoids, planes, or emitters inside instances)",
             gpu.unlisted_emitters
         ));
     }
     let distant = gpu.requirements & (REQUIRES_DIRECTIONAL_LIGHTS | REQUIRES_ENVIRONMENT_LIGHT) != 0;
     if distant && gpu.first_plane < gpu.shape_count {
-        return refuse("directional lights and the environment emit from a disk around the scene's bounds, which its infinite planes exceed".into());
+        return Some("directional lights and the environment emit from a disk around the scene's bounds, which its infinite planes exceed".into());
     }
-    Ok(())
+    None
 }
 
 #[cfg(test)]

@@ -12,6 +12,7 @@ use crate::light_tracer::Splats;
 use crate::pages::{PagedArray, Paging};
 use crate::readback::read_buffer;
 use crate::render_settings::RenderSettings;
+use crate::sppm::PhotonMap;
 use crate::wavefront::{KernelShape, Wavefront, WavefrontProfile};
 use crate::{GpuContext, GpuError, GpuScene};
 use caustic_image::Image;
@@ -67,6 +68,9 @@ pub struct PathTracer<'a> {
     scene_bindings: SceneBindings,
     /// The light tracer's splats ([`crate::light_tracer`]); placeholders for other kernels.
     splats: Splats,
+    /// Photon mapping's photons and pixel statistics ([`crate::sppm`]); placeholders for
+    /// other kernels.
+    photons: PhotonMap,
 }
 
 impl<'a> PathTracer<'a> {
@@ -82,6 +86,7 @@ impl<'a> PathTracer<'a> {
         light_tracer_fits(scene, gpu, settings, &kernel, &film)?;
         let stages = Stages::new(ctx, &kernel, &layout, settings.shape, &frame)?;
         let splats = Splats::for_kernel(ctx, &kernel, &layout, frame.width * frame.height)?;
+        let photons = photon_map(ctx, &kernel, &layout, &frame)?;
         let inspection = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("inspection"),
             size: std::mem::size_of::<InspectRecord>() as u64,
@@ -90,7 +95,7 @@ impl<'a> PathTracer<'a> {
         });
         let queue = PixelQueue::new(ctx);
         let scene_bindings = SceneBindings::of(gpu);
-        let tracer_buffers = TracerBuffers { frame: &frame_buffer, inspection: &inspection, queue: &queue.buffer, splats: &splats };
+        let tracer_buffers = TracerBuffers { frame: &frame_buffer, inspection: &inspection, queue: &queue.buffer, splats: &splats, photons: &photons };
         let bind_groups = bind_groups(device, &layout, &scene_bindings, &film, &tracer_buffers);
         ctx.check()?;
         let mut tracer = PathTracer {
@@ -114,6 +119,7 @@ impl<'a> PathTracer<'a> {
             pixel_samples: None,
             scene_bindings,
             splats,
+            photons,
         };
         tracer.warm_up()?;
         Ok(tracer)
@@ -149,8 +155,10 @@ impl<'a> PathTracer<'a> {
         }
         if recompile || resized {
             self.splats = Splats::for_kernel(self.ctx, &wanted, &self.layout, frame.width * frame.height)?;
+            self.photons = photon_map(self.ctx, &wanted, &self.layout, &frame)?;
         } else {
             self.splats.clear(self.ctx);
+            self.photons.clear(self.ctx);
         }
         if recompile {
             self.stages = Stages::new(self.ctx, &wanted, &self.layout, settings.shape, &frame)?;
@@ -177,7 +185,8 @@ impl<'a> PathTracer<'a> {
 
     /// Makes the bind groups again (after the film, the scene or the pixel queue changed).
     fn rebind(&mut self) {
-        let tracer_buffers = TracerBuffers { frame: &self.frame_buffer, inspection: &self.inspection, queue: &self.queue.buffer, splats: &self.splats };
+        let tracer_buffers =
+            TracerBuffers { frame: &self.frame_buffer, inspection: &self.inspection, queue: &self.queue.buffer, splats: &self.splats, photons: &self.photons };
         self.bind_groups = bind_groups(&self.ctx.device, &self.layout, &self.scene_bindings, &self.film, &tracer_buffers);
     }
 
@@ -206,6 +215,9 @@ impl<'a> PathTracer<'a> {
             return Ok(outcome);
         }
         self.frame.sample_index = self.first_sample + self.complete_passes;
+        if self.photons.active() && self.next_pixel == 0 {
+            self.trace_photons()?;
+        }
         while self.next_pixel < pixels {
             if stop() {
                 return Ok(PassOutcome::Stopped);
@@ -220,6 +232,34 @@ impl<'a> PathTracer<'a> {
         self.complete_passes += 1;
         self.splats.resolve(self.ctx, &self.bind_groups[0])?;
         Ok(PassOutcome::Complete)
+    }
+
+    /// Photon mapping's photon pass for the iteration `frame.sample_index`, in tiles of photon
+    /// paths, traced again into a larger map when the map could not hold every photon.
+    fn trace_photons(&mut self) -> Result<(), GpuError> {
+        let Some(pipeline) = self.photons.photon_pass().cloned() else { return Ok(()) };
+        loop {
+            self.photons.begin_iteration(self.ctx, self.frame.sample_index);
+            let paths = self.photons.paths();
+            let mut start = 0;
+            while start < paths {
+                let tile = self.tile_pixels.min(paths - start);
+                self.frame.tile_start = start;
+                self.frame.tile_pixels = tile;
+                self.ctx.queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&self.frame));
+                let began = Instant::now();
+                self.run_megakernel(&pipeline, tile.div_ceil(WORKGROUP_SIZE))?;
+                self.adapt_tile_size(tile, began.elapsed());
+                start += tile;
+            }
+            match self.photons.grown(self.ctx)? {
+                None => return Ok(()),
+                Some(larger) => {
+                    self.photons = larger;
+                    self.rebind();
+                }
+            }
+        }
     }
 
     fn dispatch_tile(&mut self, start: u32, pixels: u32) -> Result<(), GpuError> {
@@ -307,7 +347,7 @@ impl<'a> PathTracer<'a> {
     /// ([`PathTracer::accumulated`] reads those).
     pub fn accumulation_buffer(&self) -> Option<&wgpu::Buffer> {
         match self.film.bands.as_slice() {
-            [one] if !self.splats.active() => Some(&one.accumulation),
+            [one] if !self.splats.active() && !self.photons.active() => Some(&one.accumulation),
             _ => None,
         }
     }
@@ -358,6 +398,10 @@ impl<'a> PathTracer<'a> {
         let texels: Vec<AccumTexel> = self.film.texels(self.ctx)?;
         let mut rgba: Vec<[f32; 4]> = texels.iter().map(|t| weighted_mean(t.sum)).collect();
         self.splats.add_to(self.ctx, &self.bind_groups[0], &mut rgba)?;
+        if self.photons.active() {
+            let iterations: Vec<u32> = (0..rgba.len() as u32).map(|pixel| self.complete_passes + u32::from(pixel < self.next_pixel)).collect();
+            self.photons.add_to(self.ctx, &iterations, &mut rgba)?;
+        }
         let counts = texels.iter().map(|t| t.sum[3] as u32).collect();
         Ok((Image::from_rgba(self.frame.width, self.frame.height, &rgba), counts))
     }
@@ -414,6 +458,18 @@ impl<'a> PathTracer<'a> {
     /// paths for other kernels.
     pub fn splat_sums(&self) -> Result<(Vec<[f32; 3]>, u64), GpuError> {
         self.splats.sums(self.ctx, &self.bind_groups[0])
+    }
+
+    /// Photon mapping's state: the photons its map holds per iteration (grown past its first
+    /// size when an iteration stored more) and each pixel's gather radius (row-major), for
+    /// tests and reports of the map's growth and the progressive radius reduction; `None`
+    /// for other kernels.
+    pub fn photon_map_state(&self) -> Result<Option<(u32, Vec<f32>)>, GpuError> {
+        if !self.photons.active() {
+            return Ok(None);
+        }
+        let radii = self.photons.pixel_states(self.ctx)?.iter().map(|p| p.radius).collect();
+        Ok(Some((self.photons.capacity(), radii)))
     }
 
     /// Total samples rejected as non-finite.
@@ -508,6 +564,7 @@ struct TracerBuffers<'b> {
     inspection: &'b wgpu::Buffer,
     queue: &'b wgpu::Buffer,
     splats: &'b Splats,
+    photons: &'b PhotonMap,
 }
 
 /// The integrators' bind groups, one per band of `film`.
@@ -533,6 +590,7 @@ fn bind_groups(device: &wgpu::Device, layout: &wgpu::BindGroupLayout, scene: &Sc
             wgpu::BindGroupEntry { binding: bindings::PIXEL_QUEUE.index, resource: own.queue.as_entire_binding() },
         ]);
         entries.extend(crate::light_tracer::bind_entries(own.splats));
+        entries.extend(crate::sppm::bind_entries(own.photons));
         device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("path tracer"), layout, entries: &entries })
     };
     film.bands.iter().map(bind).collect()
@@ -586,13 +644,23 @@ fn frame_constants(scene: &Scene, gpu: &GpuScene, settings: &RenderSettings) -> 
     }
 }
 
+/// Photon mapping's map for `kernel` with its photon pass compiled, or placeholders for
+/// other kernels.
+fn photon_map(ctx: &GpuContext, kernel: &Kernel, layout: &wgpu::BindGroupLayout, frame: &Frame) -> Result<PhotonMap, GpuError> {
+    let photon_pass = crate::sppm::is_sppm(kernel.entry_point).then(|| kernel.compile_entry(&ctx.device, layout, crate::sppm::PHOTON_ENTRY_POINT));
+    PhotonMap::new(ctx, photon_pass, frame)
+}
+
 /// For the light tracer's kernel, what [`crate::light_tracer::check`] refuses, and a film
 /// split into bands (its splats land on any pixel, so the image must be one band).
 fn light_tracer_fits(scene: &Scene, gpu: &GpuScene, settings: &RenderSettings, kernel: &Kernel, film: &Film) -> Result<(), GpuError> {
-    if !crate::light_tracer::splats(kernel.entry_point) {
+    if crate::sppm::is_sppm(kernel.entry_point) {
+        crate::sppm::check(scene, gpu, settings)?;
+    } else if crate::light_tracer::splats(kernel.entry_point) {
+        crate::light_tracer::check(scene, gpu, settings)?;
+    } else {
         return Ok(());
     }
-    crate::light_tracer::check(scene, gpu, settings)?;
     if film.bands.len() > 1 {
         return Err(GpuError::Scene(format!(
             "{} cannot render a {}x{} image: it is larger than one storage binding holds and the film is split into bands",
@@ -608,7 +676,9 @@ fn light_tracer_fits(scene: &Scene, gpu: &GpuScene, settings: &RenderSettings, k
 /// lights by definition (one bounce of light sampling alone).
 fn next_event(scene: &Scene, settings: &RenderSettings) -> NextEvent {
     match (settings.pass, settings.integrator) {
-        (RenderPass::Image, Integrator::Direct) => NextEvent::On,
+        // Photon mapping's visible points take one light sample for direct light, unweighted:
+        // its photons start after the first bounce, and no BSDF sample looks for lights.
+        (RenderPass::Image, Integrator::Direct | Integrator::Sppm) => NextEvent::On,
         _ => scene.options.next_event,
     }
 }

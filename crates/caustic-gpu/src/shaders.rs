@@ -88,7 +88,7 @@ pub fn ray_bench_source(layout: crate::NodeLayout, words_64: bool, packet_walk: 
     source
 }
 
-const PATH_TRACER: [ShaderFile; 35] = [
+const PATH_TRACER: [ShaderFile; 37] = [
     shader_file!("integrator/bindings.wgsl"),
     shader_file!("integrator/camera.wgsl"),
     shader_file!("integrator/environment.wgsl"),
@@ -113,6 +113,8 @@ const PATH_TRACER: [ShaderFile; 35] = [
     shader_file!("integrator/splat.wgsl"),
     shader_file!("integrator/connect.wgsl"),
     shader_file!("integrator/light_tracer.wgsl"),
+    shader_file!("integrator/photons.wgsl"),
+    shader_file!("integrator/sppm.wgsl"),
     shader_file!("integrator/bdpt_pdf.wgsl"),
     shader_file!("integrator/bdpt.wgsl"),
     shader_file!("integrator/wavefront.wgsl"),

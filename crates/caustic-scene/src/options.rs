@@ -21,12 +21,22 @@ pub enum Integrator {
     /// Bidirectional path tracing: camera and light subpaths joined by every strategy,
     /// weighted by multiple importance sampling.
     Bdpt,
+    /// Stochastic progressive photon mapping: photons stored in a hash grid each iteration
+    /// and gathered at the camera paths' visible points with a shrinking radius (consistent).
+    Sppm,
 }
 
 impl Integrator {
     /// Every integrator, in the order `--integrator` and the scene language list them.
-    pub const ALL: [Integrator; 6] =
-        [Integrator::PathTracer, Integrator::RayTracer, Integrator::Direct, Integrator::AnalyticDirect, Integrator::LightTracer, Integrator::Bdpt];
+    pub const ALL: [Integrator; 7] = [
+        Integrator::PathTracer,
+        Integrator::RayTracer,
+        Integrator::Direct,
+        Integrator::AnalyticDirect,
+        Integrator::LightTracer,
+        Integrator::Bdpt,
+        Integrator::Sppm,
+    ];
 
     /// The name the scene language's `integrator` and `--integrator` take.
     pub fn keyword(self) -> &'static str {
@@ -37,6 +47,7 @@ impl Integrator {
             Integrator::Direct => "direct",
             Integrator::LightTracer => "lighttracer",
             Integrator::Bdpt => "bdpt",
+            Integrator::Sppm => "sppm",
         }
     }
 }

@@ -11,13 +11,14 @@ use egui::{CollapsingHeader, Color32, ComboBox, DragValue, RichText, Slider, Ui}
 use std::path::PathBuf;
 
 /// The integrators the panel offers, with their labels.
-const INTEGRATORS: [(Integrator, &str); 6] = [
+const INTEGRATORS: [(Integrator, &str); 7] = [
     (Integrator::PathTracer, "Path tracer"),
     (Integrator::RayTracer, "Classic ray tracer"),
     (Integrator::Direct, "Direct lighting (Monte Carlo)"),
     (Integrator::AnalyticDirect, "Analytic direct (no shadows)"),
     (Integrator::LightTracer, "Light tracer (caustics)"),
     (Integrator::Bdpt, "Bidirectional path tracer"),
+    (Integrator::Sppm, "Photon mapping (SPPM)"),
 ];
 
 /// Render resolution divisors offered.

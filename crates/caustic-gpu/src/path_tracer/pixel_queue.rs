@@ -129,6 +129,11 @@ impl PathTracer<'_> {
                 "adaptive sampling gives pixels their own sample counts; the light tracer's paths land on any pixel, so it samples every pixel alike".into(),
             ));
         }
+        if self.photons.active() {
+            return Err(GpuError::Scene(
+                "adaptive sampling gives pixels their own sample counts; photon mapping's iterations trace photons for every pixel alike".into(),
+            ));
+        }
         let held = self.pixel_samples();
         let starts: Vec<u32> = self.film.bands.iter().map(|b| b.start).collect();
         let round = RoundLayout::new(extra, &held, &starts);

@@ -14,7 +14,7 @@ use std::path::Path;
 
 /// A 6x6 floor of two triangles, a diffuse sphere on it, a low-poly sphere with vertex
 /// normals (the shading-normal correction), NEE with MIS for the path tracer.
-const ROOM: &str = "size 32 32
+pub(crate) const ROOM: &str = "size 32 32
 camera 0 4 5  0 0.5 0  0 1 0  45
 maxdepth 5
 nexteventestimation mis
@@ -33,7 +33,7 @@ diffuse 0.7 0.3 0.2
 sphere -0.4 0.6 0 0.6
 ";
 
-fn parse(text: &str) -> Scene {
+pub(crate) fn parse(text: &str) -> Scene {
     let (scene, _) = caustic_scene::lang::parse_str(text, Path::new("light_tracer.scene")).expect("scene parses");
     scene.validate().expect("valid scene");
     scene
@@ -62,7 +62,7 @@ fn smooth_sphere(centre: Vec3, radius: f32) -> String {
     lines.join("\n") + "\n"
 }
 
-fn render(ctx: &GpuContext, scene: &Scene, integrator: Integrator, spp: u32) -> caustic_image::Image {
+pub(crate) fn render(ctx: &GpuContext, scene: &Scene, integrator: Integrator, spp: u32) -> caustic_image::Image {
     let gpu = GpuScene::upload(ctx, scene).expect("upload");
     let settings = RenderSettings { integrator, max_depth: scene.options.max_depth, ..RenderSettings::default() };
     let mut tracer = PathTracer::new(ctx, scene, &gpu, &settings).expect("tracer");
@@ -72,7 +72,7 @@ fn render(ctx: &GpuContext, scene: &Scene, integrator: Integrator, spp: u32) -> 
 }
 
 /// Mean of each of four horizontal bands of rows, over all channels.
-fn band_means(image: &caustic_image::Image) -> [f64; 4] {
+pub(crate) fn band_means(image: &caustic_image::Image) -> [f64; 4] {
     let mut sums = [0.0f64; 4];
     let rows_per_band = image.height.div_ceil(4);
     for (i, p) in image.pixels.iter().enumerate() {
@@ -85,7 +85,7 @@ fn band_means(image: &caustic_image::Image) -> [f64; 4] {
 /// Renders `scene` with the path tracer and `integrator` and checks each band's mean ratio
 /// within `tolerance` (bands whose path-traced mean is below a thousandth of the brightest are
 /// left out: sky, or nothing lit).
-fn agrees(ctx: &GpuContext, name: &str, scene: &Scene, integrator: Integrator, spp: u32, tolerance: f64) {
+pub(crate) fn agrees(ctx: &GpuContext, name: &str, scene: &Scene, integrator: Integrator, spp: u32, tolerance: f64) {
     let path = band_means(&render(ctx, scene, Integrator::PathTracer, spp));
     let light = band_means(&render(ctx, scene, integrator, spp));
     let floor = 1e-3 * path.iter().copied().fold(0.0, f64::max);
@@ -110,7 +110,7 @@ fn bidirectional_path_tracing_agrees_with_the_path_tracer_for_every_light_kind()
     every_light_kind(Integrator::Bdpt);
 }
 
-fn every_light_kind(integrator: Integrator) {
+pub(crate) fn every_light_kind(integrator: Integrator) {
     let ctx = device();
     let sphere = smooth_sphere(Vec3::new(0.9, 0.7, 0.5), 0.6);
     // Point lights with the constant (seed default) and the physical falloff, a spread point
@@ -154,7 +154,7 @@ fn bidirectional_path_tracing_renders_caustics_as_the_path_tracer_converges_to()
     caustic_seen_from_below(Integrator::Bdpt);
 }
 
-fn caustic_seen_from_below(integrator: Integrator) {
+pub(crate) fn caustic_seen_from_below(integrator: Integrator) {
     let ctx = device();
     let scene = parse(&format!(
         "{}camera 0 0.4 3  0 0 0.3  0 1 0  24\nquadLight -0.5 2.5 -0.5  0 0 1  1 0 0  8 8 8\n\

@@ -163,7 +163,7 @@ fn an_array_that_is_not_paged_is_refused_by_name() {
 }
 
 /// Pages past the storage buffers a shader stage may bind (lowered to 20 here; the scene needs
-/// 21 at 64 KiB) are bound as binding arrays on a device that has them, and the render is bit
+/// 23 at 64 KiB) are bound as binding arrays on a device that has them, and the render is bit
 /// for bit the one from whole bindings; without binding arrays (their elements lowered to
 /// none) the scene is refused naming its pages and both limits, before anything reaches the
 /// device.

@@ -5,7 +5,7 @@
 
 use bytemuck::{Pod, Zeroable};
 use caustic_gpu::bindings::{Access, INTEGRATOR_BINDINGS};
-use caustic_gpu::gpu_types::{AccumTexel, Frame, GpuLight, GpuMaterial, InspectBounce, InspectRecord, TriangleShading};
+use caustic_gpu::gpu_types::{AccumTexel, Frame, GpuLight, GpuMaterial, InspectBounce, InspectRecord, SppmPixel, TriangleShading};
 use caustic_gpu::shaders::Program;
 use caustic_gpu::wavefront::{WavefrontControl, WavefrontPath, WavefrontShadow};
 
@@ -149,6 +149,7 @@ fn mirrors() -> Vec<(&'static str, RustLayout)> {
             rust_layout!(GpuLight { v0, cdf, e1, area, e2, kind, radiance, select_pdf, color_end, flags, color_far, emitter_material, color_side, samples }),
         ),
         ("AccumTexel", rust_layout!(AccumTexel { sum, compensation })),
+        ("SppmPixel", rust_layout!(SppmPixel { tau, photons, radius })),
         (
             "InspectBounce",
             rust_layout!(InspectBounce {

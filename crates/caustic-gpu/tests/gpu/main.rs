@@ -45,6 +45,7 @@ mod motion_blur;
 mod motion_gltf;
 mod pass_memory;
 mod path_regeneration;
+mod photon_mapping;
 mod requirements;
 mod restart;
 mod sampler;

@@ -1,0 +1,156 @@
+//! Stochastic progressive photon mapping (issue 29, item 2) against the unbiased integrators:
+//! consistent, so its images approach theirs as the iterations grow. The metric is the mean of
+//! each of four horizontal bands over the path tracer's (`bidirectional::agrees`); the
+//! convergence test prints the relative MSE against a light-traced reference at growing
+//! iteration counts and the rate it falls at. Also: a map too small for an iteration's photons
+//! grows and loses none, the radius shrinks, and what photon mapping cannot render is refused
+//! by name.
+
+use crate::bidirectional::{ROOM, agrees, band_means, caustic_seen_from_below, every_light_kind, parse, render};
+use crate::support::device;
+use caustic_gpu::{GpuScene, PathTracer, RenderSettings};
+use caustic_scene::Integrator;
+
+#[test]
+fn photon_mapping_agrees_with_the_path_tracer_for_every_light_kind() {
+    every_light_kind(Integrator::Sppm);
+}
+
+#[test]
+fn photon_mapping_renders_caustics_as_the_path_tracer_converges_to() {
+    caustic_seen_from_below(Integrator::Sppm);
+}
+
+/// A glass sphere's caustic seen from below (no specular surface in view, so the light
+/// tracer's image is an unbiased reference that resolves the caustic quickly): photon
+/// mapping's relative MSE against it, less the reference's own noise (measured against a
+/// second light-traced image of another seed), falls as the iterations grow, at a printed
+/// rate, and every lit pixel's radius has shrunk below where it started.
+#[test]
+fn photon_mapping_converges_as_the_iterations_grow() {
+    let ctx = device();
+    let scene = parse(&format!(
+        "{}camera 0 0.4 3  0 0 0.3  0 1 0  24\nquadLight -0.5 2.5 -0.5  0 0 1  1 0 0  8 8 8\n\
+         material glass\ndiffuse 0 0 0\ntransparency 1\nior 1.5\nsphere 0.3 1.2 0 0.4\n",
+        ROOM.replace("sphere -0.4 0.6 0 0.6\n", "")
+    ));
+    let relmse = |a: &caustic_image::Image, b: &caustic_image::Image| {
+        caustic_image::metrics::relative_mse(a, b, caustic_image::metrics::RELMSE_EPSILON).expect("same size")
+    };
+    let light_traced = |seed: u32| {
+        let gpu = GpuScene::upload(&ctx, &scene).expect("upload");
+        let settings = RenderSettings { integrator: Integrator::LightTracer, max_depth: scene.options.max_depth, seed, ..RenderSettings::default() };
+        let mut tracer = PathTracer::new(&ctx, &scene, &gpu, &settings).expect("tracer");
+        (0..4096).for_each(|_| tracer.render_sample().expect("pass"));
+        tracer.image().expect("image")
+    };
+    let reference = light_traced(1);
+    // Two independent references differ by twice the noise of one.
+    let floor = relmse(&light_traced(2), &reference) / 2.0;
+    let gpu = GpuScene::upload(&ctx, &scene).expect("upload");
+    let settings = RenderSettings { integrator: Integrator::Sppm, max_depth: scene.options.max_depth, ..RenderSettings::default() };
+    let mut tracer = PathTracer::new(&ctx, &scene, &gpu, &settings).expect("tracer");
+    let (_, initial) = tracer.photon_map_state().expect("state").expect("photon mapping's state");
+    let mut errors = Vec::new();
+    for iterations in [8u32, 32, 128, 512] {
+        while tracer.samples_per_pixel() < iterations {
+            tracer.render_sample().expect("iteration");
+        }
+        errors.push((iterations, relmse(&tracer.image().expect("image"), &reference) - floor));
+    }
+    let (first, last) = (errors[0], errors[errors.len() - 1]);
+    let rate = (last.1 / first.1).ln() / (f64::from(last.0) / f64::from(first.0)).ln();
+    let listed: Vec<String> = errors.iter().map(|(n, e)| format!("{n}: {e:.3e}")).collect();
+    println!(
+        "photon mapping against the light tracer's 4,096 spp (its own noise {floor:.2e} taken off), relMSE by iterations {}; error ~ iterations^{rate:.2}",
+        listed.join(", ")
+    );
+    for pair in errors.windows(2) {
+        assert!(pair[1].1 < pair[0].1, "the error did not fall from {} to {} iterations: {listed:?}", pair[0].0, pair[1].0);
+    }
+    assert!(rate < -0.5, "error falls as iterations^{rate:.2}, slower than the square root");
+    let (_, radii) = tracer.photon_map_state().expect("state").expect("photon mapping's state");
+    let shrunk = radii.iter().zip(&initial).filter(|(r, r0)| r < r0).count();
+    let image = tracer.image().expect("image");
+    let lit = image.pixels.iter().filter(|p| p[0] > 0.0).count();
+    println!(
+        "radii: {shrunk} of {} pixels shrunk ({lit} lit), the smallest {:.3e} from {:.3e}",
+        radii.len(),
+        radii.iter().copied().fold(f32::MAX, f32::min),
+        initial[0]
+    );
+    assert!(shrunk * 10 >= lit * 9, "{shrunk} of {lit} lit pixels' radii shrank");
+}
+
+/// A closed white room lit from inside: photon paths bounce about ten times, more than the
+/// map is first sized for, so the first iteration grows the map and is traced again. The
+/// image's bands against the path tracer's show no photon was lost.
+#[test]
+fn a_map_too_small_for_an_iterations_photons_grows_and_loses_none() {
+    let ctx = device();
+    let walls = "diffuse 0.85 0.85 0.85\nmaxverts 8\nvertex -1 0 -1\nvertex 1 0 -1\nvertex 1 0 1\nvertex -1 0 1\nvertex -1 2 -1\nvertex 1 2 -1\nvertex 1 2 1\nvertex -1 2 1\n\
+                 tri 0 2 1\ntri 0 3 2\ntri 4 5 6\ntri 4 6 7\ntri 0 1 5\ntri 0 5 4\ntri 3 6 2\ntri 3 7 6\ntri 0 4 7\ntri 0 7 3\ntri 1 2 6\ntri 1 6 5\n";
+    let scene = parse(&format!(
+        "size 24 24\nmaxdepth 40\ncamera 0 1 0.9  0 1 -1  0 1 0  80\nnexteventestimation mis\nambient 0 0 0\nspecular 0 0 0\n{walls}\
+         sphereLight 0 1.6 0 0.15 3 3 3\n"
+    ));
+    let gpu = GpuScene::upload(&ctx, &scene).expect("upload");
+    let settings = RenderSettings { integrator: Integrator::Sppm, max_depth: scene.options.max_depth, ..RenderSettings::default() };
+    let mut tracer = PathTracer::new(&ctx, &scene, &gpu, &settings).expect("tracer");
+    let (first, _) = tracer.photon_map_state().expect("state").expect("photon mapping's state");
+    tracer.render_sample().expect("iteration");
+    let (grown, _) = tracer.photon_map_state().expect("state").expect("photon mapping's state");
+    println!("photon map: {first} photons at first, {grown} after the first iteration");
+    assert!(grown > first, "the map did not grow ({first} -> {grown})");
+    let iterations = 256;
+    (1..iterations).for_each(|_| tracer.render_sample().expect("iteration"));
+    let sppm = band_means(&tracer.image().expect("image"));
+    let path = band_means(&render(&ctx, &scene, Integrator::PathTracer, iterations));
+    for (band, (s, p)) in sppm.iter().zip(&path).enumerate() {
+        println!("closed room, band {band}: photon mapping over the path tracer {:.4}", s / p);
+        assert!((s / p - 1.0).abs() < 0.03, "band {band}: {s} against {p}");
+    }
+}
+
+/// A depth limit counts the photon's bounces, the visible point's and the camera path's
+/// delta bounces as the path tracer counts its scatterings.
+#[test]
+fn photon_mapping_keeps_the_path_tracers_depth_limit() {
+    let ctx = device();
+    for depth in [1, 2] {
+        let scene = parse(&format!(
+            "{}maxdepth {depth}\nquadLight -0.5 2.5 -0.5  0 0 1  1 0 0  5 5 5\nmaterial glass\ndiffuse 0 0 0\ntransparency 1\nior 1.5\nsphere 0.9 0.6 0.6 0.5\n",
+            ROOM
+        ));
+        agrees(&ctx, &format!("max depth {depth}"), &scene, Integrator::Sppm, 384, 0.04);
+    }
+}
+
+#[test]
+fn scenes_photon_mapping_cannot_render_are_refused_by_name() {
+    let ctx = device();
+    let lit = format!("{ROOM}quadLight -0.5 2.5 -0.5  0 0 1  1 0 0  5 5 5\n");
+    let refused = |scene: &caustic_scene::Scene, settings: RenderSettings, expected: &str| {
+        let gpu = GpuScene::upload(&ctx, scene).expect("upload");
+        let settings = RenderSettings { integrator: Integrator::Sppm, ..settings };
+        let error = PathTracer::new(&ctx, scene, &gpu, &settings).err().expect("refused").to_string();
+        println!("refused: {error}");
+        assert!(error.contains("photon mapping") && error.contains(expected), "{error}");
+    };
+    let gaussian = RenderSettings {
+        filter: caustic_gpu::filter::PixelFilter { kind: caustic_gpu::filter::FilterKind::Gaussian, radius: 1.5 },
+        ..RenderSettings::default()
+    };
+    refused(&parse(&lit), gaussian, "box filter");
+    refused(&parse(&format!("{lit}material flat\nsphere 1 0.5 1 0.3\n")), RenderSettings::default(), "`flat` material");
+    refused(&parse(&format!("{lit}emission 1 1 1\nbox 1 0.5 1 0.3 0.3 0.3\n")), RenderSettings::default(), "1 emissive primitives");
+    refused(&parse(&format!("{lit}plane 0 -1 0 0 1 0\ndirectional 0 1 0 1 1 1\n")), RenderSettings::default(), "infinite planes");
+    let gpu = GpuScene::upload(&ctx, &parse(&lit)).expect("upload");
+    let scene = parse(&lit);
+    let mut tracer = PathTracer::new(&ctx, &scene, &gpu, &RenderSettings { integrator: Integrator::Sppm, ..RenderSettings::default() }).expect("tracer");
+    tracer.render_sample().expect("iteration");
+    let pixels = (scene.resolution.0 * scene.resolution.1) as usize;
+    let error = tracer.render_round(&vec![1; pixels], &|| false).expect_err("adaptive rounds refused").to_string();
+    println!("refused: {error}");
+    assert!(error.contains("photon mapping"), "{error}");
+}
