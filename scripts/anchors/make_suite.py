@@ -17,6 +17,10 @@ Scenes (512x512, path tracer with unbounded depth, box pixel filter):
   armadillo a mirror (smooth conductor, reflectance 1), one Lucy rough metal (GGX, F0 = 1,
   roughness 0.3), the rest Lambert. Copies are nodes (glTF) and `to_world` shapes (XML) over
   one mesh per model, so the files stay small (about 5 MB each form).
+- `mirror_caustic`: the same box's walls and light, a glass ball (9,024 triangles, flat
+  facets in both forms) high under the light and a mirror on the back wall, its top tilted 30 degrees out:
+  the ball's caustic on the floor seen directly and in the mirror, light that only
+  specular-diffuse-specular paths carry (issue 29's scene for photon mapping).
 
 Materials are ones both renderers express exactly: Lambert (glTF metallic 0, roughness 1,
 KHR_materials_specular 0; Mitsuba `twosided diffuse`), smooth glass (transmission 1, ior 1.5,
@@ -337,6 +341,17 @@ def env_mesh(folder):
                 "lit only by venice_sunset_1k.hdr.", meshes, instances, materials, camera, environment=ENVMAP)
 
 
+def cornell_box():
+    """The walls and light of ../shared/references/cornell_dragon, read from its PLYs: (meshes,
+    instances) with materials named white, green, red and light."""
+    meshes, instances = {}, []
+    for wall, material in (("floor", "white"), ("ceiling", "white"), ("back_wall", "white"),
+                           ("right_wall_green", "green"), ("left_wall_red", "red"), ("light", "light")):
+        meshes[wall] = read_ply(os.path.join(CORNELL_DRAGON, "meshes", f"{wall}.ply"))
+        instances.append((wall, wall, material, np.eye(4)))
+    return meshes, instances
+
+
 def million(folder):
     materials = [lambert("white", [0.885809, 0.698859, 0.666422]), lambert("green", [0.105421, 0.37798, 0.076425]),
                  lambert("red", [0.570068, 0.0430135, 0.0443706]), lambert("grey", [0.5, 0.5, 0.5]),
@@ -344,11 +359,7 @@ def million(folder):
                  {"name": "glass", "kind": "glass"}, {"name": "mirror", "kind": "metal", "roughness": 0.0},
                  {"name": "rough_metal", "kind": "metal", "roughness": 0.3},
                  {"name": "light", "kind": "emitter", "radiance": [18.387, 13.9873, 6.75357]}]
-    meshes, instances = {}, []
-    for wall, material in (("floor", "white"), ("ceiling", "white"), ("back_wall", "white"),
-                           ("right_wall_green", "green"), ("left_wall_red", "red"), ("light", "light")):
-        meshes[wall] = read_ply(os.path.join(CORNELL_DRAGON, "meshes", f"{wall}.ply"))
-        instances.append((wall, wall, material, np.eye(4)))
+    meshes, instances = cornell_box()
     lucy_v, lucy_f = read_obj(os.path.join(MESHES, "stanford-lucy-100k.obj"))
     armadillo_v, armadillo_f = read_obj(os.path.join(MESHES, "stanford-armadillo-100k.obj"))
     dragon_v, dragon_f = read_ply(os.path.join(MESHES, "stanford-dragon-100k.ply"))
@@ -368,7 +379,53 @@ def million(folder):
                 meshes, instances, materials, camera)
 
 
-SCENES = {"env_mesh": env_mesh, "million": million}
+def uv_sphere(centre, radius, rings=48, segments=96):
+    """A sphere of `rings` x `segments` quads (poles as triangle fans), outward-facing."""
+    vertices = [[0.0, radius, 0.0]]
+    for i in range(1, rings):
+        theta = math.pi * i / rings
+        for j in range(segments):
+            phi = 2 * math.pi * j / segments
+            vertices.append([radius * math.sin(theta) * math.cos(phi), radius * math.cos(theta), radius * math.sin(theta) * math.sin(phi)])
+    vertices.append([0.0, -radius, 0.0])
+    ring = lambda i, j: 1 + (i - 1) * segments + j % segments
+    faces = [[0, ring(1, j + 1), ring(1, j)] for j in range(segments)]
+    for i in range(1, rings - 1):
+        for j in range(segments):
+            a, b, c, d = ring(i, j), ring(i, j + 1), ring(i + 1, j), ring(i + 1, j + 1)
+            faces += [[a, b, d], [a, d, c]]
+    bottom = len(vertices) - 1
+    faces += [[bottom, ring(rings - 1, j), ring(rings - 1, j + 1)] for j in range(segments)]
+    return (np.array(vertices) + np.array(centre)).astype(np.float32), np.array(faces, np.uint32)
+
+
+def quad(corner, edge_u, edge_v):
+    """A parallelogram from `corner` along the two edges, facing edge_u x edge_v."""
+    corner, edge_u, edge_v = (np.array(v, float) for v in (corner, edge_u, edge_v))
+    vertices = np.array([corner, corner + edge_u, corner + edge_u + edge_v, corner + edge_v], np.float32)
+    return vertices, np.array([[0, 1, 2], [0, 2, 3]], np.uint32)
+
+
+def mirror_caustic(folder):
+    materials = [lambert("white", [0.885809, 0.698859, 0.666422]), lambert("green", [0.105421, 0.37798, 0.076425]),
+                 lambert("red", [0.570068, 0.0430135, 0.0443706]),
+                 {"name": "glass", "kind": "glass"}, {"name": "mirror", "kind": "metal", "roughness": 0.0},
+                 {"name": "light", "kind": "emitter", "radiance": [18.387, 13.9873, 6.75357]}]
+    meshes, instances = cornell_box()
+    # The glass ball focuses the light onto the floor below it; the mirror, hung on the back
+    # wall with its top tilted out towards the camera, shows that floor from above.
+    meshes["ball"] = uv_sphere([278.0, 190.0, 200.0], 70.0)
+    tilt = math.radians(30.0)
+    up = [0.0, math.cos(tilt) * 230.0, -math.sin(tilt) * 230.0]
+    meshes["mirror"] = quad([90.0, 290.0, 545.0], [376.0, 0.0, 0.0], up)
+    instances += [("ball", "ball", "glass", np.eye(4)), ("mirror", "mirror", "mirror", np.eye(4))]
+    camera = ([278.0, 273.0, -800.0], [278.0, 273.0, 0.0], [0.0, 1.0, 0.0], 39.30764811610662)
+    write_scene(folder, "mirror_caustic", "The Cornell box of cornell_dragon with a glass ball under the light and a "
+                "mirror on the back wall, its top tilted out: the ball's caustic on the floor seen directly and in the "
+                "mirror (specular-diffuse-specular paths).", meshes, instances, materials, camera)
+
+
+SCENES = {"env_mesh": env_mesh, "million": million, "mirror_caustic": mirror_caustic}
 
 
 def ensure(name, out=os.path.join(ROOT, "assets", "suite")):

@@ -43,6 +43,20 @@ class Metrics(unittest.TestCase):
 
 
 class SceneForms(unittest.TestCase):
+    def test_time_on_the_curve_interpolates_the_crossing_or_extrapolates_its_slope(self):
+        pixels = 100
+        # rate 1e-4 M paths/s: the first pass of 1 spp over 100 pixels takes 1 s.
+        points = [{"spp": 1, "seconds": 5.0, "relmse": 4e-3}, {"spp": 2, "seconds": 6.0, "relmse": 2e-3},
+                  {"spp": 4, "seconds": 8.0, "relmse": 5e-4}]
+        # Times 1, 2, 4 s; relMSE 2e-3 at 2 s and 5e-4 at 4 s: slope -2, so 1e-3 at 2 sqrt(2) s.
+        self.assertAlmostEqual(suite.time_on_curve(points, 0.0, 1e-4, pixels), 2 * 2 ** 0.5, places=9)
+        # Still above the target: along the last two points' slope (relMSE 4e-3 -> 2e-3 from
+        # 1 to 2 s, slope -1), 1e-3 at 4 s.
+        self.assertAlmostEqual(suite.time_on_curve(points[:2], 0.0, 1e-4, pixels), 4.0, places=9)
+        # A curve that does not fall has no time.
+        flat = [{"spp": 1, "seconds": 0.0, "relmse": 4e-3}, {"spp": 2, "seconds": 1.0, "relmse": 4e-3}]
+        self.assertIsNone(suite.time_on_curve(flat, 0.0, 1e-4, pixels))
+
     def test_ply_round_trip(self):
         rng = np.random.default_rng(2)
         vertices = rng.normal(size=(50, 3)).astype(np.float32)

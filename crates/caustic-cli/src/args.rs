@@ -236,7 +236,8 @@ pub struct SceneOverrides {
     #[arg(long = "camera", value_name = "N")]
     pub camera_index: Option<usize>,
     /// Quality preset (preview, balanced, final): the path tracer with the preset's depth and
-    /// samples per pixel (docs/PERFORMANCE.md has each one's measured time and error);
+    /// samples per pixel, photon mapping for preview and balanced where smooth glass or
+    /// mirrors focus light (docs/PERFORMANCE.md has each one's measured time and error);
     /// --integrator, --max-depth and --spp still win.
     #[arg(long, value_enum)]
     pub preset: Option<crate::preset::Preset>,

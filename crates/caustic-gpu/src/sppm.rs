@@ -237,6 +237,32 @@ pub fn initial_radius(frame: &Frame) -> f32 {
     INITIAL_RADIUS_PIXELS * footprint
 }
 
+/// Smallest reflectance of a smooth (delta) reflection lobe that makes a surface a mirror for
+/// [`focuses_light`]: metals and mirrors, not the few percent a smooth coat reflects.
+const MIRROR_REFLECTANCE: f32 = 0.5;
+
+/// Whether `scene` has surfaces that focus light into caustics no light sample can connect
+/// to: smooth glass (a delta dielectric lobe) or smooth mirrors (a delta reflection lobe of
+/// reflectance at least [`MIRROR_REFLECTANCE`]). The quality presets render such scenes with
+/// photon mapping (docs/PHOTON_MAPPING.md has the measurements that decided it).
+pub fn focuses_light(scene: &Scene) -> bool {
+    use caustic_bsdf::microfacet::ALPHA_SMOOTH;
+    scene.materials.iter().any(|m| {
+        let p = crate::scene_data::bsdf_params(m);
+        let glass = p.dielectric.max_element() > 0.0 && p.dielectric_alpha < ALPHA_SMOOTH;
+        let mirror = p.mirror >= MIRROR_REFLECTANCE && p.mirror_alpha < ALPHA_SMOOTH;
+        let metal = p.specular_weight * p.specular_f0.max_element() >= MIRROR_REFLECTANCE && p.specular_alpha < ALPHA_SMOOTH;
+        glass || mirror || metal
+    })
+}
+
+/// Whether photon mapping can render `scene` as far as the scene alone tells (no `flat`
+/// material, no textured emitter: light paths cannot leave those); the presets choose it only
+/// then. [`check`] decides with the uploaded scene and the settings.
+pub fn may_render(scene: &Scene) -> bool {
+    scene.materials.iter().all(|m| m.model != caustic_scene::ShadingModel::Flat && (m.emissive_texture.is_none() || m.emission == glam::Vec3::ZERO))
+}
+
 /// The photon map's two bindings' entries.
 pub(crate) fn bind_entries(map: &PhotonMap) -> [wgpu::BindGroupEntry<'_>; 2] {
     [
@@ -267,6 +293,20 @@ pub fn check(scene: &Scene, gpu: &GpuScene, settings: &RenderSettings) -> Result
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn smooth_glass_and_mirrors_focus_light_coats_and_rough_metal_do_not() {
+        use caustic_scene::Material;
+        let with = |m: Material| Scene { materials: vec![Material::diffuse("wall", glam::Vec3::splat(0.5)), m], ..Scene::default() };
+        let glass = Material { transmission: 1.0, roughness: 0.0, ..Material::diffuse("glass", glam::Vec3::ONE) };
+        let metal = Material { metallic: 1.0, roughness: 0.0, ..Material::diffuse("mirror", glam::Vec3::ONE) };
+        assert!(focuses_light(&with(glass.clone())), "smooth glass");
+        assert!(focuses_light(&with(metal.clone())), "a smooth metal");
+        assert!(!focuses_light(&with(Material { roughness: 0.5, ..glass })), "frosted glass");
+        assert!(!focuses_light(&with(Material { roughness: 0.3, ..metal })), "rough metal");
+        assert!(!focuses_light(&with(Material { specular: 1.0, roughness: 0.0, ..Material::diffuse("plastic", glam::Vec3::splat(0.5)) })), "a smooth coat");
+        assert!(!focuses_light(&with(Material::diffuse("second wall", glam::Vec3::ONE))), "diffuse only");
+    }
 
     #[test]
     fn the_initial_radius_is_pixels_wide_at_the_scene_centre() {

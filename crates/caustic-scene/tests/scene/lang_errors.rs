@@ -41,7 +41,7 @@ fn each_error_names_the_place_and_what_was_expected() {
         ("vertex nan 0 0\n", "bad.test:1:8: vertex: x must be a finite number within the range of f32, found 'nan'"),
         ("vertex 0 inf 0\n", "bad.test:1:10: vertex: y must be a finite number within the range of f32, found 'inf'"),
         ("vertex 0 0 1e39\n", "bad.test:1:12: vertex: z must be a finite number within the range of f32, found '1e39'"),
-        ("integrator foo\n", "bad.test:1:12: integrator: expected pathtracer, raytracer, direct, analyticdirect, lighttracer or bdpt, found 'foo'"),
+        ("integrator foo\n", "bad.test:1:12: integrator: expected pathtracer, raytracer, direct, analyticdirect, lighttracer, bdpt or sppm, found 'foo'"),
         ("lightstratify yes\n", "bad.test:1:15: lightstratify: expected on or off, found 'yes'"),
         ("render\n", "bad.test:1:7: render: expected 1 or 2 arguments (render [hdr] image|depth|normals|photo), found 0"),
         ("render ldr image\n", "bad.test:1:8: render: expected hdr, found 'ldr'"),
