@@ -81,6 +81,8 @@ fn the_scene_language_selects_them_and_bad_requests_are_refused() {
         (vec!["--integrator", "lighttracer", "--filter", "gaussian"], "box filter"),
         (vec!["--integrator", "sppm", "--adaptive", "true"], "--adaptive false"),
         (vec!["--integrator", "sppm", "--filter", "gaussian"], "box filter"),
+        (vec!["--integrator", "sppm", "--photon-radius", "0"], "above zero"),
+        (vec!["--integrator", "sppm", "--photons", "0"], "--photons"),
         (vec!["--integrator", "photons"], "unknown integrator 'photons'"),
     ] {
         let mut all = vec!["render", "cornell", "--size", "16x16", "--spp", "2", "-o", out.to_str().unwrap()];

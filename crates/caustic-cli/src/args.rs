@@ -223,6 +223,15 @@ pub struct SceneOverrides {
     /// Random seed: the same seed, scene and spp give the same image.
     #[arg(long, default_value_t = 0, value_name = "N")]
     pub seed: u32,
+    /// Photon mapping (`--integrator sppm`): photon paths traced per iteration (default: one
+    /// per pixel). More make each iteration less noisy and slower.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
+    pub photons: Option<u32>,
+    /// Photon mapping: the gather radius every pixel starts with, in scene units (default: 2
+    /// pixels wide at the scene's centre); it shrinks as photons accumulate. Smaller blurs
+    /// less from the start and is noisier.
+    #[arg(long, value_name = "R", value_parser = parse_photon_radius)]
+    pub photon_radius: Option<f32>,
     /// Environment for escaping rays: a colour (`1` or `r,g,b`), an .hdr/.exr lat-long map, a
     /// gradient sky `sky:ZENITH:HORIZON` or the CIE overcast sky `overcast:ZENITH`.
     #[arg(long, value_name = "COLOR|FILE|sky:Z:H|overcast:Z")]
@@ -263,6 +272,11 @@ pub struct SceneOverrides {
 }
 
 impl SceneOverrides {
+    /// Photon mapping's settings from `--photons` and `--photon-radius`.
+    pub fn photon_settings(&self) -> caustic_gpu::PhotonSettings {
+        caustic_gpu::PhotonSettings { per_iteration: self.photons, initial_radius: self.photon_radius }
+    }
+
     /// How to load the scene: within the input limits, and without the default sky when
     /// --environment replaces it anyway.
     pub fn load_options(&self) -> caustic_scene::LoadOptions {
@@ -638,6 +652,15 @@ fn parse_samples(text: &str) -> Result<Range<u32>, String> {
         return Err(format!("'{text}' holds no samples"));
     }
     Ok(range)
+}
+
+/// Parses `--photon-radius`: a finite length above zero.
+fn parse_photon_radius(text: &str) -> Result<f32, String> {
+    match text.trim().parse::<f32>() {
+        Ok(r) if r.is_finite() && r > 0.0 => Ok(r),
+        Ok(r) => Err(format!("{r}: the radius must be a finite length above zero")),
+        Err(e) => Err(format!("'{text}': {e}")),
+    }
 }
 
 fn parse_size(text: &str) -> Result<(u32, u32), String> {

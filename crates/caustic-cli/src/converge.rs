@@ -131,6 +131,7 @@ pub fn run(args: &ConvergeArgs) -> anyhow::Result<()> {
         shape: args.kernel_shape,
         sampler: args.sampler.for_samples(Some(spp)),
         filter: args.filter,
+        photons: args.overrides.photon_settings(),
         ..RenderSettings::default()
     };
     let mut tracer = PathTracer::new(&ctx, &scene, &gpu_scene, &settings)?;

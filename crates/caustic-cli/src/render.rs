@@ -289,6 +289,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     settings.sampler = args.sampler.for_samples(budget.end());
     settings.filter = args.filter;
     settings.shape = args.kernel_shape;
+    settings.photons = args.overrides.photon_settings();
     // The fingerprint must see the final scene and settings (all but the first sample): parts
     // with equal fingerprints are merged as one render.
     let print = fingerprint(&scene, &settings);

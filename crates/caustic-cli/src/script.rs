@@ -143,6 +143,7 @@ impl<'a> Host<'a> {
             seed: self.options.overrides.seed,
             features: self.options.overrides.classic_features(),
             filter: self.options.filter,
+            photons: self.options.overrides.photon_settings(),
             ..RenderSettings::default()
         };
         let output = output_path(self.options.output.as_deref(), scene.options.output.as_deref(), &scene.name, hdr);

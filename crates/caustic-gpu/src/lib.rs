@@ -55,7 +55,7 @@ pub use context::{AdapterSummary, GpuContext};
 pub use error::GpuError;
 pub use path_tracer::{PassOutcome, PathTracer};
 pub use prepared_scene::{PreparedScene, build_bvh};
-pub use render_settings::{DataPath, DebugView, MAX_STRATA, RenderSettings, Sampler};
+pub use render_settings::{DataPath, DebugView, MAX_STRATA, PhotonSettings, RenderSettings, Sampler};
 pub use scene_buffers::{GpuScene, NodeLayout};
 pub use scene_data::{SceneData, bsdf_params, material_with_bsdf};
 pub use wavefront::KernelShape;

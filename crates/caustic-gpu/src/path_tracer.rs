@@ -86,7 +86,7 @@ impl<'a> PathTracer<'a> {
         light_tracer_fits(scene, gpu, settings, &kernel, &film)?;
         let stages = Stages::new(ctx, &kernel, &layout, settings.shape, &frame)?;
         let splats = Splats::for_kernel(ctx, &kernel, &layout, frame.width * frame.height)?;
-        let photons = photon_map(ctx, &kernel, &layout, &frame)?;
+        let photons = photon_map(ctx, &kernel, &layout, &frame, settings, gpu)?;
         let inspection = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("inspection"),
             size: std::mem::size_of::<InspectRecord>() as u64,
@@ -155,10 +155,10 @@ impl<'a> PathTracer<'a> {
         }
         if recompile || resized {
             self.splats = Splats::for_kernel(self.ctx, &wanted, &self.layout, frame.width * frame.height)?;
-            self.photons = photon_map(self.ctx, &wanted, &self.layout, &frame)?;
+            self.photons = photon_map(self.ctx, &wanted, &self.layout, &frame, settings, gpu)?;
         } else {
             self.splats.clear(self.ctx);
-            self.photons.clear(self.ctx);
+            self.photons = self.photons.renewed(self.ctx, &frame, settings.photons, gpu.units.length(1.0))?;
         }
         if recompile {
             self.stages = Stages::new(self.ctx, &wanted, &self.layout, settings.shape, &frame)?;
@@ -644,11 +644,18 @@ fn frame_constants(scene: &Scene, gpu: &GpuScene, settings: &RenderSettings) -> 
     }
 }
 
-/// Photon mapping's map for `kernel` with its photon pass compiled, or placeholders for
-/// other kernels.
-fn photon_map(ctx: &GpuContext, kernel: &Kernel, layout: &wgpu::BindGroupLayout, frame: &Frame) -> Result<PhotonMap, GpuError> {
+/// Photon mapping's map for `kernel` with its photon pass compiled and `settings`' photons,
+/// or placeholders for other kernels.
+fn photon_map(
+    ctx: &GpuContext,
+    kernel: &Kernel,
+    layout: &wgpu::BindGroupLayout,
+    frame: &Frame,
+    settings: &RenderSettings,
+    gpu: &GpuScene,
+) -> Result<PhotonMap, GpuError> {
     let photon_pass = crate::sppm::is_sppm(kernel.entry_point).then(|| kernel.compile_entry(&ctx.device, layout, crate::sppm::PHOTON_ENTRY_POINT));
-    PhotonMap::new(ctx, photon_pass, frame)
+    PhotonMap::new(ctx, photon_pass, frame, settings.photons, gpu.units.length(1.0))
 }
 
 /// For the light tracer's kernel, what [`crate::light_tracer::check`] refuses, and a film

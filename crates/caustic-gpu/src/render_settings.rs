@@ -51,6 +51,20 @@ pub struct RenderSettings {
     /// Whether each path runs to its end in one kernel or bounce by bounce in wavefront
     /// stages ([`KernelShape`]); the image is the same.
     pub shape: KernelShape,
+    /// Photon mapping's photons per iteration and initial radius ([`crate::sppm`]).
+    pub photons: PhotonSettings,
+}
+
+/// Photon mapping's parameters (`--integrator sppm`, [`crate::sppm`]): more photons per
+/// iteration trade iterations for lower noise in each; a smaller initial radius trades noise
+/// for less blur (bias) from the start.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PhotonSettings {
+    /// Photon paths per iteration; `None`: one per pixel.
+    pub per_iteration: Option<u32>,
+    /// The gather radius every pixel starts with, in the scene's units; `None`:
+    /// [`crate::sppm::INITIAL_RADIUS_PIXELS`] pixels wide at the scene's centre.
+    pub initial_radius: Option<f32>,
 }
 
 /// The sample generator (`shaders/common/rng.wgsl`, chosen by its `SAMPLER` override).
@@ -136,6 +150,7 @@ impl Default for RenderSettings {
             features: ClassicFeatures::default(),
             paths_per_invocation: None,
             shape: KernelShape::Megakernel,
+            photons: PhotonSettings::default(),
         }
     }
 }

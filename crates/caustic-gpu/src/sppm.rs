@@ -14,7 +14,7 @@
 use crate::bindings;
 use crate::gpu_types::{Frame, PROJECTION_PERSPECTIVE, SppmPixel};
 use crate::readback::read_buffer;
-use crate::render_settings::RenderSettings;
+use crate::render_settings::{PhotonSettings, RenderSettings};
 use crate::{GpuContext, GpuError, GpuScene};
 use caustic_scene::Scene;
 use glam::Vec3;
@@ -70,22 +70,28 @@ pub(crate) struct PhotonMap {
     paths: u32,
     capacity: u32,
     buckets: u32,
-    /// The gather radius every pixel starts with.
-    initial_radius: f32,
 }
 
 impl PhotonMap {
     /// The photon map for `kernel` (`photon_pass` its photon pipeline, for photon mapping's
-    /// kernel) on `frame`'s image: zeroed statistics at [`initial_radius`], room for
+    /// kernel) on `frame`'s image: `settings`' photon paths per iteration (default one per
+    /// pixel), zeroed statistics at its initial radius (scene units times `units_scale`, the
+    /// device's units per scene unit; default [`initial_radius`]), room for
     /// [`INITIAL_PHOTONS_PER_PATH`] photons per path. Placeholders for other kernels.
-    pub(crate) fn new(ctx: &GpuContext, photon_pass: Option<wgpu::ComputePipeline>, frame: &Frame) -> Result<PhotonMap, GpuError> {
+    pub(crate) fn new(
+        ctx: &GpuContext,
+        photon_pass: Option<wgpu::ComputePipeline>,
+        frame: &Frame,
+        settings: PhotonSettings,
+        units_scale: f32,
+    ) -> Result<PhotonMap, GpuError> {
         let Some(pipeline) = photon_pass else {
             let map = storage(ctx, "photon map", 4 * u64::from(HEADER_WORDS));
             let pixels = storage(ctx, "sppm pixels", std::mem::size_of::<SppmPixel>() as u64);
-            return Ok(PhotonMap { map, pixels, photon_pass: None, paths: 0, capacity: 0, buckets: 0, initial_radius: 0.0 });
+            return Ok(PhotonMap { map, pixels, photon_pass: None, paths: 0, capacity: 0, buckets: 0 });
         };
         let image = frame.width * frame.height;
-        let initial_radius = initial_radius(frame);
+        let initial_radius = settings.initial_radius.map_or_else(|| initial_radius(frame), |r| r * units_scale);
         let state = vec![SppmPixel { radius: initial_radius, ..Default::default() }; image as usize];
         let pixel_bytes = std::mem::size_of_val(state.as_slice()) as u64;
         let limit = ctx.max_storage_binding();
@@ -94,11 +100,11 @@ impl PhotonMap {
         }
         let usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST;
         let pixels = ctx.buffer_with_data("sppm pixels", bytemuck::cast_slice(&state), usage);
-        let paths = image;
+        let paths = settings.per_iteration.unwrap_or(image).max(1);
         let capacity = paths.saturating_mul(INITIAL_PHOTONS_PER_PATH);
         let (map, buckets) = map_buffer(ctx, capacity, [initial_radius.to_bits(), 0])?;
         ctx.check()?;
-        Ok(PhotonMap { map, pixels, photon_pass: Some(pipeline), paths, capacity, buckets, initial_radius })
+        Ok(PhotonMap { map, pixels, photon_pass: Some(pipeline), paths, capacity, buckets })
     }
 
     /// Whether this is photon mapping's map (not placeholders).
@@ -144,18 +150,13 @@ impl PhotonMap {
         let radii = [header[RADIUS as usize], header[RADIUS as usize + 1]];
         let (map, buckets) = map_buffer(ctx, capacity, radii)?;
         let pixels = self.pixels.clone();
-        Ok(Some(PhotonMap { map, pixels, photon_pass: self.photon_pass.clone(), paths: self.paths, capacity, buckets, initial_radius: self.initial_radius }))
+        Ok(Some(PhotonMap { map, pixels, photon_pass: self.photon_pass.clone(), paths: self.paths, capacity, buckets }))
     }
 
-    /// Starts over: every pixel's statistics back to the initial radius, the grid's radius too.
-    pub(crate) fn clear(&self, ctx: &GpuContext) {
-        if !self.active() {
-            return;
-        }
-        let pixels = (self.pixels.size() / std::mem::size_of::<SppmPixel>() as u64) as usize;
-        let state = vec![SppmPixel { radius: self.initial_radius, ..Default::default() }; pixels];
-        ctx.queue.write_buffer(&self.pixels, 0, bytemuck::cast_slice(&state));
-        ctx.queue.write_buffer(&self.map, 4 * u64::from(RADIUS), bytemuck::cast_slice(&[self.initial_radius.to_bits(), 0]));
+    /// A fresh map with this one's photon pass (no recompilation) for a restart: `frame`'s
+    /// camera and image (the default initial radius follows the camera) and `settings`.
+    pub(crate) fn renewed(&self, ctx: &GpuContext, frame: &Frame, settings: PhotonSettings, units_scale: f32) -> Result<PhotonMap, GpuError> {
+        PhotonMap::new(ctx, self.photon_pass.clone(), frame, settings, units_scale)
     }
 
     /// Adds each pixel's photon estimate tau / (its iterations * photon paths per iteration *

@@ -112,6 +112,35 @@ fn a_map_too_small_for_an_iterations_photons_grows_and_loses_none() {
     }
 }
 
+/// `--photons` and `--photon-radius`: the map is sized for the photon paths asked for, every
+/// pixel starts at the radius asked for (scene units, in the device's), and the image with
+/// four photon paths per pixel and a small radius still converges to the path tracer's.
+#[test]
+fn photons_per_iteration_and_the_initial_radius_are_the_ones_asked_for() {
+    let ctx = device();
+    let scene =
+        parse(&format!("{ROOM}quadLight -0.5 2.5 -0.5  0 0 1  1 0 0  5 5 5\nmaterial glass\ndiffuse 0 0 0\ntransparency 1\nior 1.5\nsphere 0.9 0.6 0.6 0.5\n"));
+    let gpu = GpuScene::upload(&ctx, &scene).expect("upload");
+    let pixels = scene.resolution.0 * scene.resolution.1;
+    let photons = caustic_gpu::PhotonSettings { per_iteration: Some(4 * pixels), initial_radius: Some(0.05) };
+    let settings = RenderSettings { integrator: Integrator::Sppm, max_depth: scene.options.max_depth, photons, ..RenderSettings::default() };
+    let mut tracer = PathTracer::new(&ctx, &scene, &gpu, &settings).expect("tracer");
+    let (capacity, radii) = tracer.photon_map_state().expect("state").expect("photon mapping's state");
+    let radius = 0.05 * gpu.units.length(1.0);
+    println!("map of {capacity} photons for {} photon paths; initial radius {} (asked {radius})", 4 * pixels, radii[0]);
+    assert_eq!(capacity, 16 * pixels, "four photons per path of four paths per pixel");
+    assert!(radii.iter().all(|r| (r - radius).abs() <= 1e-6 * radius), "every pixel starts at the radius asked for");
+    let iterations = 128;
+    (0..iterations).for_each(|_| tracer.render_sample().expect("iteration"));
+    let sppm = band_means(&tracer.image().expect("image"));
+    let path = band_means(&render(&ctx, &scene, Integrator::PathTracer, 512));
+    let floor = 1e-3 * path.iter().copied().fold(0.0, f64::max);
+    for (band, (s, p)) in sppm.iter().zip(&path).enumerate().filter(|(_, (_, p))| **p > floor) {
+        println!("four photon paths per pixel, radius 0.05: band {band} over the path tracer {:.4}", s / p);
+        assert!((s / p - 1.0).abs() < 0.04, "band {band}: {s} against {p}");
+    }
+}
+
 /// A depth limit counts the photon's bounces, the visible point's and the camera path's
 /// delta bounces as the path tracer counts its scatterings.
 #[test]
