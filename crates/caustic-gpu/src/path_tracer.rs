@@ -239,7 +239,7 @@ impl<'a> PathTracer<'a> {
     fn trace_photons(&mut self) -> Result<(), GpuError> {
         let Some(pipeline) = self.photons.photon_pass().cloned() else { return Ok(()) };
         loop {
-            self.photons.begin_iteration(self.ctx, self.frame.sample_index);
+            self.photons.begin_iteration(self.ctx, self.frame.sample_index)?;
             let paths = self.photons.paths();
             let mut start = 0;
             while start < paths {

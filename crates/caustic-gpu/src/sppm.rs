@@ -46,6 +46,10 @@ pub const PHOTON_SEED: u32 = 0x2c1b_3c6d;
 /// after the first at a non-delta surface); a pass that stores more grows it.
 const INITIAL_PHOTONS_PER_PATH: u32 = 4;
 
+/// Most grid cells along an axis from the origin to the scene's far side at the initial radius
+/// (2^24, far inside the i32 cell indices even as the radii shrink).
+const MAX_CELLS_PER_AXIS: f32 = 16_777_216.0;
+
 /// The default initial radius in pixels: the width of this many pixels at the distance of
 /// the scene's centre, so that a pass of one photon path per pixel finds about a dozen photons
 /// per visible point on a surface filling the view.
@@ -92,6 +96,16 @@ impl PhotonMap {
         };
         let image = frame.width * frame.height;
         let initial_radius = settings.initial_radius.map_or_else(|| initial_radius(frame), |r| r * units_scale);
+        // Cells are indexed by i32 along each axis: the scene's extent over the smallest cell
+        // (twice the radius) must stay well inside that range.
+        let extent = Vec3::from(frame.scene_centre).abs().max_element() + frame.scene_radius;
+        if extent / (2.0 * initial_radius) > MAX_CELLS_PER_AXIS {
+            return Err(GpuError::Scene(format!(
+                "photon mapping's initial radius {:.3e} (in scene units) is too small for the scene's extent: at least {:.3e}",
+                initial_radius / units_scale,
+                extent / (2.0 * MAX_CELLS_PER_AXIS) / units_scale
+            )));
+        }
         let state = vec![SppmPixel { radius: initial_radius, ..Default::default() }; image as usize];
         let pixel_bytes = std::mem::size_of_val(state.as_slice()) as u64;
         let limit = ctx.max_storage_binding();
@@ -102,7 +116,7 @@ impl PhotonMap {
         let pixels = ctx.buffer_with_data("sppm pixels", bytemuck::cast_slice(&state), usage);
         let paths = settings.per_iteration.unwrap_or(image).max(1);
         let capacity = paths.saturating_mul(INITIAL_PHOTONS_PER_PATH);
-        let (map, buckets) = map_buffer(ctx, capacity, [initial_radius.to_bits(), 0])?;
+        let (map, buckets) = map_buffer(ctx, capacity, [initial_radius.to_bits(); 2])?;
         ctx.check()?;
         Ok(PhotonMap { map, pixels, photon_pass: Some(pipeline), paths, capacity, buckets })
     }
@@ -128,14 +142,23 @@ impl PhotonMap {
     }
 
     /// Empties the grid for iteration `iteration` (its count, its buckets, and the radius word
-    /// the iteration's gather raises), to be submitted before its photon pass.
-    pub(crate) fn begin_iteration(&self, ctx: &GpuContext, iteration: u32) {
+    /// the iteration's gather raises), to be submitted before its photon pass. The radius word
+    /// the iteration's cells are made from is still zero when no visible point raised it (the
+    /// iteration before found none): it takes the other word's radius, so no cell is empty of
+    /// size (a zero cell would make every cell index infinite).
+    pub(crate) fn begin_iteration(&self, ctx: &GpuContext, iteration: u32) -> Result<(), GpuError> {
+        let header = header(ctx, &self.map)?;
+        let (current, other) = ((RADIUS + iteration % 2) as usize, (RADIUS + (iteration + 1) % 2) as usize);
+        if header[current] == 0 {
+            ctx.queue.write_buffer(&self.map, 4 * current as u64, bytemuck::bytes_of(&header[other]));
+        }
         ctx.queue.write_buffer(&self.map, 4 * u64::from(COUNT), bytemuck::bytes_of(&0u32));
         let next_radius = RADIUS + (iteration + 1) % 2;
         ctx.queue.write_buffer(&self.map, 4 * u64::from(next_radius), bytemuck::bytes_of(&0u32));
         let mut encoder = ctx.device.create_command_encoder(&Default::default());
         encoder.clear_buffer(&self.map, 4 * u64::from(HEADER_WORDS), Some(4 * u64::from(self.buckets)));
         ctx.queue.submit([encoder.finish()]);
+        Ok(())
     }
 
     /// After an iteration's photon pass: `None` when every photon was stored, else a map large
@@ -258,10 +281,12 @@ pub fn focuses_light(scene: &Scene) -> bool {
 }
 
 /// Whether photon mapping can render `scene` as far as the scene alone tells (no `flat`
-/// material, no textured emitter: light paths cannot leave those); the presets choose it only
-/// then. [`check`] decides with the uploaded scene and the settings.
+/// material, no textured emitter: light paths cannot leave those; no infinite plane); the
+/// presets choose it only then. [`check`] decides with the uploaded scene and the settings.
 pub fn may_render(scene: &Scene) -> bool {
-    scene.materials.iter().all(|m| m.model != caustic_scene::ShadingModel::Flat && (m.emissive_texture.is_none() || m.emission == glam::Vec3::ZERO))
+    let materials =
+        scene.materials.iter().all(|m| m.model != caustic_scene::ShadingModel::Flat && (m.emissive_texture.is_none() || m.emission == glam::Vec3::ZERO));
+    materials && scene.shapes.iter().all(|s| s.kind != caustic_scene::ShapeKind::Plane)
 }
 
 /// The photon map's two bindings' entries.
@@ -275,7 +300,8 @@ pub(crate) fn bind_entries(map: &PhotonMap) -> [wgpu::BindGroupEntry<'_>; 2] {
 /// Fails, naming what, when photon mapping cannot render `scene` under `settings` without a
 /// silent error: a reconstruction filter other than the box of radius 0.5 (a pixel's photon
 /// estimate is not filter-weighted), motion blur (photons and visible points would be at
-/// different times), and what [`crate::light_tracer::light_path_refusal`] names (photons are
+/// different times), infinite planes (visible points far along them lie past any grid cell),
+/// and what [`crate::light_tracer::light_path_refusal`] names (photons are
 /// light paths).
 pub fn check(scene: &Scene, gpu: &GpuScene, settings: &RenderSettings) -> Result<(), GpuError> {
     let refuse = |why: String| Err(GpuError::Scene(format!("photon mapping cannot render this scene: {why}")));
@@ -284,6 +310,9 @@ pub fn check(scene: &Scene, gpu: &GpuScene, settings: &RenderSettings) -> Result
     }
     if gpu.motion_blur {
         return refuse("it moves (motion blur): photons and visible points would be at different times; use --integrator pathtracer".into());
+    }
+    if gpu.first_plane < gpu.shape_count {
+        return refuse("its infinite planes reach past the photon grid: visible points far along them have no cell; use --integrator pathtracer".into());
     }
     match crate::light_tracer::light_path_refusal(scene, gpu) {
         Some(why) => refuse(why),
