@@ -83,7 +83,7 @@ impl<'a> PathTracer<'a> {
         let frame_buffer = ctx.buffer_with_data("frame", bytemuck::bytes_of(&frame), wgpu::BufferUsages::STORAGE);
         let layout = bind_group_layout(device, &gpu.paging);
         let kernel = Kernel::for_render(ctx, gpu, settings);
-        light_tracer_fits(scene, gpu, settings, &kernel, &film)?;
+        light_paths_fit(scene, gpu, settings, &kernel, &film)?;
         let stages = Stages::new(ctx, &kernel, &layout, settings.shape, &frame)?;
         let splats = Splats::for_kernel(ctx, &kernel, &layout, frame.width * frame.height)?;
         let photons = photon_map(ctx, &kernel, &layout, &frame, settings, gpu)?;
@@ -149,7 +149,7 @@ impl<'a> PathTracer<'a> {
         let recompile = wanted != self.kernel || !self.stages.fit(settings.shape, &frame);
         let resized = scene.resolution != (self.frame.width, self.frame.height);
         let film = if resized { Some(Film::new(self.ctx, scene.resolution)?) } else { None };
-        light_tracer_fits(scene, gpu, settings, &wanted, film.as_ref().unwrap_or(&self.film))?;
+        light_paths_fit(scene, gpu, settings, &wanted, film.as_ref().unwrap_or(&self.film))?;
         if wanted.paging != self.kernel.paging {
             self.layout = bind_group_layout(&self.ctx.device, &wanted.paging);
         }
@@ -158,7 +158,7 @@ impl<'a> PathTracer<'a> {
             self.photons = photon_map(self.ctx, &wanted, &self.layout, &frame, settings, gpu)?;
         } else {
             self.splats.clear(self.ctx);
-            self.photons = self.photons.renewed(self.ctx, &frame, settings.photons, gpu.units.length(1.0))?;
+            self.photons.renew(self.ctx, &frame, settings.photons, gpu.units.length(1.0))?;
         }
         if recompile {
             self.stages = Stages::new(self.ctx, &wanted, &self.layout, settings.shape, &frame)?;
@@ -658,9 +658,11 @@ fn photon_map(
     PhotonMap::new(ctx, photon_pass, frame, settings.photons, gpu.units.length(1.0))
 }
 
-/// For the light tracer's kernel, what [`crate::light_tracer::check`] refuses, and a film
-/// split into bands (its splats land on any pixel, so the image must be one band).
-fn light_tracer_fits(scene: &Scene, gpu: &GpuScene, settings: &RenderSettings, kernel: &Kernel, film: &Film) -> Result<(), GpuError> {
+/// For the kernels of light paths (light tracer, BDPT, photon mapping), what
+/// [`crate::light_tracer::check`] or [`crate::sppm::check`] refuses, and a film split into
+/// bands (splats land on any pixel, and photon mapping's statistics are one per pixel of the
+/// image, so the image must be one band).
+fn light_paths_fit(scene: &Scene, gpu: &GpuScene, settings: &RenderSettings, kernel: &Kernel, film: &Film) -> Result<(), GpuError> {
     if crate::sppm::is_sppm(kernel.entry_point) {
         crate::sppm::check(scene, gpu, settings)?;
     } else if crate::light_tracer::splats(kernel.entry_point) {

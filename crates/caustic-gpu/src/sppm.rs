@@ -61,8 +61,8 @@ pub fn is_sppm(entry_point: &str) -> bool {
 }
 
 /// The photon map and the pixels' statistics bound at [`bindings::PHOTON_MAP`] and
-/// [`bindings::SPPM_PIXELS`]: sized for the image where the kernel is photon mapping's, one
-/// word placeholders otherwise.
+/// [`bindings::SPPM_PIXELS`]: sized for the image where the kernel is photon mapping's, a
+/// header and one pixel's statistics as placeholders otherwise.
 pub(crate) struct PhotonMap {
     /// Header, bucket heads and photon records (`photon_map`).
     pub(crate) map: wgpu::Buffer,
@@ -148,13 +148,12 @@ impl PhotonMap {
     /// size (a zero cell would make every cell index infinite).
     pub(crate) fn begin_iteration(&self, ctx: &GpuContext, iteration: u32) -> Result<(), GpuError> {
         let header = header(ctx, &self.map)?;
-        let (current, other) = ((RADIUS + iteration % 2) as usize, (RADIUS + (iteration + 1) % 2) as usize);
-        if header[current] == 0 {
-            ctx.queue.write_buffer(&self.map, 4 * current as u64, bytemuck::bytes_of(&header[other]));
+        let (current, next) = (RADIUS + iteration % 2, RADIUS + (iteration + 1) % 2);
+        if header[current as usize] == 0 {
+            ctx.queue.write_buffer(&self.map, 4 * u64::from(current), bytemuck::bytes_of(&header[next as usize]));
         }
         ctx.queue.write_buffer(&self.map, 4 * u64::from(COUNT), bytemuck::bytes_of(&0u32));
-        let next_radius = RADIUS + (iteration + 1) % 2;
-        ctx.queue.write_buffer(&self.map, 4 * u64::from(next_radius), bytemuck::bytes_of(&0u32));
+        ctx.queue.write_buffer(&self.map, 4 * u64::from(next), bytemuck::bytes_of(&0u32));
         let mut encoder = ctx.device.create_command_encoder(&Default::default());
         encoder.clear_buffer(&self.map, 4 * u64::from(HEADER_WORDS), Some(4 * u64::from(self.buckets)));
         ctx.queue.submit([encoder.finish()]);
@@ -176,10 +175,14 @@ impl PhotonMap {
         Ok(Some(PhotonMap { map, pixels, photon_pass: self.photon_pass.clone(), paths: self.paths, capacity, buckets }))
     }
 
-    /// A fresh map with this one's photon pass (no recompilation) for a restart: `frame`'s
-    /// camera and image (the default initial radius follows the camera) and `settings`.
-    pub(crate) fn renewed(&self, ctx: &GpuContext, frame: &Frame, settings: PhotonSettings, units_scale: f32) -> Result<PhotonMap, GpuError> {
-        PhotonMap::new(ctx, self.photon_pass.clone(), frame, settings, units_scale)
+    /// Starts over for a restart: photon mapping's map is made anew with its photon pass (no
+    /// recompilation) for `frame`'s camera and image (the default initial radius follows the
+    /// camera) and `settings`; placeholders stay as they are.
+    pub(crate) fn renew(&mut self, ctx: &GpuContext, frame: &Frame, settings: PhotonSettings, units_scale: f32) -> Result<(), GpuError> {
+        if self.active() {
+            *self = PhotonMap::new(ctx, self.photon_pass.clone(), frame, settings, units_scale)?;
+        }
+        Ok(())
     }
 
     /// Adds each pixel's photon estimate tau / (its iterations * photon paths per iteration *

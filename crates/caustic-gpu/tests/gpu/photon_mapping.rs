@@ -197,6 +197,7 @@ fn scenes_photon_mapping_cannot_render_are_refused_by_name() {
     refused(&parse(&format!("{lit}emission 1 1 1\nbox 1 0.5 1 0.3 0.3 0.3\n")), RenderSettings::default(), "1 emissive primitives");
     refused(&parse(&format!("{lit}plane 0 -1 0 0 1 0\ndirectional 0 1 0 1 1 1\n")), RenderSettings::default(), "infinite planes");
     refused(&parse(&format!("{lit}plane 0 -1 0 0 1 0\n")), RenderSettings::default(), "past the photon grid");
+    refused(&parse(&format!("{lit}shutter 0 1\nmotion 0.5 0 0\nsphere 1 0.5 1 0.3\n")), RenderSettings::default(), "motion blur");
     let tiny = RenderSettings { photons: caustic_gpu::PhotonSettings { per_iteration: None, initial_radius: Some(1e-9) }, ..RenderSettings::default() };
     refused(&parse(&lit), tiny, "too small for the scene's extent");
     let gpu = GpuScene::upload(&ctx, &parse(&lit)).expect("upload");
