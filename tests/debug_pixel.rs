@@ -1,5 +1,6 @@
 //! `caustic debug-pixel`: the JSON path of one pixel's sample is complete, consistent with
 //! itself, reproducible, and carries exactly the radiance that sample adds in `caustic render`;
+//! a bidirectional sample's connection strategies add up to its radiance;
 //! `caustic render --debug VIEW` writes every debug view as a picture.
 
 use crate::support;
@@ -47,11 +48,47 @@ fn debug_pixel_prints_the_path_a_render_sample_takes() {
     assert!(error < 1e-5);
 }
 
+/// `--integrator bdpt`: the camera subpath as bounces and every connection strategy tried,
+/// each with its (s, t), ends, weight and weighted contribution; the camera subpath's
+/// strategies (t >= 2) sum to the sample's radiance, and the t = 1 ones name the pixel they
+/// land on.
+#[test]
+fn debug_pixel_prints_the_connections_of_a_bidirectional_sample() {
+    let report = debug_pixel(&["--integrator", "bdpt", "--max-depth", "4"]);
+    let path = &report["path"];
+    let connections = path["connections"].as_array().expect("connections");
+    assert_eq!(connections.len() as u64, path["strategies_tried"].as_u64().unwrap());
+    let mut own = [0.0f64; 3];
+    let mut seen = std::collections::BTreeSet::new();
+    for link in connections {
+        let (s, t) = (link["s"].as_u64().unwrap(), link["t"].as_u64().unwrap());
+        assert!(s + t >= 2 && s + t - 2 <= 4, "({s}, {t}) beyond the depth limit");
+        let (contribution, weight, weighted) = (vec3(&link["contribution"]), link["mis_weight"].as_f64().unwrap(), vec3(&link["weighted"]));
+        for c in 0..3 {
+            assert!((contribution[c] * weight - weighted[c]).abs() <= 1e-6 * weighted[c].abs().max(1e-6), "{link}");
+        }
+        assert!((0.0..=1.0).contains(&weight), "MIS weight {weight}");
+        assert!(link["light_end"]["point"].is_array() || link["light_end"]["direction"].is_array(), "{link}");
+        if t >= 2 {
+            assert_eq!(link["pixel"], serde_json::json!([40, 22]));
+            (0..3).for_each(|c| own[c] += weighted[c]);
+        }
+        seen.insert((s, t));
+    }
+    let radiance = vec3(&path["radiance"]);
+    println!("{} strategies {seen:?}; t >= 2 sum {own:?}, radiance {radiance:?}", connections.len());
+    for c in 0..3 {
+        assert!((own[c] - radiance[c]).abs() <= 1e-5 * radiance[c].abs().max(1e-3), "strategies {own:?} vs radiance {radiance:?}");
+    }
+    assert!(seen.contains(&(1, 2)) && seen.iter().any(|&(_, t)| t == 1), "light sampling and light-vertex splats: {seen:?}");
+}
+
 #[test]
 fn debug_pixel_refuses_a_pixel_outside_the_image_and_other_integrators() {
     for (args, expect) in [
         (vec!["debug-pixel", "cornell", "64", "0", "--size", "64x64"], "outside the 64x64 image"),
-        (vec!["debug-pixel", "cornell", "1", "1", "--integrator", "raytracer"], "--integrator pathtracer"),
+        (vec!["debug-pixel", "cornell", "1", "1", "--integrator", "raytracer"], "--integrator pathtracer or bdpt"),
+        (vec!["debug-pixel", "cornell", "1", "1", "--integrator", "sppm"], "--integrator pathtracer or bdpt"),
     ] {
         let output = support::caustic(&args);
         let stderr = String::from_utf8_lossy(&output.stderr);

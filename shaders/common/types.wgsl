@@ -338,16 +338,34 @@ struct InspectBounce {
     _pad2: u32,
 }
 
+// One connection strategy (s light vertices, t camera vertices) a bidirectional sample tried
+// (integrator/inspect.wgsl): the subpaths' ends it joined, the pixel it lands on, its
+// contribution before the MIS weight, and the weight. `flags`: LINK_* bits.
+struct InspectConnection {
+    s: u32,
+    t: u32,
+    pixel: u32,
+    flags: u32,
+    camera_point: vec3<f32>,
+    mis_weight: f32,
+    light_point: vec3<f32>,
+    _pad0: u32,
+    contribution: vec3<f32>,
+    _pad1: u32,
+}
+
 // The inspector's record of one path: the first 64 of its `bounce_count` rays, why it ended
-// (END_*) and the sample's radiance.
+// (END_*) and the sample's radiance; for bidirectional path tracing also the first 128 of the
+// `connection_count` strategies its sample tried.
 struct InspectRecord {
     pixel: u32,
     sample: u32,
     bounce_count: u32,
     termination: u32,
     radiance: vec3<f32>,
-    _pad0: u32,
+    connection_count: u32,
     bounces: array<InspectBounce, 64>,
+    connections: array<InspectConnection, 128>,
 }
 
 const PI: f32 = 3.14159265358979;

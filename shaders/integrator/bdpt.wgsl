@@ -70,6 +70,9 @@ fn scatter_subpath(path: ptr<function, Subpath>, si: SurfaceInteraction, light_s
     let bs = sample_bsdf(si.material, relative_ior(si), sf.wo, next_f32(rng), next_2d(rng), SAMPLING_BSDF);
     let wi = frame_to_world(sf.local, bs.wi);
     if bs.pdf <= 0.0 || !same_side(si, wi, bs.wi.z) || bs.wi.z == 0.0 || is_flat(si.material) {
+        if !light_side {
+            inspect_end(END_ABSORBED);
+        }
         return false;
     }
     let wo = -(*path).ray.direction;
@@ -84,6 +87,7 @@ fn scatter_subpath(path: ptr<function, Subpath>, si: SurfaceInteraction, light_s
         (*path).eta_scale /= bs.eta * bs.eta;
     } else {
         (*path).eta_scale *= bs.eta * bs.eta;
+        inspect_bsdf(wi, bs.pdf, bs.weight);
     }
     if bs.delta {
         (*path).d_vcm = 0.0;
@@ -98,6 +102,9 @@ fn scatter_subpath(path: ptr<function, Subpath>, si: SurfaceInteraction, light_s
         let t = (*path).beta;
         let survive = min(max(t.x, max(t.y, t.z)) / (*path).rr_scale * (*path).eta_scale, 0.95);
         if next_f32(rng) >= survive {
+            if !light_side {
+                inspect_end(END_ROULETTE);
+            }
             return false;
         }
         (*path).beta /= survive;
@@ -176,16 +183,21 @@ fn light_subpath(rng: ptr<function, Rng>) -> u32 {
 
 // Where a strategy's weighted contribution goes: the sample's pixel, or (t = 1) the splats;
 // in the bdpt-strategies view, each strategy's own image.
+// The inspected sample (integrator/inspect.wgsl) records each strategy and splats nothing: its
+// splats would land on pixels the inspector does not restore.
 fn add_strategy(s: u32, t: u32, pixel: u32, value: vec3<f32>, radiance: ptr<function, vec3<f32>>) {
+    inspect_connection(s, t, pixel);
     if all(value == vec3<f32>(0.0)) {
         return;
     }
     if BDPT_STRATEGIES {
-        if s + t - 2u <= STRATEGY_MAX_DEPTH {
+        if s + t - 2u <= STRATEGY_MAX_DEPTH && !inspect_armed() {
             splat_pixel(strategy_layer(s, t), pixel, value);
         }
     } else if t == 1u {
-        splat_pixel(0u, pixel, value);
+        if !inspect_armed() {
+            splat_pixel(0u, pixel, value);
+        }
     } else {
         *radiance += value;
     }
@@ -196,16 +208,18 @@ fn add_strategy(s: u32, t: u32, pixel: u32, value: vec3<f32>, radiance: ptr<func
 // the camera.
 fn camera_strategy(vertex: LightVertex, si: SurfaceInteraction, s: u32, rng: ptr<function, Rng>) {
     let connection = connect_camera(si, vertex.to_prev, next_2d(rng));
+    let camera = connection.camera;
+    inspect_link_ends(si.p + camera.wi * camera.distance, si.p, 0u);
     if all(connection.factor == vec3<f32>(0.0)) {
+        inspect_connection(s, 1u, select(NO_PIXEL, film_pixel(camera.film), camera.seen));
         return;
     }
-    let camera = connection.camera;
     let to_camera = camera.wi;
     let camera_pdf = camera_direction_pdf(-to_camera) * abs(dot(to_camera, si.ng)) / (camera.distance * camera.distance);
     let pdf_rev = oriented_pdf(si, to_camera, vertex.to_prev);
     let w_light = mis(camera_pdf) * (vertex.d_vcm + vertex.d_vc * mis(pdf_rev));
     var unused = vec3<f32>(0.0);
-    add_strategy(s, 1u, film_pixel(camera.film), vertex.beta * connection.factor / (1.0 + w_light), &unused);
+    add_strategy(s, 1u, film_pixel(camera.film), inspect_link_weighted(vertex.beta * connection.factor, 1.0 / (1.0 + w_light)), &unused);
 }
 
 // s = 0: the camera subpath's ray reached an emitter's front face at distance `distance`
@@ -230,11 +244,16 @@ fn emitter_strategy(path: Subpath, hit: Hit, si: SurfaceInteraction, escaped: bo
     if all(le == vec3<f32>(0.0)) {
         return vec3<f32>(0.0);
     }
+    if escaped {
+        inspect_link_ends(path.ray.origin, path.ray.direction, LINK_LIGHT_DIRECTION);
+    } else {
+        inspect_link_ends(path.ray.origin, si.p, 0u);
+    }
     if path.length == 0u {
-        return path.beta * le;
+        return inspect_link_weighted(path.beta * le, 1.0);
     }
     let w_camera = mis(direct) * path.d_vcm + mis(emitted) * path.d_vc;
-    return path.beta * le / (1.0 + w_camera);
+    return inspect_link_weighted(path.beta * le, 1.0 / (1.0 + w_camera));
 }
 
 // s = 1: a light sampled from the camera vertex `si` (as the path tracer's next-event
@@ -251,12 +270,21 @@ fn light_strategy(path: Subpath, si: SurfaceInteraction, rng: ptr<function, Rng>
     if !(pdf > 0.0) || all(ls.radiance == vec3<f32>(0.0)) {
         return vec3<f32>(0.0);
     }
+    let distant = light.kind == LIGHT_DIRECTIONAL || light.kind == LIGHT_ENVIRONMENT;
+    if distant {
+        inspect_link_ends(si.p, ls.wi, LINK_LIGHT_DIRECTION);
+    } else {
+        inspect_link_ends(si.p, si.p + ls.wi * ls.distance, 0u);
+    }
     let wo = -path.ray.direction;
     let f = oriented_eval(si, wo, ls.wi);
-    if all(f == vec3<f32>(0.0)) || !unoccluded(si, ls.wi, ls.distance) {
+    if all(f == vec3<f32>(0.0)) {
         return vec3<f32>(0.0);
     }
-    let distant = light.kind == LIGHT_DIRECTIONAL || light.kind == LIGHT_ENVIRONMENT;
+    if !unoccluded(si, ls.wi, ls.distance) {
+        inspect_link_failed(LINK_OCCLUDED);
+        return vec3<f32>(0.0);
+    }
     var normal = vec3<f32>(0.0);
     var cos_light = 1.0;
     var direct = light_origin_pdf(light, ls.wi);
@@ -273,7 +301,7 @@ fn light_strategy(path: Subpath, si: SurfaceInteraction, rng: ptr<function, Rng>
     let pdf_rev = oriented_pdf(si, ls.wi, wo);
     let w_light = mis(pdf_bsdf / direct);
     let w_camera = mis(emitted * abs(dot(ls.wi, si.ng)) / (direct * cos_light)) * (path.d_vcm + path.d_vc * mis(pdf_rev));
-    return path.beta * f * ls.radiance / pdf / (1.0 + w_light + w_camera);
+    return inspect_link_weighted(path.beta * f * ls.radiance / pdf, 1.0 / (1.0 + w_light + w_camera));
 }
 
 // s, t >= 2: the camera vertex `si` joined to light vertex `i` by a shadow ray, weighted.
@@ -285,18 +313,23 @@ fn join_strategy(path: Subpath, si: SurfaceInteraction, i: u32) -> vec3<f32> {
     if !(d2 > 0.0) {
         return vec3<f32>(0.0);
     }
+    inspect_link_ends(si.p, light_surface.p, 0u);
     let distance = sqrt(d2);
     let w = d / distance;
     let wo = -path.ray.direction;
     let f = oriented_eval(si, wo, w) * importance_eval(light_surface, vertex.to_prev, -w);
-    if all(f == vec3<f32>(0.0)) || !unoccluded(si, w, distance) {
+    if all(f == vec3<f32>(0.0)) {
+        return vec3<f32>(0.0);
+    }
+    if !unoccluded(si, w, distance) {
+        inspect_link_failed(LINK_OCCLUDED);
         return vec3<f32>(0.0);
     }
     let camera_pdf = oriented_pdf(si, wo, w) * abs(dot(w, light_surface.ng)) / d2;
     let light_pdf = oriented_pdf(light_surface, vertex.to_prev, -w) * abs(dot(w, si.ng)) / d2;
     let w_light = mis(camera_pdf) * (vertex.d_vcm + vertex.d_vc * mis(oriented_pdf(light_surface, -w, vertex.to_prev)));
     let w_camera = mis(light_pdf) * (path.d_vcm + path.d_vc * mis(oriented_pdf(si, w, wo)));
-    return path.beta * f * vertex.beta / d2 / (1.0 + w_light + w_camera);
+    return inspect_link_weighted(path.beta * f * vertex.beta / d2, 1.0 / (1.0 + w_light + w_camera));
 }
 
 // Whether each strategy's contribution goes to its own image (the bdpt-strategies debug
@@ -319,6 +352,7 @@ fn render_bdpt(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let pixel = begin_pixel(id.x);
+    inspect_begin(pixel);
     var rng = rng_for_sample(pixel, pixel_sample, frame.seed);
     let ray = pixel_ray(pixel, &rng);
     let light_count = light_subpath(&rng);
@@ -327,9 +361,11 @@ fn render_bdpt(@builtin(global_invocation_id) id: vec3<u32>) {
     var path = Subpath(ray, vec3<f32>(1.0), mis(1.0 / camera_direction_pdf(ray.direction)), 0.0, 0u, 1.0, 1.0, false);
     loop {
         let hit = closest_hit(path.ray, 3.0e38);
+        inspect_ray(path.length, path.ray, hit, path.beta, radiance);
         if hit.triangle == NO_HIT {
             var none: SurfaceInteraction;
             add_strategy(0u, path.length + 2u, pixel, emitter_strategy(path, hit, none, true), &radiance);
+            inspect_end(END_ESCAPED);
             break;
         }
         let si = surface_interaction(path.ray, hit);
@@ -340,6 +376,7 @@ fn render_bdpt(@builtin(global_invocation_id) id: vec3<u32>) {
         // This vertex is camera vertex t - 1 with t = length + 1; a strategy with s light
         // vertices has s + length - 1 bounces.
         if path.length > depth {
+            inspect_end(END_MAX_DEPTH);
             break;
         }
         let t = path.length + 1u;
@@ -347,9 +384,14 @@ fn render_bdpt(@builtin(global_invocation_id) id: vec3<u32>) {
         for (var i = 0u; i < light_count && i + 1u + path.length <= depth; i++) {
             add_strategy(i + 2u, t, pixel, join_strategy(path, si, i), &radiance);
         }
-        if path.length >= depth + 1u || !scatter_subpath(&path, si, false, &rng) {
+        if path.length >= depth + 1u {
+            inspect_end(END_MAX_DEPTH);
+            break;
+        }
+        if !scatter_subpath(&path, si, false, &rng) {
             break;
         }
     }
+    inspect_radiance(radiance);
     record_sample(pixel, radiance);
 }

@@ -64,8 +64,13 @@ fn connect_camera(si: SurfaceInteraction, to_prev: vec3<f32>, u: vec2<f32>) -> C
         return connection;
     }
     let f = importance_eval(si, to_prev, camera.wi);
-    if any(f != vec3<f32>(0.0)) && unoccluded(si, camera.wi, camera.distance) {
-        connection.factor = f * camera.weight;
+    if all(f == vec3<f32>(0.0)) {
+        return connection;
     }
+    if !unoccluded(si, camera.wi, camera.distance) {
+        inspect_link_failed(LINK_OCCLUDED);
+        return connection;
+    }
+    connection.factor = f * camera.weight;
     return connection;
 }

@@ -1,13 +1,15 @@
 // The pixel inspector: the path tracer's hooks record one chosen pixel's path (ray, hit,
 // normals, material, BSDF and light samples, throughput, why it ended) into `inspection`,
-// read back by crates/caustic-gpu/src/inspector.rs. `frame.inspect_pixel` names the pixel
+// read back by crates/caustic-gpu/src/inspector.rs; bidirectional path tracing's record its
+// camera subpath the same way and every connection strategy its sample tries (the ends
+// joined, blocked or not, contribution and MIS weight). `frame.inspect_pixel` names the pixel
 // (NO_PIXEL: none); every hook returns at once in the other invocations. The hooks are
 // compiled in only for the inspecting kernel (REQUIRES_INSPECTOR, which PathTracer::inspect
 // compiles): the same code and random numbers as a render's kernel, whose hooks fold away.
 
 @group(0) @binding(10) var<storage, read_write> inspection: InspectRecord;
 
-// NO_PIXEL and INSPECT_MAX_BOUNCES: generated/interface.wgsl, from caustic_gpu::interface.
+// NO_PIXEL, INSPECT_MAX_BOUNCES and INSPECT_MAX_CONNECTIONS: generated/interface.wgsl, from caustic_gpu::interface.
 // InspectBounce.flags
 const INSPECT_SURFACE: u32 = 1u;
 const INSPECT_FRONT_FACE: u32 = 2u;
@@ -15,6 +17,9 @@ const INSPECT_BSDF_SAMPLED: u32 = 4u;
 const INSPECT_LIGHT_SAMPLED: u32 = 8u;
 const INSPECT_LIGHT_DELTA: u32 = 16u;
 const INSPECT_LIGHT_OCCLUDED: u32 = 32u;
+// InspectConnection.flags
+const LINK_OCCLUDED: u32 = 1u;
+const LINK_LIGHT_DIRECTION: u32 = 2u;
 // InspectRecord.termination
 const END_ESCAPED: u32 = 1u;
 const END_MAX_DEPTH: u32 = 2u;
@@ -25,6 +30,11 @@ const END_ABSORBED: u32 = 4u;
 var<private> inspecting: bool;
 // Index of the bounce the hooks write.
 var<private> inspect_bounce: u32;
+// The connection strategy being tried, filled by the inspect_link_* hooks and recorded by
+// inspect_connection once inspect_link_ends has named its ends (a strategy that found no
+// light to join, such as s = 0 at a surface that does not emit, is not recorded).
+var<private> inspect_link: InspectConnection;
+var<private> inspect_link_open: bool;
 
 // Arms the hooks if `pixel` is the inspected one, and clears its record.
 fn inspect_begin(pixel: u32) {
@@ -37,6 +47,12 @@ fn inspect_begin(pixel: u32) {
     inspection.bounce_count = 0u;
     inspection.termination = 0u;
     inspection.radiance = vec3<f32>(0.0);
+    inspection.connection_count = 0u;
+}
+
+// Whether the hooks record in this invocation.
+fn inspect_armed() -> bool {
+    return scene_needs(REQUIRES_INSPECTOR) && inspecting;
 }
 
 // Whether the hooks write this bounce (the record holds the first INSPECT_MAX_BOUNCES).
@@ -127,4 +143,55 @@ fn inspect_radiance(radiance: vec3<f32>) {
     if scene_needs(REQUIRES_INSPECTOR) && inspecting {
         inspection.radiance = radiance;
     }
+}
+
+// A connection strategy joins the camera subpath's end `camera_point` to the light subpath's
+// `light_point` (a unit direction with LINK_LIGHT_DIRECTION in `flags`).
+fn inspect_link_ends(camera_point: vec3<f32>, light_point: vec3<f32>, flags: u32) {
+    if inspect_armed() {
+        inspect_link_open = true;
+        inspect_link.camera_point = camera_point;
+        inspect_link.light_point = light_point;
+        inspect_link.flags |= flags;
+    }
+}
+
+// The strategy's connection was blocked (`flag` LINK_OCCLUDED).
+fn inspect_link_failed(flag: u32) {
+    if inspect_armed() {
+        inspect_link.flags |= flag;
+    }
+}
+
+// The strategy contributes `contribution` with MIS weight `weight`; returns their product,
+// so the hook wraps the value returned.
+fn inspect_link_weighted(contribution: vec3<f32>, weight: f32) -> vec3<f32> {
+    if inspect_armed() {
+        inspect_link.contribution = contribution;
+        inspect_link.mis_weight = weight;
+    }
+    return contribution * weight;
+}
+
+// Strategy (s, t) is done, its contribution landing on `pixel` (NO_PIXEL: nowhere): records
+// the connection the link hooks described and starts the next one.
+fn inspect_connection(s: u32, t: u32, pixel: u32) {
+    if !inspect_armed() {
+        return;
+    }
+    if !inspect_link_open {
+        inspect_link = InspectConnection();
+        return;
+    }
+    inspect_link_open = false;
+    let index = inspection.connection_count;
+    inspection.connection_count = index + 1u;
+    if index < INSPECT_MAX_CONNECTIONS {
+        var link = inspect_link;
+        link.s = s;
+        link.t = t;
+        link.pixel = pixel;
+        inspection.connections[index] = link;
+    }
+    inspect_link = InspectConnection();
 }

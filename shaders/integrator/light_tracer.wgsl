@@ -107,8 +107,8 @@ const LIGHT_PATH_STORES_PHOTONS: u32 = 1u;
 
 // Traces one light path, doing `action` at each surface vertex: the vertex after k scatterings
 // (k < frame.max_depth) lights paths of k + 1 scattering events or more, as the path tracer's
-// depth counts them. `cell_size` is the photon grid's (photon mapping only).
-fn trace_light_path(rng: ptr<function, Rng>, action: u32, cell_size: f32) {
+// depth counts them. `grid` is the photon map's (photon mapping only; unused by splats).
+fn trace_light_path(rng: ptr<function, Rng>, action: u32, grid: PhotonGrid) {
     var path = begin_light_path(rng);
     if !path.alive {
         return;
@@ -127,7 +127,7 @@ fn trace_light_path(rng: ptr<function, Rng>, action: u32, cell_size: f32) {
                 splat(connection.camera.film, path.beta * connection.factor);
             }
         } else {
-            deposit_photon(path, si, sf, cell_size);
+            deposit_photon(path, si, sf, grid);
         }
         if path.bounce + 1u >= depth || !light_path_scatters(&path, si, sf, rng) {
             return;
@@ -145,5 +145,5 @@ fn render_light_trace(@builtin(global_invocation_id) id: vec3<u32>) {
     let pixel = begin_pixel(id.x);
     var rng = rng_for_sample(pixel, pixel_sample, frame.seed);
     record_sample(pixel, visible_emission(pixel_ray(pixel, &rng)));
-    trace_light_path(&rng, LIGHT_PATH_SPLATS, 0.0);
+    trace_light_path(&rng, LIGHT_PATH_SPLATS, PhotonGrid(0.0, 0u, 0u));
 }

@@ -27,25 +27,35 @@ struct Photon {
     next: u32,
 }
 
-// The grid's cell edge for the current iteration: twice the largest radius a pixel gathers
-// in, so a pixel's sphere spans at most two cells along each axis.
-fn photon_cell_size() -> f32 {
-    return 2.0 * bitcast<f32>(atomicLoad(&photon_map[PHOTON_RADIUS + frame.sample_index % 2u]));
+// The iteration's grid, read from the header once per invocation: the cell edge (twice the
+// largest radius a pixel gathers in, so a pixel's sphere spans at most two cells along each
+// axis), the bucket mask (the bucket count is a power of two) and the first record's word.
+struct PhotonGrid {
+    cell_size: f32,
+    mask: u32,
+    records: u32,
 }
 
-fn photon_cell(p: vec3<f32>, size: f32) -> vec3<i32> {
-    return vec3<i32>(floor(p / size));
+fn photon_grid() -> PhotonGrid {
+    let buckets = atomicLoad(&photon_map[PHOTON_BUCKETS]);
+    let radius = bitcast<f32>(atomicLoad(&photon_map[PHOTON_RADIUS + frame.sample_index % 2u]));
+    return PhotonGrid(2.0 * radius, buckets - 1u, PHOTON_HEADER_WORDS + buckets);
 }
 
-// The bucket of a cell (Teschner et al.'s spatial hash); the bucket count is a power of two.
-fn photon_bucket(cell: vec3<i32>) -> u32 {
+// Cell indices are clamped to +-2^30 (points far along an infinite plane share the outermost
+// cells, which the gather's distance test still sorts), so a cell range is always finite and
+// its loop ends.
+const PHOTON_CELL_LIMIT: f32 = 1073741824.0;
+
+fn photon_cell(p: vec3<f32>, grid: PhotonGrid) -> vec3<i32> {
+    return vec3<i32>(clamp(floor(p / grid.cell_size), vec3<f32>(-PHOTON_CELL_LIMIT), vec3<f32>(PHOTON_CELL_LIMIT)));
+}
+
+// The bucket of a cell (Teschner et al.'s spatial hash).
+fn photon_bucket(cell: vec3<i32>, grid: PhotonGrid) -> u32 {
     let c = bitcast<vec3<u32>>(cell);
     let h = (c.x * 73856093u) ^ (c.y * 19349663u) ^ (c.z * 83492791u);
-    return h & (atomicLoad(&photon_map[PHOTON_BUCKETS]) - 1u);
-}
-
-fn photon_record(index: u32) -> u32 {
-    return PHOTON_HEADER_WORDS + atomicLoad(&photon_map[PHOTON_BUCKETS]) + index * PHOTON_WORDS;
+    return h & grid.mask;
 }
 
 // Unit vector to the octahedron's square [-1, 1]^2 (Meyer et al. 2010), and back.
@@ -65,12 +75,12 @@ fn octahedral_decode(e: vec2<f32>) -> vec3<f32> {
     return normalize(n);
 }
 
-fn store_photon(photon: Photon, cell_size: f32) {
+fn store_photon(photon: Photon, grid: PhotonGrid) {
     let index = atomicAdd(&photon_map[PHOTON_COUNT], 1u);
     if index >= atomicLoad(&photon_map[PHOTON_CAPACITY]) {
         return;
     }
-    let base = photon_record(index);
+    let base = grid.records + index * PHOTON_WORDS;
     atomicStore(&photon_map[base], bitcast<u32>(photon.p.x));
     atomicStore(&photon_map[base + 1u], bitcast<u32>(photon.p.y));
     atomicStore(&photon_map[base + 2u], bitcast<u32>(photon.p.z));
@@ -79,12 +89,12 @@ fn store_photon(photon: Photon, cell_size: f32) {
     atomicStore(&photon_map[base + 5u], bitcast<u32>(photon.beta.z));
     atomicStore(&photon_map[base + 6u], pack2x16snorm(octahedral_encode(photon.wi)));
     atomicStore(&photon_map[base + 7u], photon.bounce);
-    let head = PHOTON_HEADER_WORDS + photon_bucket(photon_cell(photon.p, cell_size));
+    let head = PHOTON_HEADER_WORDS + photon_bucket(photon_cell(photon.p, grid), grid);
     atomicStore(&photon_map[base + 8u], atomicExchange(&photon_map[head], index + 1u));
 }
 
-fn load_photon(index: u32) -> Photon {
-    let base = photon_record(index);
+fn load_photon(index: u32, grid: PhotonGrid) -> Photon {
+    let base = grid.records + index * PHOTON_WORDS;
     let p = vec3<f32>(bitcast<f32>(atomicLoad(&photon_map[base])), bitcast<f32>(atomicLoad(&photon_map[base + 1u])), bitcast<f32>(atomicLoad(&photon_map[base + 2u])));
     let beta = vec3<f32>(bitcast<f32>(atomicLoad(&photon_map[base + 3u])), bitcast<f32>(atomicLoad(&photon_map[base + 4u])), bitcast<f32>(atomicLoad(&photon_map[base + 5u])));
     let wi = octahedral_decode(unpack2x16snorm(atomicLoad(&photon_map[base + 6u])));
@@ -109,9 +119,9 @@ fn smooth_selection(m: Material, eta: f32, wo: vec3<f32>, slot: u32) -> f32 {
     return max(lobe_selection(m, wo, slot), 0.0);
 }
 
-// The probability that sample_bsdf chooses a non-delta lobe (choose_lobe's intervals).
-fn smooth_probability(m: Material, eta: f32, wo: vec3<f32>) -> f32 {
-    let total = total_selection(m, wo);
+// The probability that sample_bsdf chooses a non-delta lobe (choose_lobe's intervals, whose
+// sum is `total`: total_selection(m, wo)).
+fn smooth_probability(m: Material, eta: f32, wo: vec3<f32>, total: f32) -> f32 {
     if total <= 0.0 {
         return 0.0;
     }
@@ -123,9 +133,10 @@ fn smooth_probability(m: Material, eta: f32, wo: vec3<f32>) -> f32 {
 // Stores the light path's arrival at `si` as a photon where a non-delta lobe can gather it,
 // after the path's first bounce: a photon stored after k scatterings lights paths of k + 1 +
 // the camera path's scatterings (sppm.wgsl keeps those within frame.max_depth).
-fn deposit_photon(path: LightPath, si: SurfaceInteraction, sf: ScatteringFrame, cell_size: f32) {
-    if path.bounce > 0u && smooth_probability(si.material, relative_ior(si), abs_local(sf.wo)) > 0.0 {
-        store_photon(Photon(si.p, -path.ray.direction, path.beta, path.bounce, 0u), cell_size);
+fn deposit_photon(path: LightPath, si: SurfaceInteraction, sf: ScatteringFrame, grid: PhotonGrid) {
+    let wo = abs_local(sf.wo);
+    if path.bounce > 0u && smooth_probability(si.material, relative_ior(si), wo, total_selection(si.material, wo)) > 0.0 {
+        store_photon(Photon(si.p, -path.ray.direction, path.beta, path.bounce, 0u), grid);
     }
 }
 
@@ -143,5 +154,5 @@ fn render_sppm_photons(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     load_pass_constants();
     var rng = rng_for_sample(frame.tile_start + id.x, frame.sample_index, frame.seed ^ PHOTON_SEED);
-    trace_light_path(&rng, LIGHT_PATH_STORES_PHOTONS, photon_cell_size());
+    trace_light_path(&rng, LIGHT_PATH_STORES_PHOTONS, photon_grid());
 }

@@ -41,22 +41,25 @@ struct Gathered {
 // within the depth limit with the camera path's `camera_bounces`.
 fn gather_photons(si: SurfaceInteraction, sf: ScatteringFrame, radius: f32, camera_bounces: u32) -> Gathered {
     var gathered = Gathered(vec3<f32>(0.0), 0u);
-    let cell_size = photon_cell_size();
-    let lo = photon_cell(si.p - vec3<f32>(radius), cell_size);
-    let hi = photon_cell(si.p + vec3<f32>(radius), cell_size);
+    let grid = photon_grid();
+    let lo = photon_cell(si.p - vec3<f32>(radius), grid);
+    // The sphere spans at most two cells per axis (the cell is twice the largest radius; three
+    // allowed for rounding at that largest radius); the bound keeps the loops finite whatever
+    // the cell size.
+    let span = min(photon_cell(si.p + vec3<f32>(radius), grid) - lo, vec3<i32>(2));
     let eta = relative_ior(si);
     let depth = min(frame.max_depth, SAFETY_MAX_BOUNCES);
-    for (var z = lo.z; z <= hi.z; z++) {
-        for (var y = lo.y; y <= hi.y; y++) {
-            for (var x = lo.x; x <= hi.x; x++) {
-                let cell = vec3<i32>(x, y, z);
-                var entry = atomicLoad(&photon_map[PHOTON_HEADER_WORDS + photon_bucket(cell)]);
+    for (var dz = 0; dz <= span.z; dz++) {
+        for (var dy = 0; dy <= span.y; dy++) {
+            for (var dx = 0; dx <= span.x; dx++) {
+                let cell = lo + vec3<i32>(dx, dy, dz);
+                var entry = atomicLoad(&photon_map[PHOTON_HEADER_WORDS + photon_bucket(cell, grid)]);
                 while entry != 0u {
-                    let photon = load_photon(entry - 1u);
+                    let photon = load_photon(entry - 1u, grid);
                     entry = photon.next;
                     let d = photon.p - si.p;
                     // Another cell of the same bucket is visited on its own turn.
-                    if any(photon_cell(photon.p, cell_size) != cell) || dot(d, d) > radius * radius || photon.bounce + camera_bounces + 1u > depth {
+                    if any(photon_cell(photon.p, grid) != cell) || dot(d, d) > radius * radius || photon.bounce + camera_bounces + 1u > depth {
                         continue;
                     }
                     let wi = vec3<f32>(dot(photon.wi, sf.local.t), dot(photon.wi, sf.local.b), dot(photon.wi, si.ns));
@@ -125,7 +128,7 @@ fn trace_visible_point(pixel: u32, rng: ptr<function, Rng>) -> vec3<f32> {
         }
         let choice = choose_lobe(si.material, sf.wo, u_lobe, total);
         if !delta_lobe(si.material, eta, choice.chosen) {
-            let vp_beta = beta / smooth_probability(si.material, eta, sf.wo);
+            let vp_beta = beta / smooth_probability(si.material, eta, sf.wo, total);
             radiance += vp_beta * next_event(si, sf.local, sf.wo, rng);
             update_pixel(pixel, vp_beta, gather_photons(si, sf, sppm_pixels[pixel].radius, bounce));
             break;

@@ -1,9 +1,10 @@
 //! `caustic debug-pixel`: trace one sample of one pixel with the kernel's inspector armed and
-//! print its path as JSON (the fields are described in docs/DEBUGGING.md).
+//! print its path as JSON (the fields are described in docs/DEBUGGING.md); for bidirectional
+//! path tracing, its camera subpath and every connection strategy the sample tried.
 
 use crate::args::DebugPixelArgs;
 use anyhow::bail;
-use caustic_gpu::inspector::{BounceRecord, BsdfRecord, LightRecord, PathRecord, Primitive, SurfaceRecord};
+use caustic_gpu::inspector::{BounceRecord, BsdfRecord, ConnectionRecord, LightRecord, LinkEnd, PathRecord, Primitive, SurfaceRecord};
 use caustic_gpu::{GpuContext, GpuScene, PathTracer, RenderSettings};
 use caustic_scene::{Integrator, Scene, SceneSource, load_scene_with};
 use glam::Vec3;
@@ -13,8 +14,10 @@ use serde_json::{Value, json};
 pub fn run(args: &DebugPixelArgs) -> anyhow::Result<()> {
     let mut scene = load_scene_with(&SceneSource::parse(&args.scene), &args.overrides.load_options())?;
     let (integrator, max_depth) = args.overrides.apply(&mut scene)?;
-    if !matches!(integrator, Integrator::PathTracer | Integrator::Direct) {
-        crate::failure::usage!("debug-pixel records path-traced paths; this scene renders with another integrator: add --integrator pathtracer");
+    if !matches!(integrator, Integrator::PathTracer | Integrator::Direct | Integrator::Bdpt) {
+        crate::failure::usage!(
+            "debug-pixel records path-traced and bidirectional paths; this scene renders with another integrator: add --integrator pathtracer or bdpt"
+        );
     }
     let (width, height) = scene.resolution;
     if args.x >= width || args.y >= height {
@@ -44,13 +47,38 @@ pub fn run(args: &DebugPixelArgs) -> anyhow::Result<()> {
 
 /// The JSON form of an inspected path; material and mesh names come from `scene`.
 fn path_json(path: &PathRecord, scene: &Scene) -> Value {
-    json!({
+    let mut record = json!({
         "pixel": [path.pixel.0, path.pixel.1],
         "sample": path.sample,
         "radiance": vec3(path.radiance),
         "termination": path.termination.name(),
         "rays": path.ray_count,
         "bounces": path.bounces.iter().enumerate().map(|(i, b)| bounce_json(i, b, scene)).collect::<Vec<_>>(),
+    });
+    if path.connection_count > 0 {
+        record["strategies_tried"] = path.connection_count.into();
+        record["connections"] = path.connections.iter().map(|c| connection_json(c, scene)).collect();
+    }
+    record
+}
+
+/// A bidirectional connection strategy: (s, t), its ends, the pixel it lands on, and its
+/// contribution before and after the MIS weight.
+fn connection_json(link: &ConnectionRecord, scene: &Scene) -> Value {
+    let light = match link.light_end {
+        LinkEnd::Point(p) => json!({ "point": vec3(world(scene, p)) }),
+        LinkEnd::Direction(d) => json!({ "direction": vec3(d) }),
+    };
+    json!({
+        "s": link.s,
+        "t": link.t,
+        "pixel": link.pixel.map(|(x, y)| json!([x, y])),
+        "camera_end": vec3(world(scene, link.camera_point)),
+        "light_end": light,
+        "occluded": link.occluded,
+        "contribution": vec3(link.contribution),
+        "mis_weight": num(link.mis_weight),
+        "weighted": vec3(link.weighted()),
     })
 }
 

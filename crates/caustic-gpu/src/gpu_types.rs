@@ -479,8 +479,42 @@ pub struct InspectRecord {
     pub termination: u32,
     /// The sample's radiance estimate.
     pub radiance: [f32; 3],
-    /// Padding.
-    pub _pad0: u32,
+    /// Connection strategies a bidirectional sample tried (the record holds the first
+    /// [`INSPECT_MAX_CONNECTIONS`]); 0 for the other integrators.
+    pub connection_count: u32,
     /// The rays in order.
     pub bounces: [InspectBounce; INSPECT_MAX_BOUNCES],
+    /// A bidirectional sample's connection strategies in the order it tried them.
+    pub connections: [InspectConnection; INSPECT_MAX_CONNECTIONS],
+}
+
+/// Connection strategies an [`InspectRecord`] holds (`INSPECT_MAX_CONNECTIONS` in WGSL).
+pub const INSPECT_MAX_CONNECTIONS: usize = 128;
+
+/// One connection strategy of an inspected bidirectional sample (`InspectConnection` in
+/// WGSL); decoded by [`crate::inspector::ConnectionRecord`].
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct InspectConnection {
+    /// Light subpath vertices the strategy used (0: the camera subpath found an emitter).
+    pub s: u32,
+    /// Camera subpath vertices, the lens point counted (1: a light vertex splatted).
+    pub t: u32,
+    /// The pixel (row-major) the contribution lands on; [`NO_PIXEL`] where it lands nowhere.
+    pub pixel: u32,
+    /// `LINK_*` bits of `shaders/integrator/inspect.wgsl`.
+    pub flags: u32,
+    /// The camera subpath's end: its last surface vertex, or the lens point for t = 1.
+    pub camera_point: [f32; 3],
+    /// The strategy's power-heuristic weight (0 where it was not reached).
+    pub mis_weight: f32,
+    /// The light subpath's end: its last vertex, the sampled point of a light, or (a light
+    /// at infinity) the unit direction towards it.
+    pub light_point: [f32; 3],
+    /// Padding.
+    pub _pad0: u32,
+    /// The contribution before the weight (0 where occluded or not reached).
+    pub contribution: [f32; 3],
+    /// Padding.
+    pub _pad1: u32,
 }

@@ -4,9 +4,11 @@
 //! hooks armed (`shaders/integrator/inspect.wgsl`): the same kernel and random numbers as a
 //! render, writing each ray, hit, BSDF sample, light sample and the path's throughput into a
 //! debug buffer ([`InspectRecord`]). This module decodes that buffer into a [`PathRecord`].
+//! Bidirectional path tracing's record holds its camera subpath as the bounces and every
+//! connection strategy (s, t) its sample tried ([`ConnectionRecord`]).
 
 use crate::GpuError;
-use crate::gpu_types::{INSPECT_MAX_BOUNCES, InspectBounce, InspectRecord};
+use crate::gpu_types::{INSPECT_MAX_BOUNCES, INSPECT_MAX_CONNECTIONS, InspectBounce, InspectConnection, InspectRecord, NO_PIXEL};
 use caustic_scene::Units;
 use glam::Vec3;
 
@@ -19,6 +21,9 @@ const BSDF_SAMPLED: u32 = 4;
 const LIGHT_SAMPLED: u32 = 8;
 const LIGHT_DELTA: u32 = 16;
 const LIGHT_OCCLUDED: u32 = 32;
+// InspectConnection::flags, as in inspect.wgsl.
+const LINK_OCCLUDED: u32 = 1;
+const LINK_LIGHT_DIRECTION: u32 = 2;
 
 /// One inspected path: the pixel's sample, its rays in order, and why it ended.
 #[derive(Clone, Debug, PartialEq)]
@@ -34,8 +39,73 @@ pub struct PathRecord {
     pub ray_count: u32,
     /// Why the path ended.
     pub termination: Termination,
-    /// The sample's radiance estimate: what the pixel's film receives.
+    /// The sample's radiance estimate: what the pixel's film receives (for bidirectional
+    /// path tracing, without its light subpath's t = 1 splats, which land on other pixels).
     pub radiance: Vec3,
+    /// Bidirectional path tracing's connection strategies in the order the sample tried them
+    /// (the first [`INSPECT_MAX_CONNECTIONS`]); empty for the other integrators.
+    pub connections: Vec<ConnectionRecord>,
+    /// Strategies the sample tried (more than `connections.len()` if the record was full).
+    pub connection_count: u32,
+}
+
+/// One connection strategy of a bidirectional sample: `s` light subpath vertices joined to
+/// `t` camera subpath vertices (Veach's notation: s = 0 the camera subpath found an emitter,
+/// s = 1 a light sampled from the camera vertex, t = 1 a light vertex seen by the camera and
+/// splatted to the pixel it lands on). Strategies that found nothing to join (s = 0 at a
+/// surface that does not emit) are not recorded.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ConnectionRecord {
+    /// Light subpath vertices.
+    pub s: u32,
+    /// Camera subpath vertices, the lens point counted.
+    pub t: u32,
+    /// The pixel the contribution lands on: the inspected one for t >= 2, the one the light
+    /// vertex is seen in for t = 1; `None` where the camera does not see it.
+    pub pixel: Option<(u32, u32)>,
+    /// The camera subpath's end: its last surface vertex (for s = 0 the vertex before the
+    /// emitter), or the lens point for t = 1.
+    pub camera_point: Vec3,
+    /// The light subpath's end.
+    pub light_end: LinkEnd,
+    /// Whether the shadow ray between the ends was blocked.
+    pub occluded: bool,
+    /// The contribution before the MIS weight (0 where blocked or nothing scatters along the
+    /// connection).
+    pub contribution: Vec3,
+    /// The power-heuristic weight of the strategy for this path (0 where not reached).
+    pub mis_weight: f32,
+}
+
+/// Where a connection's light side ends.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum LinkEnd {
+    /// A point: a light subpath vertex, a point sampled on a light, or the emitter a camera
+    /// ray hit.
+    Point(Vec3),
+    /// A light at infinity (directional, environment), by the unit direction towards it.
+    Direction(Vec3),
+}
+
+impl ConnectionRecord {
+    /// The weighted contribution: what the strategy adds to its pixel's sample.
+    pub fn weighted(&self) -> Vec3 {
+        self.contribution * self.mis_weight
+    }
+
+    fn decode(c: &InspectConnection, width: u32, units: &Units) -> ConnectionRecord {
+        let light = Vec3::from(c.light_point);
+        ConnectionRecord {
+            s: c.s,
+            t: c.t,
+            pixel: (c.pixel != NO_PIXEL).then(|| (c.pixel % width, c.pixel / width)),
+            camera_point: units.world_point(Vec3::from(c.camera_point)),
+            light_end: if c.flags & LINK_LIGHT_DIRECTION != 0 { LinkEnd::Direction(light) } else { LinkEnd::Point(units.world_point(light)) },
+            occluded: c.flags & LINK_OCCLUDED != 0,
+            contribution: Vec3::from(c.contribution),
+            mis_weight: c.mis_weight,
+        }
+    }
 }
 
 /// Why a path ended.
@@ -154,6 +224,7 @@ impl PathRecord {
             other => return Err(GpuError::Runtime(format!("the inspected path has no termination recorded (code {other})"))),
         };
         let kept = (record.bounce_count as usize).min(INSPECT_MAX_BOUNCES);
+        let links = (record.connection_count as usize).min(INSPECT_MAX_CONNECTIONS);
         Ok(PathRecord {
             pixel: (record.pixel % width, record.pixel / width),
             sample: record.sample,
@@ -161,6 +232,8 @@ impl PathRecord {
             ray_count: record.bounce_count,
             termination,
             radiance: Vec3::from(record.radiance),
+            connections: record.connections[..links].iter().map(|c| ConnectionRecord::decode(c, width, units)).collect(),
+            connection_count: record.connection_count,
         })
     }
 }

@@ -415,11 +415,16 @@ impl<'a> PathTracer<'a> {
     /// pixel inspector armed and returns its path: the kernel a render runs, with the same
     /// random numbers, so the path is the one that sample of a render takes (the kernel is
     /// compiled once more with the inspector's hooks, which renders leave out). The film is
-    /// left as it was. Only the path-tracing kernel (integrators `pathtracer` and `direct`, image
-    /// pass, no debug view) records paths.
+    /// left as it was. The path-tracing kernel (integrators `pathtracer` and `direct`, image
+    /// pass, no debug view) records its path; bidirectional path tracing records its camera
+    /// subpath and every connection strategy its sample tries (the inspected sample splats
+    /// nothing, so the film stays as it was there too).
     pub fn inspect(&mut self, x: u32, y: u32, sample: u32) -> Result<PathRecord, GpuError> {
-        if self.kernel.entry_point != "render_sample" {
-            return Err(GpuError::Scene(format!("the pixel inspector records path-traced paths; this tracer runs {}", self.kernel.entry_point)));
+        if !matches!(self.kernel.entry_point, "render_sample" | crate::light_tracer::BDPT_ENTRY_POINT) {
+            return Err(GpuError::Scene(format!(
+                "the pixel inspector records path-traced and bidirectional paths; this tracer runs {}",
+                self.kernel.entry_point
+            )));
         }
         if x >= self.frame.width || y >= self.frame.height {
             return Err(GpuError::Scene(format!("pixel ({x}, {y}) is outside the {}x{} image", self.frame.width, self.frame.height)));

@@ -284,12 +284,10 @@ pub fn focuses_light(scene: &Scene) -> bool {
 }
 
 /// Whether photon mapping can render `scene` as far as the scene alone tells (no `flat`
-/// material, no textured emitter: light paths cannot leave those; no infinite plane); the
-/// presets choose it only then. [`check`] decides with the uploaded scene and the settings.
+/// material, no textured emitter: light paths cannot leave those); the presets choose it
+/// only then. [`check`] decides with the uploaded scene and the settings.
 pub fn may_render(scene: &Scene) -> bool {
-    let materials =
-        scene.materials.iter().all(|m| m.model != caustic_scene::ShadingModel::Flat && (m.emissive_texture.is_none() || m.emission == glam::Vec3::ZERO));
-    materials && scene.shapes.iter().all(|s| s.kind != caustic_scene::ShapeKind::Plane)
+    scene.materials.iter().all(|m| m.model != caustic_scene::ShadingModel::Flat && (m.emissive_texture.is_none() || m.emission == glam::Vec3::ZERO))
 }
 
 /// The photon map's two bindings' entries.
@@ -303,9 +301,9 @@ pub(crate) fn bind_entries(map: &PhotonMap) -> [wgpu::BindGroupEntry<'_>; 2] {
 /// Fails, naming what, when photon mapping cannot render `scene` under `settings` without a
 /// silent error: a reconstruction filter other than the box of radius 0.5 (a pixel's photon
 /// estimate is not filter-weighted), motion blur (photons and visible points would be at
-/// different times), infinite planes (visible points far along them lie past any grid cell),
-/// and what [`crate::light_tracer::light_path_refusal`] names (photons are
-/// light paths).
+/// different times), and what [`crate::light_tracer::light_path_refusal`] names (photons are
+/// light paths). Infinite planes are rendered: the gather clamps its cells, so visible points
+/// far along a plane share the outermost cells.
 pub fn check(scene: &Scene, gpu: &GpuScene, settings: &RenderSettings) -> Result<(), GpuError> {
     let refuse = |why: String| Err(GpuError::Scene(format!("photon mapping cannot render this scene: {why}")));
     if settings.filter != crate::filter::PixelFilter::default() {
@@ -313,9 +311,6 @@ pub fn check(scene: &Scene, gpu: &GpuScene, settings: &RenderSettings) -> Result
     }
     if gpu.motion_blur {
         return refuse("it moves (motion blur): photons and visible points would be at different times; use --integrator pathtracer".into());
-    }
-    if gpu.first_plane < gpu.shape_count {
-        return refuse("its infinite planes reach past the photon grid: visible points far along them have no cell; use --integrator pathtracer".into());
     }
     match crate::light_tracer::light_path_refusal(scene, gpu) {
         Some(why) => refuse(why),

@@ -1,10 +1,12 @@
 //! The pixel inspector in the window: ctrl-click (or click in inspect mode) a pixel and the
 //! kernel records that pixel's path ([`caustic_gpu::PathTracer::inspect`]); the panel shows
 //! it bounce by bounce and the image shows it drawn over the picture, projected with the
-//! current camera (the path is in world space, so it stays put when the camera moves).
+//! current camera (the path is in world space, so it stays put when the camera moves). For
+//! bidirectional path tracing the bounces are the camera subpath's, and the connection
+//! strategies its sample tried are listed and drawn between the ends they joined.
 
 use crate::app::ViewerApp;
-use caustic_gpu::inspector::{BounceRecord, PathRecord, Primitive};
+use caustic_gpu::inspector::{BounceRecord, ConnectionRecord, LinkEnd, PathRecord, Primitive};
 use caustic_scene::{Camera, Scene};
 use egui::{Color32, Painter, Pos2, Rect, RichText, Stroke, Ui};
 use glam::Vec3;
@@ -45,7 +47,8 @@ pub fn project(camera: &Camera, (width, height): (u32, u32), p: Vec3) -> Option<
 }
 
 /// The segments to draw for a path: each ray from its origin to its hit (an escaping ray for
-/// `escape_length`), and each light sample for a fifth of that, with its colour.
+/// `escape_length`), each light sample for a fifth of that, and each bidirectional connection
+/// between its ends (towards a light at infinity, a fifth of `escape_length`), with its colour.
 fn segments(path: &PathRecord, escape_length: f32) -> Vec<(Vec3, Vec3, Color32)> {
     let mut lines = Vec::new();
     for bounce in &path.bounces {
@@ -55,6 +58,13 @@ fn segments(path: &PathRecord, escape_length: f32) -> Vec<(Vec3, Vec3, Color32)>
             let color = if light.occluded { BLOCKED } else { LIGHT };
             lines.push((hit.point, hit.point + light.wi * escape_length * 0.2, color));
         }
+    }
+    for link in path.connections.iter().filter(|c| c.s > 0) {
+        let end = match link.light_end {
+            LinkEnd::Point(p) => p,
+            LinkEnd::Direction(d) => link.camera_point + d * escape_length * 0.2,
+        };
+        lines.push((link.camera_point, end, if link.occluded { BLOCKED } else { LIGHT }));
     }
     lines
 }
@@ -83,7 +93,7 @@ impl ViewerApp {
     pub(crate) fn pixel_inspector_section(&mut self, ui: &mut Ui) {
         ui.checkbox(&mut self.inspect_mode, "inspect clicks (else ctrl + click)");
         let Some(inspection) = &self.inspection else {
-            ui.label("Ctrl-click a pixel to record its path (path tracer, no debug view).");
+            ui.label("Ctrl-click a pixel to record its path (path tracer or BDPT, no debug view).");
             return;
         };
         let (x, y) = inspection.pixel;
@@ -115,12 +125,49 @@ impl ViewerApp {
                 }
             });
         });
+        if !path.connections.is_empty() {
+            connections_table(ui, path);
+        }
         if sample != path.sample {
             self.inspect((x, y), Some(sample));
         } else if ui.button("Clear").clicked() {
             self.inspection = None;
         }
     }
+}
+
+/// A bidirectional sample's connection strategies: (s, t), where each lands, blocked or not,
+/// the contribution before its MIS weight, the weight.
+fn connections_table(ui: &mut Ui, path: &PathRecord) {
+    let kept = path.connections.len();
+    let heading = format!(
+        "{} connection strategies{}",
+        path.connection_count,
+        if kept < path.connection_count as usize { format!(" (first {kept})") } else { String::new() }
+    );
+    egui::CollapsingHeader::new(heading).show(ui, |ui| {
+        egui::ScrollArea::vertical().max_height(240.0).show(ui, |ui| {
+            egui::Grid::new("connections").striped(true).show(ui, |ui| {
+                for heading in ["s", "t", "pixel", "", "contribution", "MIS w"] {
+                    ui.label(RichText::new(heading).strong());
+                }
+                ui.end_row();
+                for link in &path.connections {
+                    for cell in connection_row(link) {
+                        ui.label(RichText::new(cell).monospace().small());
+                    }
+                    ui.end_row();
+                }
+            });
+        });
+    });
+}
+
+/// The table cells of one connection strategy.
+fn connection_row(link: &ConnectionRecord) -> [String; 6] {
+    let pixel = link.pixel.map_or("off film".to_string(), |(x, y)| format!("{x}, {y}"));
+    let state = if link.occluded { "blocked" } else { "" };
+    [link.s.to_string(), link.t.to_string(), pixel, state.to_string(), v3(link.contribution), format!("{:.3}", link.mis_weight)]
 }
 
 /// The table cells of one bounce.

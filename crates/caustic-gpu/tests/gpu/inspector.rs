@@ -2,7 +2,9 @@
 //! traced again by the CPU traversal (`caustic_bvh::GpuBvh::closest_hit`) and must find the
 //! same primitive at the same distance; each next ray starts at the recorded hit point moved
 //! off the surface as `offset_ray_origin` does; the throughput follows the recorded BSDF
-//! weights and Russian roulette; and the recorded radiance is what a render's sample adds.
+//! weights and Russian roulette; the recorded radiance is what a render's sample adds; and
+//! bidirectional path tracing's record of every connection strategy adds up to its pixel and
+//! its splats.
 
 use crate::support::device;
 use caustic_bvh::{BuildOptions, GpuBvh, Ray};
@@ -174,4 +176,74 @@ fn a_rescaled_scene_is_inspected_in_its_own_coordinates() {
         assert!((b.point / scale - a.point).length() <= 1e-4 * a.point.length().max(1.0), "{} vs {}", b.point / scale, a.point);
         assert!(relative(b.t / scale, a.t) < 1e-4);
     }
+}
+
+/// Bidirectional path tracing's record, for every pixel of a 16x16 box after one pass: the
+/// camera subpath's strategies (t >= 2) sum to the recorded radiance and to what the pass
+/// added to the pixel itself (its image less its splats); the t = 1 strategies of all pixels'
+/// records, summed per pixel they land on, are the splats the pass added; every join (s >= 2)
+/// ends at a vertex its light subpath splatted from; blocked connections contribute nothing;
+/// and inspecting leaves the film and the splats as they were.
+#[test]
+fn bidirectional_records_every_strategy_of_a_sample() {
+    const SIDE: u32 = 16;
+    let ctx = device();
+    let mut scene = load_scene(&SceneSource::parse("cornell")).expect("cornell");
+    scene.resolution = (SIDE, SIDE);
+    let settings = RenderSettings { integrator: caustic_scene::Integrator::Bdpt, max_depth: Some(5), seed: 7, ..RenderSettings::default() };
+    let gpu = GpuScene::upload(&ctx, &scene).expect("upload");
+    let mut tracer = PathTracer::new(&ctx, &scene, &gpu, &settings).expect("tracer");
+    tracer.render_sample().expect("pass");
+    let image = tracer.image().expect("image");
+    let (sums, paths) = tracer.splat_sums().expect("splats");
+    assert_eq!(paths, u64::from(SIDE * SIDE), "one light path per pixel");
+    let mut splatted = vec![Vec3::ZERO; (SIDE * SIDE) as usize];
+    let mut strategies = std::collections::BTreeMap::new();
+    let (mut worst_own, mut worst_render, mut blocked) = (0f32, 0f32, 0usize);
+    for y in 0..SIDE {
+        for x in 0..SIDE {
+            let path = tracer.inspect(x, y, 0).expect("inspect");
+            assert_eq!(path.connections.len() as u32, path.connection_count, "pixel ({x}, {y}): the record holds every strategy");
+            let own = path.connections.iter().filter(|c| c.t >= 2).fold(Vec3::ZERO, |sum, c| sum + c.weighted());
+            let scale = path.radiance.abs().max_element().max(1e-3);
+            worst_own = worst_own.max((own - path.radiance).abs().max_element() / scale);
+            let pixel = (y * SIDE + x) as usize;
+            let rendered = Vec3::from(image.get(x, y)) - Vec3::from(sums[pixel]);
+            worst_render = worst_render.max((rendered - path.radiance).abs().max_element() / scale);
+            for link in &path.connections {
+                *strategies.entry((link.s, link.t)).or_insert(0) += 1;
+                if link.occluded {
+                    blocked += 1;
+                    assert_eq!(link.weighted(), Vec3::ZERO, "pixel ({x}, {y}): a blocked connection contributed");
+                }
+                if link.t == 1 {
+                    if let Some((px, py)) = link.pixel {
+                        splatted[(py * SIDE + px) as usize] += link.weighted();
+                    }
+                } else {
+                    assert_eq!(link.pixel, Some((x, y)), "a camera subpath's strategy lands on its own pixel");
+                }
+                if link.s >= 2 {
+                    let splat_from = path.connections.iter().find(|c| c.t == 1 && c.s == link.s).map(|c| c.light_end);
+                    assert_eq!(splat_from, Some(link.light_end), "pixel ({x}, {y}): join ({}, {}) ends at its light vertex", link.s, link.t);
+                }
+            }
+        }
+    }
+    let total: f32 = sums.iter().flatten().sum();
+    let worst_splat = splatted.iter().zip(&sums).map(|(a, b)| (*a - Vec3::from(*b)).abs().max_element()).fold(0f32, f32::max);
+    let largest = sums.iter().flatten().fold(0f32, |m, &v| m.max(v.abs()));
+    println!("strategies recorded (s, t): count {strategies:?}; {blocked} blocked");
+    println!(
+        "worst relative difference: t >= 2 strategies vs recorded radiance {worst_own:.2e}, vs the rendered pixel {worst_render:.2e}; \
+         t = 1 records vs splats {:.2e} of the largest splat sum (total {total:.4})",
+        worst_splat / largest
+    );
+    assert!(worst_own < 1e-5 && worst_render < 1e-4);
+    assert!(worst_splat <= 1e-4 * largest, "the records' t = 1 contributions are not the pass's splats");
+    for strategy in [(0, 2), (1, 2), (2, 2), (2, 1), (1, 3), (3, 2)] {
+        assert!(strategies.contains_key(&strategy), "no strategy {strategy:?} recorded: {strategies:?}");
+    }
+    assert!(blocked > 0, "the box's blocks occlude some connections");
+    assert_eq!(tracer.image().expect("image").pixels, image.pixels, "inspecting leaves the film and the splats as they were");
 }

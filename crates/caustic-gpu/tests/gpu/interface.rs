@@ -5,7 +5,7 @@
 
 use bytemuck::{Pod, Zeroable};
 use caustic_gpu::bindings::{Access, INTEGRATOR_BINDINGS};
-use caustic_gpu::gpu_types::{AccumTexel, Frame, GpuLight, GpuMaterial, InspectBounce, InspectRecord, SppmPixel, TriangleShading};
+use caustic_gpu::gpu_types::{AccumTexel, Frame, GpuLight, GpuMaterial, InspectBounce, InspectConnection, InspectRecord, SppmPixel, TriangleShading};
 use caustic_gpu::shaders::Program;
 use caustic_gpu::wavefront::{WavefrontControl, WavefrontPath, WavefrontShadow};
 
@@ -177,7 +177,8 @@ fn mirrors() -> Vec<(&'static str, RustLayout)> {
                 _pad2,
             }),
         ),
-        ("InspectRecord", rust_layout!(InspectRecord { pixel, sample, bounce_count, termination, radiance, _pad0, bounces })),
+        ("InspectRecord", rust_layout!(InspectRecord { pixel, sample, bounce_count, termination, radiance, connection_count, bounces, connections })),
+        ("InspectConnection", rust_layout!(InspectConnection { s, t, pixel, flags, camera_point, mis_weight, light_point, _pad0, contribution, _pad1 })),
         ("BvhNode", rust_layout!(GpuNode { min0, child0, max0, child1, min1, _pad0, max1, _pad1 })),
         ("BvhWideNode", rust_layout!(GpuWideNode { origin, exponents, lo, _pad0, hi, _pad1, children })),
         ("BvhWideExactNode", rust_layout!(GpuWideExactNode { min_x, min_y, min_z, max_x, max_y, max_z, children })),
