@@ -1,6 +1,6 @@
 //! `caustic converge` measures error against a reference over time: its table falls as the
 //! samples grow (relMSE roughly as 1/spp for an unbiased render), and its plot and CSV are
-//! written.
+//! written, for one integrator or several in turn.
 
 use crate::support;
 #[test]
@@ -52,6 +52,62 @@ fn error_falls_with_samples_and_outputs_are_written() {
     let table = std::fs::read_to_string(&csv).expect("csv");
     assert_eq!(table.lines().count(), 8, "header and 7 rows:\n{table}");
     assert!(std::fs::read_to_string(&plot).expect("svg").contains("<polyline"));
+}
+
+/// `--integrators`: each integrator measured in turn into one table (an integrator column),
+/// one plot (a relMSE line each) and one report each; all of them unbiased here, so each
+/// one's error falls; `--integrator` beside it and unknown names are usage errors.
+#[test]
+fn several_integrators_are_measured_into_one_table_and_plot() {
+    let dir = support::scratch("converge-integrators");
+    let reference = dir.join("reference.exr");
+    assert!(support::caustic(&["render", "--size", "32x32", "--spp", "1024", "--seed", "99", "-o", reference.to_str().unwrap()]).status.success());
+    let (csv, plot) = (dir.join("c.csv"), dir.join("c.svg"));
+    let (reference, csv_arg, plot_arg) = (reference.to_str().unwrap(), csv.to_str().unwrap(), plot.to_str().unwrap());
+    let report = support::caustic_json(&[
+        "converge",
+        "--reference",
+        reference,
+        "--spp",
+        "16",
+        "--points-per-doubling",
+        "1",
+        "--integrators",
+        "pathtracer,bdpt,sppm",
+        "--csv",
+        csv_arg,
+        "--plot",
+        plot_arg,
+        "--json",
+    ]);
+    let runs = report["runs"].as_array().expect("one report per integrator");
+    let names: Vec<&str> = runs.iter().map(|r| r["integrator"].as_str().unwrap()).collect();
+    assert_eq!(names, ["pathtracer", "bdpt", "sppm"]);
+    for run in runs {
+        let relmse: Vec<f64> = run["points"].as_array().unwrap().iter().map(|p| p["relmse"].as_f64().unwrap()).collect();
+        println!("{}: relMSE by spp 1..16 {relmse:?}", run["integrator"]);
+        assert_eq!(relmse.len(), 5);
+        assert!(relmse[4] < 0.5 * relmse[0], "the error falls");
+    }
+    let table = std::fs::read_to_string(&csv).expect("csv");
+    assert!(table.starts_with("integrator,spp,"), "{table}");
+    assert_eq!(table.lines().filter(|l| l.starts_with("bdpt,")).count(), 5, "{table}");
+    assert_eq!(table.lines().count(), 16, "header and 3 x 5 rows:\n{table}");
+    let svg = std::fs::read_to_string(&plot).expect("svg");
+    assert_eq!(svg.matches("<polyline").count(), 3);
+    assert!(svg.contains("sppm relMSE"));
+    for (extra, expected) in
+        [(vec!["--integrator", "bdpt"], "cannot be used with"), (vec!["--integrators", "pathtracer,photons"], "unknown integrator 'photons'")]
+    {
+        let mut args = vec!["converge", "--reference", reference, "--spp", "2", "--csv", csv_arg];
+        if extra[0] == "--integrator" {
+            args.extend(["--integrators", "pathtracer"]);
+        }
+        args.extend(extra);
+        let output = support::caustic(&args);
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert!(!output.status.success() && stderr.contains(expected), "{args:?}: {stderr}");
+    }
 }
 
 /// Least-squares slope of ln y against ln x.

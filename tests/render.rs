@@ -45,11 +45,22 @@ fn cornell_box_converges_to_the_mitsuba_reference() {
 
 #[test]
 fn white_furnace_matches_the_analytic_answer() {
+    furnace_matches_the_analytic_answer("pathtracer", 16);
+}
+
+/// Renders the white furnace of `../shared/references/furnace` with `integrator` at `spp` and
+/// checks it against the analytic answer: the fully covered sphere pixels' mean within 1% of
+/// 0.5, the background's within 1% of 1, the mean absolute error against `analytic.exr` under
+/// 1%, and the relMSE against it at the render's own noise level (its `estimated_relmse`, plus
+/// 5e-4 for the silhouette pixels, whose coverage the analytic image mixes exactly).
+pub(crate) fn furnace_matches_the_analytic_answer(integrator: &str, spp: u32) {
     let Some(shared) = support::shared() else { return };
     let dir = shared.join("references/furnace");
-    let out = support::scratch("furnace").join("furnace.exr");
+    let out = support::scratch(&format!("furnace-{integrator}")).join("furnace.exr");
     let scene = dir.join("scene.gltf");
-    let report = support::caustic_json(&["render", scene.to_str().unwrap(), "--environment", "1", "--spp", "16", "-o", out.to_str().unwrap(), "--json"]);
+    let spp = spp.to_string();
+    let args = ["render", scene.to_str().unwrap(), "--environment", "1", "--integrator", integrator, "--spp", &spp, "-o", out.to_str().unwrap(), "--json"];
+    let report = support::caustic_json(&args);
     assert_eq!(report["nonfinite_samples"], 0);
     let image = Image::load(&out).expect("render");
     let analytic = Image::load(&dir.join("analytic.exr")).expect("analytic");
@@ -62,8 +73,14 @@ fn white_furnace_matches_the_analytic_answer() {
     let sphere = region_mean(&image, &|c| c >= 1.0);
     let background = region_mean(&image, &|c| c <= 0.0);
     let mae = metrics::mean_absolute_error(&image, &analytic).expect("same size");
-    println!("furnace: sphere mean {sphere:.5} (exact 0.5), background mean {background:.5} (exact 1), MAE {mae:.5}");
+    let relmse = metrics::relative_mse(&image, &analytic, metrics::RELMSE_EPSILON).expect("same size");
+    let estimate = report["estimated_relmse"].as_f64().expect("estimate");
+    println!(
+        "furnace, {integrator} {spp} spp: sphere mean {sphere:.5} (exact 0.5), background mean {background:.5} (exact 1), MAE {mae:.5}, \
+         relMSE {relmse:.3e} against the analytic image (own estimate {estimate:.3e})"
+    );
     assert!((sphere / 0.5 - 1.0).abs() < 0.01, "sphere mean {sphere} is not within 1% of 0.5");
     assert!((background - 1.0).abs() < 0.01, "background mean {background} is not within 1% of 1");
     assert!(mae < 0.01, "mean absolute error {mae} against analytic.exr is over 1%");
+    assert!(relmse < 1.5 * estimate + 5e-4, "relMSE {relmse:.3e} beyond the render's noise ({estimate:.3e})");
 }

@@ -717,7 +717,7 @@ fn parse_debug_view(text: &str) -> Result<DebugView, String> {
     })
 }
 
-fn parse_integrator(text: &str) -> Result<Integrator, String> {
+pub(crate) fn parse_integrator(text: &str) -> Result<Integrator, String> {
     let all = Integrator::ALL;
     all.into_iter().find(|i| integrator_name(*i) == text.trim().to_lowercase()).ok_or_else(|| {
         let names: Vec<&str> = all.into_iter().map(integrator_name).collect();

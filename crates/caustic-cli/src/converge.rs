@@ -1,6 +1,8 @@
 //! `caustic converge`: renders progressively and records the error against a reference over
 //! time and samples (relative MSE and a FLIP-like perceptual error), as a CSV table and an SVG
-//! plot: the speed/accuracy trade of a scene and its settings, measured.
+//! plot: the speed/accuracy trade of a scene and its settings, measured. With
+//! `--integrators` it renders the scene with each integrator in turn, under the same budget,
+//! into one table and one plot: which integrator reaches an error first on this scene.
 
 use crate::args::{DeviceArgs, SceneOverrides};
 use crate::plot::{Series, log_log_svg};
@@ -11,7 +13,8 @@ use caustic_image::estimate::ErrorEstimate;
 use caustic_image::metrics::{RELMSE_EPSILON, mean_absolute_error, relative_mse};
 use caustic_image::perceptual::{Viewing, mean_flip_color};
 use caustic_image::{Image, write_file_atomically};
-use caustic_scene::{SceneSource, load_scene_with};
+use caustic_scene::{Integrator, SceneSource, load_scene_with};
+use caustic_viewer::command::integrator_name;
 use clap::Args;
 use serde::Serialize;
 use std::fmt::Write;
@@ -42,6 +45,11 @@ pub struct ConvergeArgs {
     /// SVG plot of the errors against time (log-log).
     #[arg(long, value_name = "FILE")]
     pub plot: Option<PathBuf>,
+    /// Integrators to measure one after the other, each with the same --spp and --time,
+    /// comma-separated (e.g. pathtracer,bdpt,sppm): one table with an integrator column, one
+    /// plot of each one's relMSE against time, one report per integrator.
+    #[arg(long, value_name = "LIST", value_delimiter = ',', value_parser = crate::args::parse_integrator, conflicts_with = "integrator")]
+    pub integrators: Vec<Integrator>,
     /// How the kernel finds hits: buffers (the BVH in storage buffers) or auto (the default:
     /// small scenes' primitives tested in turn; see caustic_gpu::DataPath).
     #[arg(long, default_value = "auto", value_parser = crate::args::parse_data_path)]
@@ -79,10 +87,17 @@ struct Point {
     mae: f64,
 }
 
+/// One integrator's measurements.
+struct Run {
+    integrator: Integrator,
+    points: Vec<Point>,
+}
+
 #[derive(Debug, Serialize)]
 struct ConvergeReport {
     adapter: String,
     scene: String,
+    integrator: &'static str,
     width: u32,
     height: u32,
     preset: Option<String>,
@@ -121,8 +136,42 @@ pub fn run(args: &ConvergeArgs) -> anyhow::Result<()> {
     if let Some(note) = gpu_scene.layout_note() {
         eprintln!("{note}");
     }
-    let settings = RenderSettings {
-        integrator,
+    let integrators = if args.integrators.is_empty() { vec![integrator] } else { args.integrators.clone() };
+    let mut runs = Vec::new();
+    for integrator in integrators {
+        if args.integrators.len() > 1 {
+            eprintln!("{}:", integrator_name(integrator));
+        }
+        let settings = RenderSettings { integrator, ..settings(&scene, max_depth, spp, args) };
+        let mut tracer = PathTracer::new(&ctx, &scene, &gpu_scene, &settings)?;
+        runs.push(Run { integrator, points: measure(&mut tracer, &reference, spp, args)? });
+    }
+    write_outputs(&runs, args)?;
+    let pixels = f64::from(reference.width) * f64::from(reference.height);
+    let mut reports = Vec::new();
+    for run in runs {
+        let last = run.points.last().context("no measurement was made")?;
+        reports.push(ConvergeReport {
+            adapter: ctx.adapter.name.clone(),
+            scene: scene.name.clone(),
+            integrator: integrator_name(run.integrator),
+            width: reference.width,
+            height: reference.height,
+            preset: args.overrides.preset.map(|p| format!("{p:?}").to_lowercase()),
+            samples_per_second: pixels * f64::from(last.spp) / last.seconds.max(1e-9),
+            seconds_to_relmse_1e_2: seconds_to_reach(&run.points, 1e-2),
+            seconds_to_relmse_1e_3: seconds_to_reach(&run.points, 1e-3),
+            points: run.points,
+            csv: args.csv.clone(),
+            plot: args.plot.clone(),
+        });
+    }
+    print_reports(&reports, args.device.json)
+}
+
+/// The render settings of a run, before its integrator is chosen.
+fn settings(scene: &caustic_scene::Scene, max_depth: Option<u32>, spp: u32, args: &ConvergeArgs) -> RenderSettings {
+    RenderSettings {
         pass: scene.options.pass,
         max_depth,
         seed: args.overrides.seed,
@@ -133,26 +182,7 @@ pub fn run(args: &ConvergeArgs) -> anyhow::Result<()> {
         filter: args.filter,
         photons: args.overrides.photon_settings(),
         ..RenderSettings::default()
-    };
-    let mut tracer = PathTracer::new(&ctx, &scene, &gpu_scene, &settings)?;
-    let points = measure(&mut tracer, &reference, spp, args)?;
-    write_outputs(&points, args)?;
-    let last = points.last().context("no measurement was made")?;
-    let pixels = f64::from(reference.width) * f64::from(reference.height);
-    let report = ConvergeReport {
-        adapter: ctx.adapter.name.clone(),
-        scene: scene.name.clone(),
-        width: reference.width,
-        height: reference.height,
-        preset: args.overrides.preset.map(|p| format!("{p:?}").to_lowercase()),
-        samples_per_second: pixels * f64::from(last.spp) / last.seconds.max(1e-9),
-        seconds_to_relmse_1e_2: seconds_to_reach(&points, 1e-2),
-        seconds_to_relmse_1e_3: seconds_to_reach(&points, 1e-3),
-        points,
-        csv: args.csv.clone(),
-        plot: args.plot.clone(),
-    };
-    print_report(&report, args.device.json)
+    }
 }
 
 /// Renders to `spp` (or the time limit), measuring at geometrically spaced sample counts.
@@ -214,40 +244,61 @@ fn seconds_to_reach(points: &[Point], target: f64) -> Option<f64> {
     Some((before.seconds.ln() + fraction * (after.seconds.ln() - before.seconds.ln())).exp())
 }
 
-fn write_outputs(points: &[Point], args: &ConvergeArgs) -> anyhow::Result<()> {
-    let mut csv = String::from("spp,seconds,relmse,estimated_relmse,flip,mae\n");
-    for p in points {
-        let estimate = p.estimated_relmse.map_or(String::new(), |e| format!("{e:.6e}"));
-        let _ = writeln!(csv, "{},{:.6},{:.6e},{estimate},{:.6e},{:.6e}", p.spp, p.seconds, p.relmse, p.flip, p.mae);
+fn write_outputs(runs: &[Run], args: &ConvergeArgs) -> anyhow::Result<()> {
+    let mut csv = String::from("integrator,spp,seconds,relmse,estimated_relmse,flip,mae\n");
+    for run in runs {
+        let name = integrator_name(run.integrator);
+        for p in &run.points {
+            let estimate = p.estimated_relmse.map_or(String::new(), |e| format!("{e:.6e}"));
+            let _ = writeln!(csv, "{name},{},{:.6},{:.6e},{estimate},{:.6e},{:.6e}", p.spp, p.seconds, p.relmse, p.flip, p.mae);
+        }
     }
     write_file_atomically(&args.csv, csv.as_bytes())?;
     if let Some(path) = &args.plot {
-        let series = [
-            Series { name: "relMSE", points: points.iter().map(|p| (p.seconds, p.relmse)).collect() },
-            Series { name: "FLIP-like (mean)", points: points.iter().map(|p| (p.seconds, p.flip)).collect() },
-        ];
-        let title = format!("{} against {}", args.scene, args.reference.display());
+        let names: Vec<String> = runs.iter().map(|r| format!("{} relMSE", integrator_name(r.integrator))).collect();
+        let series: Vec<Series<'_>> = match runs {
+            [run] => vec![
+                Series { name: "relMSE", points: run.points.iter().map(|p| (p.seconds, p.relmse)).collect() },
+                Series { name: "FLIP-like (mean)", points: run.points.iter().map(|p| (p.seconds, p.flip)).collect() },
+            ],
+            _ => runs.iter().zip(&names).map(|(run, name)| Series { name, points: run.points.iter().map(|p| (p.seconds, p.relmse)).collect() }).collect(),
+        };
+        let title = format!("{} against {}", short_path(std::path::Path::new(&args.scene)), short_path(&args.reference));
         write_file_atomically(path, log_log_svg(&title, "seconds of rendering", "error", &series).as_bytes())?;
     }
     Ok(())
 }
 
-fn print_report(report: &ConvergeReport, json: bool) -> anyhow::Result<()> {
+/// The last two components of `path` (a scene's folder and file), for a plot's title.
+fn short_path(path: &std::path::Path) -> String {
+    let parts: Vec<_> = path.components().rev().take(2).collect();
+    parts.iter().rev().map(|c| c.as_os_str().to_string_lossy()).collect::<Vec<_>>().join("/")
+}
+
+/// Prints each run's report: one JSON object for one integrator, `{"adapter": ..., "runs":
+/// [...]}` for several; or a line per integrator.
+fn print_reports(reports: &[ConvergeReport], json: bool) -> anyhow::Result<()> {
     if json {
-        println!("{}", serde_json::to_string(report)?);
+        match reports {
+            [report] => println!("{}", serde_json::to_string(report)?),
+            _ => println!("{}", serde_json::json!({ "adapter": reports.first().map(|r| r.adapter.as_str()), "runs": reports })),
+        }
         return Ok(());
     }
     let show = |s: Option<f64>| s.map_or("not reached".to_string(), |s| format!("{s:.2} s"));
-    println!(
-        "{} {}x{}: {:.3} M samples/s; relMSE 1e-2 after {}, 1e-3 after {}; table {}",
-        report.scene,
-        report.width,
-        report.height,
-        report.samples_per_second / 1e6,
-        show(report.seconds_to_relmse_1e_2),
-        show(report.seconds_to_relmse_1e_3),
-        report.csv.display()
-    );
+    for report in reports {
+        println!(
+            "{} {}x{}, {}: {:.3} M samples/s; relMSE 1e-2 after {}, 1e-3 after {}; table {}",
+            report.scene,
+            report.width,
+            report.height,
+            report.integrator,
+            report.samples_per_second / 1e6,
+            show(report.seconds_to_relmse_1e_2),
+            show(report.seconds_to_relmse_1e_3),
+            report.csv.display()
+        );
+    }
     Ok(())
 }
 
