@@ -355,7 +355,7 @@ struct InspectConnection {
 }
 
 // The inspector's record of one path: the first 64 of its `bounce_count` rays, why it ended
-// (END_*) and the sample's radiance; for bidirectional path tracing also the first 128 of the
+// (END_*) and the sample's radiance; for bidirectional path tracing also the first 64 of the
 // `connection_count` strategies its sample tried.
 struct InspectRecord {
     pixel: u32,
@@ -365,7 +365,7 @@ struct InspectRecord {
     radiance: vec3<f32>,
     connection_count: u32,
     bounces: array<InspectBounce, 64>,
-    connections: array<InspectConnection, 128>,
+    connections: array<InspectConnection, 64>,
 }
 
 const PI: f32 = 3.14159265358979;

@@ -189,6 +189,32 @@ fn photon_mapping_renders_an_infinite_plane_to_the_horizon() {
     agrees(&ctx, "an infinite plane", &scene, Integrator::Sppm, 384, 0.05);
 }
 
+/// An orthographic camera (the camera pass is the path tracer's ray, the photons do not
+/// depend on the camera) looking down at the glass sphere's caustic, and the same caustic
+/// through absorbing glass (KHR_materials_volume: photon and camera paths attenuated alike):
+/// both agree with the path tracer.
+#[test]
+fn photon_mapping_renders_orthographic_cameras_and_absorbing_glass() {
+    let ctx = device();
+    let room = format!(
+        "{}quadLight -0.5 2.5 -0.5  0 0 1  1 0 0  8 8 8\nmaterial glass\ndiffuse 0 0 0\ntransparency 1\nior 1.5\nsphere 0.3 1.2 0 0.4\n",
+        ROOM.replace("sphere -0.4 0.6 0 0.6\n", "")
+    );
+    let mut orthographic = parse(&format!("{room}camera 0 6 0.01  0 0 0  0 1 0  45\n"));
+    orthographic.camera.projection = caustic_scene::Projection::Orthographic { half_height: 2.0 };
+    agrees(&ctx, "orthographic camera", &orthographic, Integrator::Sppm, 512, 0.05);
+    let clear = parse(&format!("{room}camera 0 0.4 3  0 0 0.3  0 1 0  24\n"));
+    let mut absorbing = clear.clone();
+    let glass = absorbing.materials.iter_mut().find(|m| m.transparency > 0.0 || m.transmission > 0.0).expect("the glass material");
+    glass.attenuation_color = glam::Vec3::new(0.3, 0.6, 0.9);
+    glass.attenuation_distance = 0.5;
+    glass.thickness = 0.8;
+    agrees(&ctx, "absorbing glass", &absorbing, Integrator::Sppm, 1024, 0.05);
+    let (before, after) = (band_means(&render(&ctx, &clear, Integrator::PathTracer, 128)), band_means(&render(&ctx, &absorbing, Integrator::PathTracer, 128)));
+    println!("the absorption darkens the bands (path tracer) from {before:.4?} to {after:.4?}");
+    assert!(after[1] < 0.95 * before[1], "the glass's absorption should darken what is seen through it");
+}
+
 #[test]
 fn scenes_photon_mapping_cannot_render_are_refused_by_name() {
     let ctx = device();
