@@ -24,6 +24,66 @@ fn render_reports_json_and_writes_every_format() {
     }
 }
 
+/// Compiled pipelines are kept in a cache file across runs (`CAUSTIC_CACHE_DIR`), framed with a
+/// checksum: a damaged file is ignored and replaced, `off` writes nothing, and a cache that
+/// cannot be saved is a warning, never a failed render.
+#[test]
+fn the_pipeline_cache_is_kept_across_runs_and_a_damaged_one_is_replaced() {
+    let dir = support::scratch("pipeline-cache");
+    let out = dir.join("out.png");
+    // Mesa's own shader cache stays where it was (so the kernel does not compile cold) while
+    // HOME and XDG_CACHE_HOME point into the scratch folder, where `off` must write nothing.
+    let mesa_cache = std::env::var_os("MESA_SHADER_CACHE_DIR")
+        .map(std::path::PathBuf::from)
+        .or_else(|| std::env::var_os("XDG_CACHE_HOME").map(std::path::PathBuf::from))
+        .or_else(|| std::env::var_os("HOME").map(|h| Path::new(&h).join(".cache")))
+        .expect("HOME or a cache folder");
+    let render = |cache: &str| {
+        let output = std::process::Command::new(env!("CARGO_BIN_EXE_caustic"))
+            .args(["render", "--size", "16x16", "--spp", "1", "-o", out.to_str().unwrap()])
+            .env("CAUSTIC_CACHE_DIR", cache)
+            .env("HOME", &dir)
+            .env("XDG_CACHE_HOME", dir.join("xdg"))
+            .env("MESA_SHADER_CACHE_DIR", &mesa_cache)
+            .output()
+            .expect("run caustic");
+        let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
+        assert!(output.status.success() && !stderr.contains("panicked"), "render with CAUSTIC_CACHE_DIR={cache} failed: {stderr}");
+        stderr
+    };
+    let folder = dir.join("cache");
+    render(folder.to_str().unwrap());
+    let files: Vec<_> = std::fs::read_dir(&folder).expect("the cache folder is created").map(|e| e.unwrap().path()).collect();
+    assert_eq!(files.len(), 1, "one cache file per adapter, no temporary left: {files:?}");
+    let file = &files[0];
+    assert!(file.file_name().unwrap().to_str().unwrap().starts_with("wgpu_pipeline_cache_vulkan_"), "{}", file.display());
+    let saved = std::fs::read(file).unwrap();
+    println!("pipeline cache: {} bytes in {}", saved.len(), file.display());
+    // The frame: magic, then the data's length and 64-bit FNV-1a checksum, little-endian.
+    let whole = |file: &[u8]| {
+        let word = |i: usize| u64::from_le_bytes(file[i..i + 8].try_into().unwrap());
+        let data = &file[24..];
+        let fnv = data.iter().fold(0xcbf2_9ce4_8422_2325_u64, |h, &b| (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3));
+        file.len() > 24 && file.starts_with(b"CAUSTPC1") && word(8) == data.len() as u64 && word(16) == fnv
+    };
+    assert!(whole(&saved), "framed with its magic, length and checksum");
+    let mut damaged = saved.clone();
+    *damaged.last_mut().unwrap() ^= 0xff;
+    std::fs::write(file, &damaged).unwrap();
+    render(folder.to_str().unwrap());
+    let resaved = std::fs::read(file).unwrap();
+    assert!(resaved != damaged && whole(&resaved), "the damaged file is ignored and saved again whole");
+    render("off");
+    assert!(!dir.join("xdg").exists() && !dir.join(".cache").exists(), "CAUSTIC_CACHE_DIR=off writes no cache");
+    render("");
+    assert!(!dir.join("xdg").exists(), "an empty CAUSTIC_CACHE_DIR is off too");
+    let blocked = dir.join("a-file");
+    std::fs::write(&blocked, b"not a folder").unwrap();
+    let stderr = render(blocked.join("cache").to_str().unwrap());
+    assert!(stderr.contains("warning: could not save the pipeline cache") && stderr.contains("a-file"), "{stderr}");
+    assert!(caustic_image::Image::load(&out).is_ok(), "the render is written although its cache is not");
+}
+
 /// `--dry-run` builds the BVH and prints the memory a render would take (device by kind, with
 /// the film, and host), renders nothing and writes no file; the render's own report carries
 /// the same device figures; a budget below them (`--device-memory`) fails with the figures

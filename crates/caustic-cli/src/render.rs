@@ -483,6 +483,9 @@ pub fn accumulate(
     compiling.finish_and_clear();
     drop(setup);
     let mut tracer = tracer?;
+    if let Err(message) = ctx.save_pipeline_cache() {
+        eprintln!("warning: {message} (set {}=off to turn the cache off)", caustic_gpu::pipeline_cache::CACHE_DIR_VARIABLE);
+    }
     let progress = progress_bar(budget);
     let start = Instant::now();
     let stop = || interrupted.load(Ordering::SeqCst) || budget.time_spent(start.elapsed().as_secs_f64());

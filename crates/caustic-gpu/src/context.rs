@@ -1,6 +1,7 @@
 //! Choosing a Vulkan adapter and opening a device with its real limits.
 
 use crate::GpuError;
+use crate::pipeline_cache::PipelineCacheFile;
 use std::sync::{Arc, Mutex};
 
 /// What a user needs to know about the adapter a render ran on.
@@ -40,6 +41,10 @@ pub struct GpuContext {
     /// ([`crate::memory::available_device_memory`]): uploads check against it. Lower it to
     /// budget a render, or to test the check.
     pub device_memory: Option<u64>,
+    /// Compiled pipelines kept across runs, where the driver has a pipeline cache and a cache
+    /// folder is named ([`crate::pipeline_cache`]); saved when the context is dropped and by
+    /// [`GpuContext::save_pipeline_cache`].
+    pub pipeline_cache: Option<PipelineCacheFile>,
     first_error: Arc<Mutex<Option<String>>>,
 }
 
@@ -81,18 +86,21 @@ impl GpuContext {
         let first_error = Arc::new(Mutex::new(None));
         install_error_handlers(&device, &first_error);
         let device_memory = crate::memory::available_device_memory(info.device_type);
-        GpuContext { device, queue, adapter, limits, subgroup_min_size: info.subgroup_min_size, device_memory, first_error }
+        let pipeline_cache = crate::pipeline_cache::cache_folder().and_then(|folder| PipelineCacheFile::open(&device, info, &folder));
+        GpuContext { device, queue, adapter, limits, subgroup_min_size: info.subgroup_min_size, device_memory, pipeline_cache, first_error }
     }
 
     /// The device Caustic asks an adapter for: subgroup operations (the ray bench's packet
     /// walk, `shaders/bench/packet.wgsl`), 64-bit integers (wide nodes read with 64-bit
-    /// loads, `shaders/bvh/wide_nodes_64.wgsl`) and binding arrays of storage buffers (pages
-    /// of very large scenes, [`crate::pages`]) where the adapter has them, and the adapter's own
-    /// limits (not wgpu's conservative defaults), so large scenes fit in storage bindings.
+    /// loads, `shaders/bvh/wide_nodes_64.wgsl`), binding arrays of storage buffers (pages
+    /// of very large scenes, [`crate::pages`]) and pipeline caches ([`crate::pipeline_cache`])
+    /// where the adapter has them, and the adapter's own limits (not wgpu's conservative
+    /// defaults), so large scenes fit in storage bindings.
     pub fn device_descriptor(adapter: &wgpu::Adapter) -> wgpu::DeviceDescriptor<'static> {
+        let wanted = wgpu::Features::SUBGROUP | wgpu::Features::SHADER_INT64 | wgpu::Features::PIPELINE_CACHE | crate::pages::BINDING_ARRAY_FEATURES;
         wgpu::DeviceDescriptor {
             label: Some("caustic"),
-            required_features: adapter.features() & (wgpu::Features::SUBGROUP | wgpu::Features::SHADER_INT64 | crate::pages::BINDING_ARRAY_FEATURES),
+            required_features: adapter.features() & wanted,
             required_limits: adapter.limits(),
             ..Default::default()
         }
@@ -165,8 +173,23 @@ impl GpuContext {
             module,
             entry_point: Some(entry),
             compilation_options: wgpu::PipelineCompilationOptions { constants, ..Default::default() },
-            cache: None,
+            cache: self.pipeline_cache(),
         })
+    }
+
+    /// The pipeline cache for pipeline descriptors, if the context has one.
+    pub fn pipeline_cache(&self) -> Option<&wgpu::PipelineCache> {
+        self.pipeline_cache.as_ref().map(PipelineCacheFile::cache)
+    }
+
+    /// Saves the pipeline cache to its file now (if it has one and it grew), so that a run
+    /// that ends by a signal still leaves the pipelines compiled so far for the next; the
+    /// error names the file.
+    pub fn save_pipeline_cache(&self) -> Result<(), String> {
+        match &self.pipeline_cache {
+            Some(cache) => cache.save().map_err(|e| format!("could not save the pipeline cache {}: {e}", cache.path().display())),
+            None => Ok(()),
+        }
     }
 
     /// Whether subgroups can trace packets of rays together: the device has subgroup
@@ -179,6 +202,14 @@ impl GpuContext {
     /// Largest storage buffer binding the device allows, in bytes.
     pub fn max_storage_binding(&self) -> u64 {
         self.limits.max_storage_buffer_binding_size.min(self.limits.max_buffer_size)
+    }
+}
+
+impl Drop for GpuContext {
+    /// Saves the pipeline cache; a failure only costs the next run its compile time, so it is
+    /// not reported here (commands that compile call [`GpuContext::save_pipeline_cache`]).
+    fn drop(&mut self) {
+        let _ = self.save_pipeline_cache();
     }
 }
 

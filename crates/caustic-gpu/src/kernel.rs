@@ -115,14 +115,14 @@ impl Kernel {
     }
 
     /// Compiles the kernel against the integrators' bind group layout.
-    pub fn compile(&self, device: &wgpu::Device, layout: &wgpu::BindGroupLayout) -> wgpu::ComputePipeline {
-        self.compile_entry(device, layout, self.entry_point)
+    pub fn compile(&self, ctx: &GpuContext, layout: &wgpu::BindGroupLayout) -> wgpu::ComputePipeline {
+        self.compile_entry(ctx, layout, self.entry_point)
     }
 
     /// Compiles another entry point of the kernel's program with its specialisation (a pass
     /// an integrator runs beside its main one: splats' resolve, photon mapping's photons).
-    pub fn compile_entry(&self, device: &wgpu::Device, layout: &wgpu::BindGroupLayout, entry_point: &str) -> wgpu::ComputePipeline {
-        self.pipeline(device, &self.module(device), &[layout], entry_point)
+    pub fn compile_entry(&self, ctx: &GpuContext, layout: &wgpu::BindGroupLayout, entry_point: &str) -> wgpu::ComputePipeline {
+        self.pipeline(ctx, &self.module(&ctx.device), &[layout], entry_point)
     }
 
     /// The kernel's program: the path tracer's WGSL with the traversal and tables replaced, and
@@ -142,7 +142,8 @@ impl Kernel {
 
     /// The pipeline of `entry_point` of `module` (made by [`Kernel::module`]) with the
     /// kernel's override constants, for bind groups of `layouts` (group 0 the integrators').
-    pub fn pipeline(&self, device: &wgpu::Device, module: &wgpu::ShaderModule, layouts: &[&wgpu::BindGroupLayout], entry_point: &str) -> wgpu::ComputePipeline {
+    pub fn pipeline(&self, ctx: &GpuContext, module: &wgpu::ShaderModule, layouts: &[&wgpu::BindGroupLayout], entry_point: &str) -> wgpu::ComputePipeline {
+        let device = &ctx.device;
         let layouts: Vec<_> = layouts.iter().map(|l| Some(*l)).collect();
         let pipeline_layout =
             device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("integrators"), bind_group_layouts: &layouts, immediate_size: 0 });
@@ -166,7 +167,7 @@ impl Kernel {
             module,
             entry_point: Some(entry_point),
             compilation_options: wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() },
-            cache: None,
+            cache: ctx.pipeline_cache(),
         })
     }
 }

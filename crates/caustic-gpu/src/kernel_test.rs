@@ -52,7 +52,7 @@ impl<'a> KernelTest<'a> {
             module: &module,
             entry_point: Some("test_main"),
             compilation_options: Default::default(),
-            cache: None,
+            cache: ctx.pipeline_cache(),
         });
         ctx.check()?;
         Ok(KernelTest { ctx, pipeline })

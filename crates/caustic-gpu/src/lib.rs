@@ -37,6 +37,7 @@ pub mod memory;
 pub mod motion;
 pub mod pages;
 mod path_tracer;
+pub mod pipeline_cache;
 mod prepared_scene;
 mod readback;
 mod render_settings;

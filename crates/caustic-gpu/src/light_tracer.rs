@@ -129,7 +129,7 @@ impl Splats {
                 mapped_at_creation: false,
             })
         };
-        let resolve = light_tracer.then(|| kernel.compile_entry(&ctx.device, layout, RESOLVE_ENTRY_POINT));
+        let resolve = light_tracer.then(|| kernel.compile_entry(ctx, layout, RESOLVE_ENTRY_POINT));
         let splats = Splats {
             pass: storage("splats", pass_bytes),
             sums: storage("splat sums", sum_bytes),

@@ -451,7 +451,7 @@ impl<'a> PathTracer<'a> {
         match &self.inspector {
             Some((kernel, pipeline)) if *kernel == wanted => pipeline.clone(),
             _ => {
-                let pipeline = wanted.compile(&self.ctx.device, &self.layout);
+                let pipeline = wanted.compile(self.ctx, &self.layout);
                 self.inspector = Some((wanted, pipeline.clone()));
                 pipeline
             }
@@ -499,7 +499,7 @@ impl Stages {
     /// `kernel` compiled in `shape` for `frame`'s image and light samples.
     fn new(ctx: &GpuContext, kernel: &Kernel, layout: &wgpu::BindGroupLayout, shape: KernelShape, frame: &Frame) -> Result<Stages, GpuError> {
         match shape {
-            KernelShape::Megakernel => Ok(Stages::Megakernel(kernel.compile(&ctx.device, layout))),
+            KernelShape::Megakernel => Ok(Stages::Megakernel(kernel.compile(ctx, layout))),
             KernelShape::Wavefront if kernel.entry_point != "render_sample" => Err(GpuError::Scene(format!(
                 "the wavefront kernel shape splits the path tracer (integrators pathtracer and direct, image pass, no debug view); this render runs {}",
                 kernel.entry_point
@@ -659,7 +659,7 @@ fn photon_map(
     settings: &RenderSettings,
     gpu: &GpuScene,
 ) -> Result<PhotonMap, GpuError> {
-    let photon_pass = crate::sppm::is_sppm(kernel.entry_point).then(|| kernel.compile_entry(&ctx.device, layout, crate::sppm::PHOTON_ENTRY_POINT));
+    let photon_pass = crate::sppm::is_sppm(kernel.entry_point).then(|| kernel.compile_entry(ctx, layout, crate::sppm::PHOTON_ENTRY_POINT));
     PhotonMap::new(ctx, photon_pass, frame, settings.photons, gpu.units.length(1.0))
 }
 

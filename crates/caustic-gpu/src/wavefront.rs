@@ -164,7 +164,7 @@ impl Wavefront {
         let device = &ctx.device;
         let layout = bind_group_layout(device);
         let module = kernel.module(device);
-        let pipeline = |entry| kernel.pipeline(device, &module, &[integrators, &layout], entry);
+        let pipeline = |entry| kernel.pipeline(ctx, &module, &[integrators, &layout], entry);
         let sizes = [
             ("wavefront paths", size_of::<WavefrontPath>() as u64 * u64::from(capacity)),
             ("wavefront hits", HIT_BYTES * u64::from(capacity)),

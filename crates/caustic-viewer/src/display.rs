@@ -46,7 +46,7 @@ impl Display {
             module: &module,
             entry_point: Some("display"),
             compilation_options: Default::default(),
-            cache: None,
+            cache: ctx.pipeline_cache(),
         });
         let params = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("display parameters"),
