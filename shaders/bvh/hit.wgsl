@@ -37,6 +37,15 @@ override SHADOW_HULL_CULL: bool = false;
 // (crates/caustic-gpu/src/convex_occluder.rs); other traversals ignore it.
 override SHADOW_CONVEX_OCCLUDERS: bool = false;
 
+// Set while a shadow ray runs to the camera (integrator/connect.wgsl, connect_camera): the
+// lens may lie outside the scene's hull, so the generated traversal tests the hull's faces
+// for it whatever SHADOW_HULL_CULL says (a surface point's shadow rays leave into its own
+// side, so they never cross the hull face it lies on; a camera's may). The convex occluders
+// need no such care: a segment with at most one end inside a block meets the block exactly
+// when it meets its faces, and a lens inside a block sees only the block. Never set by
+// kernels without camera connections, where it folds away.
+var<private> shadow_to_camera: bool;
+
 // The generated traversal skips, in shadow rays, the triangles in whose plane every light lies
 // when this is on: set while the lights stay there (crates/caustic-gpu/src/light_plane.rs);
 // other traversals ignore it.

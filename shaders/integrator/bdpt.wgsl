@@ -27,7 +27,67 @@ struct LightVertex {
 }
 
 var<private> light_vertices: array<LightVertex, BDPT_VERTICES>;
-var<private> light_si: array<SurfaceInteraction, BDPT_VERTICES>;
+
+// A light vertex's surface as the joins read it: its geometry here, its BSDF in
+// light_lobes, one slot of bsdf/keep.wgsl at a time and only the slots the scene uses. A
+// whole SurfaceInteraction (its Material is about a hundred words) copied into and out of a
+// dynamically indexed private array cost 30% of BDPT's time on the Cornell box
+// (docs/PERFORMANCE.md, "BDPT's light vertices").
+struct LightSurface {
+    p: vec3<f32>,
+    front_face: u32,
+    ng: vec3<f32>,
+    ior: f32,
+    ns: vec3<f32>,
+}
+
+var<private> light_surfaces: array<LightSurface, BDPT_VERTICES>;
+var<private> light_lobes: array<array<LobeParameters, BDPT_VERTICES>, LOBE_SLOTS>;
+
+fn keep_lobe(i: u32, m: Material, slot: u32) {
+    if lobe_in_scene(slot) {
+        light_lobes[slot][i] = lobe_parameters(m, slot);
+    }
+}
+
+fn restore_lobe(i: u32, m: Material, slot: u32) -> Material {
+    if lobe_in_scene(slot) {
+        return with_lobe_parameters(m, slot, light_lobes[slot][i]);
+    }
+    return m;
+}
+
+// Keeps si as light vertex i's surface (the slot a literal in each call, so the scene's
+// unused slots fold away as in bsdf/bsdf.wgsl).
+fn keep_light_surface(i: u32, si: SurfaceInteraction) {
+    light_surfaces[i] = LightSurface(si.p, u32(si.front_face), si.ng, si.material.ior, si.ns);
+    keep_lobe(i, si.material, 0u);
+    keep_lobe(i, si.material, 1u);
+    keep_lobe(i, si.material, 2u);
+    keep_lobe(i, si.material, 3u);
+    keep_lobe(i, si.material, 4u);
+    keep_lobe(i, si.material, 5u);
+    keep_lobe(i, si.material, 6u);
+}
+
+// Light vertex i's surface, with the material fields its BSDF reads (the others zero).
+fn kept_light_surface(i: u32) -> SurfaceInteraction {
+    let kept = light_surfaces[i];
+    var si: SurfaceInteraction;
+    si.p = kept.p;
+    si.front_face = kept.front_face != 0u;
+    si.ng = kept.ng;
+    si.ns = kept.ns;
+    si.material.ior = kept.ior;
+    si.material = restore_lobe(i, si.material, 0u);
+    si.material = restore_lobe(i, si.material, 1u);
+    si.material = restore_lobe(i, si.material, 2u);
+    si.material = restore_lobe(i, si.material, 3u);
+    si.material = restore_lobe(i, si.material, 4u);
+    si.material = restore_lobe(i, si.material, 5u);
+    si.material = restore_lobe(i, si.material, 6u);
+    return si;
+}
 
 fn bdpt_depth() -> u32 {
     return min(frame.max_depth, BDPT_MAX_DEPTH);
@@ -171,7 +231,7 @@ fn light_subpath(rng: ptr<function, Rng>) -> u32 {
         arrive(&path, hit.t, abs(dot(path.ray.direction, si.ng)));
         let vertex = LightVertex(path.beta, path.d_vcm, -path.ray.direction, path.d_vc);
         light_vertices[path.length] = vertex;
-        light_si[path.length] = si;
+        keep_light_surface(path.length, si);
         path.length++;
         camera_strategy(vertex, si, path.length + 1u, rng);
         if path.length >= depth || !scatter_subpath(&path, si, true, rng) {
@@ -219,7 +279,7 @@ fn camera_strategy(vertex: LightVertex, si: SurfaceInteraction, s: u32, rng: ptr
     let pdf_rev = oriented_pdf(si, to_camera, vertex.to_prev);
     let w_light = mis(camera_pdf) * (vertex.d_vcm + vertex.d_vc * mis(pdf_rev));
     var unused = vec3<f32>(0.0);
-    add_strategy(s, 1u, film_pixel(camera.film), inspect_link_weighted(vertex.beta * connection.factor, 1.0 / (1.0 + w_light)), &unused);
+    add_strategy(s, 1u, film_pixel(camera.film), inspect_link_weighted(vertex.beta * connection.factor, 1.0 + w_light), &unused);
 }
 
 // s = 0: the camera subpath's ray reached an emitter's front face at distance `distance`
@@ -253,7 +313,7 @@ fn emitter_strategy(path: Subpath, hit: Hit, si: SurfaceInteraction, escaped: bo
         return inspect_link_weighted(path.beta * le, 1.0);
     }
     let w_camera = mis(direct) * path.d_vcm + mis(emitted) * path.d_vc;
-    return inspect_link_weighted(path.beta * le, 1.0 / (1.0 + w_camera));
+    return inspect_link_weighted(path.beta * le, 1.0 + w_camera);
 }
 
 // s = 1: a light sampled from the camera vertex `si` (as the path tracer's next-event
@@ -301,13 +361,13 @@ fn light_strategy(path: Subpath, si: SurfaceInteraction, rng: ptr<function, Rng>
     let pdf_rev = oriented_pdf(si, ls.wi, wo);
     let w_light = mis(pdf_bsdf / direct);
     let w_camera = mis(emitted * abs(dot(ls.wi, si.ng)) / (direct * cos_light)) * (path.d_vcm + path.d_vc * mis(pdf_rev));
-    return inspect_link_weighted(path.beta * f * ls.radiance / pdf, 1.0 / (1.0 + w_light + w_camera));
+    return inspect_link_weighted(path.beta * f * ls.radiance / pdf, 1.0 + w_light + w_camera);
 }
 
 // s, t >= 2: the camera vertex `si` joined to light vertex `i` by a shadow ray, weighted.
 fn join_strategy(path: Subpath, si: SurfaceInteraction, i: u32) -> vec3<f32> {
     let vertex = light_vertices[i];
-    let light_surface = light_si[i];
+    let light_surface = kept_light_surface(i);
     let d = light_surface.p - si.p;
     let d2 = dot(d, d);
     if !(d2 > 0.0) {
@@ -329,7 +389,7 @@ fn join_strategy(path: Subpath, si: SurfaceInteraction, i: u32) -> vec3<f32> {
     let light_pdf = oriented_pdf(light_surface, vertex.to_prev, -w) * abs(dot(w, si.ng)) / d2;
     let w_light = mis(camera_pdf) * (vertex.d_vcm + vertex.d_vc * mis(oriented_pdf(light_surface, -w, vertex.to_prev)));
     let w_camera = mis(light_pdf) * (path.d_vcm + path.d_vc * mis(oriented_pdf(si, w, wo)));
-    return inspect_link_weighted(path.beta * f * vertex.beta / d2, 1.0 / (1.0 + w_light + w_camera));
+    return inspect_link_weighted(path.beta * f * vertex.beta / d2, 1.0 + w_light + w_camera);
 }
 
 // Whether each strategy's contribution goes to its own image (the bdpt-strategies debug

@@ -67,7 +67,10 @@ fn connect_camera(si: SurfaceInteraction, to_prev: vec3<f32>, u: vec2<f32>) -> C
     if all(f == vec3<f32>(0.0)) {
         return connection;
     }
-    if !unoccluded(si, camera.wi, camera.distance) {
+    shadow_to_camera = true;
+    let seen = unoccluded(si, camera.wi, camera.distance);
+    shadow_to_camera = false;
+    if !seen {
         inspect_link_failed(LINK_OCCLUDED);
         return connection;
     }

@@ -163,35 +163,34 @@ fn inspect_link_failed(flag: u32) {
     }
 }
 
-// The strategy contributes `contribution` with MIS weight `weight`; returns their product,
-// so the hook wraps the value returned.
-fn inspect_link_weighted(contribution: vec3<f32>, weight: f32) -> vec3<f32> {
+// The strategy contributes `contribution` with MIS weight 1 / `denominator` (the power
+// heuristic's sum over the strategies, this one's term 1); returns the weighted value, so
+// the hook wraps the value returned.
+fn inspect_link_weighted(contribution: vec3<f32>, denominator: f32) -> vec3<f32> {
     if inspect_armed() {
         inspect_link.contribution = contribution;
-        inspect_link.mis_weight = weight;
+        inspect_link.mis_weight = 1.0 / denominator;
     }
-    return contribution * weight;
+    return contribution / denominator;
 }
 
 // Strategy (s, t) is done, its contribution landing on `pixel` (NO_PIXEL: nowhere): records
-// the connection the link hooks described and starts the next one.
+// the connection the link hooks described, if they opened one, and starts the next.
 fn inspect_connection(s: u32, t: u32, pixel: u32) {
     if !inspect_armed() {
         return;
     }
-    if !inspect_link_open {
-        inspect_link = InspectConnection();
-        return;
+    if inspect_link_open {
+        let index = inspection.connection_count;
+        inspection.connection_count = index + 1u;
+        if index < INSPECT_MAX_CONNECTIONS {
+            var link = inspect_link;
+            link.s = s;
+            link.t = t;
+            link.pixel = pixel;
+            inspection.connections[index] = link;
+        }
     }
     inspect_link_open = false;
-    let index = inspection.connection_count;
-    inspection.connection_count = index + 1u;
-    if index < INSPECT_MAX_CONNECTIONS {
-        var link = inspect_link;
-        link.s = s;
-        link.t = t;
-        link.pixel = pixel;
-        inspection.connections[index] = link;
-    }
     inspect_link = InspectConnection();
 }

@@ -75,8 +75,11 @@ impl Kernel {
             _ => 1,
         };
         let specialised = specialised_traversal(gpu, settings).is_some();
-        // Those shadow-ray shortcuts assume shadow rays end at lights; the light tracer's and
-        // bidirectional path tracing's also end at the camera and at surfaces.
+        // The hull and occluder shortcuts hold for a shadow ray between any two of the scene's
+        // surface points and lights, and for one to the camera (which turns the hull's off for
+        // itself: `shadow_to_camera` in shaders/bvh/hit.wgsl); the light-plane skip only for
+        // shadow rays that end at a light, which the light tracer's and bidirectional path
+        // tracing's connections to the camera and to surfaces do not.
         let light_shadows = specialised && !crate::light_tracer::splats(entry_point);
         Kernel {
             entry_point,
@@ -92,8 +95,8 @@ impl Kernel {
                 DataPath::Auto | DataPath::Traversal => gpu.requirements,
                 DataPath::Buffers => REQUIRES_ALL,
             },
-            shadow_hull_cull: gpu.shadow_hull_cull && light_shadows,
-            shadow_convex_occluders: gpu.shadow_occluder_clip && light_shadows,
+            shadow_hull_cull: gpu.shadow_hull_cull && specialised,
+            shadow_convex_occluders: gpu.shadow_occluder_clip && specialised,
             shadow_light_planes: gpu.shadow_light_plane_skip && light_shadows,
             paths_per_invocation,
             paging: gpu.paging,

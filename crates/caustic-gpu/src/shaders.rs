@@ -88,7 +88,7 @@ pub fn ray_bench_source(layout: crate::NodeLayout, words_64: bool, packet_walk: 
     source
 }
 
-const PATH_TRACER: [ShaderFile; 37] = [
+const PATH_TRACER: [ShaderFile; 38] = [
     shader_file!("integrator/bindings.wgsl"),
     shader_file!("integrator/camera.wgsl"),
     shader_file!("integrator/environment.wgsl"),
@@ -105,6 +105,7 @@ const PATH_TRACER: [ShaderFile; 37] = [
     shader_file!("bsdf/ggx.wgsl"),
     shader_file!("bsdf/dielectric.wgsl"),
     shader_file!("bsdf/bsdf.wgsl"),
+    shader_file!("bsdf/keep.wgsl"),
     shader_file!("lights/shapes.wgsl"),
     shader_file!("lights/sample.wgsl"),
     shader_file!("lights/emit.wgsl"),

@@ -6,7 +6,10 @@
 //! most at an end, where the shadow ray's range stops short; so the triangle cannot occlude.
 //! That holds while every light lies on the same side: no directional light or lit
 //! environment (their shadow rays leave the scene), no infinite plane, every point light
-//! inside. The generated traversal ([`crate::specialize`]) skips such triangles in shadow rays
+//! inside. It holds for shadow rays between any two surface points too (bidirectional path
+//! tracing's joins), but not for one to the camera (the light tracer's and BDPT's t = 1), whose
+//! lens may lie outside: those test every face (`shadow_to_camera` in `shaders/bvh/hit.wgsl`).
+//! The generated traversal ([`crate::specialize`]) skips such triangles in shadow rays
 //! when the `SHADOW_HULL_CULL` override (`shaders/bvh/hit.wgsl`) is on; lavapipe runs every
 //! test it compiles, so each skipped one is saved in every bounce.
 

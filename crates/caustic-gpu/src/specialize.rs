@@ -95,7 +95,7 @@ pub fn unrolled_traversal(bvh: &GpuBvh, lights: &[GpuLight]) -> Option<UnrolledT
             if occluder_slots.contains(&slot) {
                 runs_if.push("!(any_hit && SHADOW_CONVEX_OCCLUDERS)");
             } else if hull_slots.contains(&slot) {
-                runs_if.push("!(any_hit && SHADOW_HULL_CULL)");
+                runs_if.push("!(any_hit && SHADOW_HULL_CULL && !shadow_to_camera)");
             }
             if light_plane_slots.contains(&slot) {
                 runs_if.push("!(any_hit && SHADOW_LIGHT_PLANES)");

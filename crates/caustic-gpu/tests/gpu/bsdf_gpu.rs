@@ -5,7 +5,7 @@
 //! number generator (`shaders/common/rng.wgsl`) and the ray-triangle test
 //! (`shaders/bvh/intersect.wgsl`) against their CPU twins.
 
-use crate::support::device;
+use crate::support::{Pcg, device};
 use bytemuck::{Pod, Zeroable};
 use caustic_bsdf::bsdf::Sampling;
 use caustic_bsdf::catalog::{Case, TEST_ANGLES, outgoing, reference_cases};
@@ -102,24 +102,6 @@ fn sampling_code(sampling: Sampling) -> u32 {
         Sampling::Hemisphere => 0,
         Sampling::Cosine => 1,
         Sampling::Bsdf => 2,
-    }
-}
-
-/// A tiny PCG stream for the CPU-drawn inputs.
-struct Pcg(u64);
-
-impl Pcg {
-    fn next(&mut self) -> f32 {
-        self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-        let x = (((self.0 >> 18) ^ self.0) >> 27) as u32;
-        (x.rotate_right((self.0 >> 59) as u32) >> 8) as f32 / 16_777_216.0
-    }
-
-    fn direction(&mut self) -> Vec3 {
-        let z = 2.0 * self.next() - 1.0;
-        let r = (1.0 - z * z).max(0.0).sqrt();
-        let phi = std::f32::consts::TAU * self.next();
-        Vec3::new(r * phi.cos(), r * phi.sin(), z)
     }
 }
 

@@ -14,6 +14,7 @@ mod assets_render;
 mod bidirectional;
 mod bloom;
 mod bsdf_gpu;
+mod bsdf_keep;
 mod classic;
 mod classic_features;
 mod classic_frosted;
