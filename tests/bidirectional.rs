@@ -104,17 +104,12 @@ fn bidirectional_path_tracing_matches_the_analytic_furnace() {
     crate::render::furnace_matches_the_analytic_answer("bdpt", 16);
 }
 
-/// The relative squared difference of two noisy images, each value's squared difference
-/// divided by the square of the same value of `scale` (plus the relMSE's epsilon): the mean
-/// over pixels and channels of (a - b)^2 / (s^2 + epsilon). With `scale` independent of both
-/// images its expectation is linear in their variances; a denominator taken from the images
-/// themselves is not, and makes two unbiased estimators of different noise look apart at low
-/// sample counts (by 10-25% at 16 and 64 spp, found with synthetic unbiased data).
+/// The relative squared difference of two noisy images, divided by an independent third
+/// ([`metrics::relative_mse_scaled`]): a denominator taken from the compared images themselves
+/// makes two unbiased estimators of different noise look apart at low sample counts (by
+/// 10-25% at 16 and 64 spp, found with synthetic unbiased data).
 fn difference(a: &Image, b: &Image, scale: &Image) -> f64 {
-    let epsilon = f64::from(metrics::RELMSE_EPSILON);
-    let values = |image: &Image| image.pixels.iter().flatten().map(|&v| f64::from(v)).collect::<Vec<_>>();
-    let (a, b, s) = (values(a), values(b), values(scale));
-    a.iter().zip(&b).zip(&s).map(|((x, y), s)| (x - y).powi(2) / (s * s + epsilon)).sum::<f64>() / a.len() as f64
+    metrics::relative_mse_scaled(a, b, scale, metrics::RELMSE_EPSILON).expect("images of one size")
 }
 
 /// BDPT and the path tracer agree in expectation on every scene of `../shared/references`

@@ -24,6 +24,26 @@ pub fn relative_mse(image: &Image, reference: &Image, epsilon: f32) -> Result<f6
     mean_over_channels(image, reference, |x, r| (x - r).powi(2) / (r * r + epsilon))
 }
 
+/// The [`relative_mse`] of `image` against `other`, divided by a third image's values instead
+/// of `other`'s own: the mean of (x - y)^2 / (s^2 + `epsilon`). With `scale` independent of
+/// both, its expectation is linear in their variances, so two noisy renders of one scene can
+/// be compared (a denominator taken from a noisy image is not, and makes two unbiased
+/// estimators of different noise look apart at low sample counts).
+pub fn relative_mse_scaled(image: &Image, other: &Image, scale: &Image, epsilon: f32) -> Result<f64, ImageError> {
+    check_comparable(image, other)?;
+    check_comparable(image, scale)?;
+    let epsilon = f64::from(epsilon);
+    let sum: f64 = image
+        .pixels
+        .iter()
+        .flatten()
+        .zip(other.pixels.iter().flatten())
+        .zip(scale.pixels.iter().flatten())
+        .map(|((&x, &y), &s)| (f64::from(x) - f64::from(y)).powi(2) / (f64::from(s).powi(2) + epsilon))
+        .sum();
+    Ok(sum / (image.pixels.len() * 3) as f64)
+}
+
 /// An estimate of the [`relative_mse`] of `full` against the (unknown) converged image,
 /// from the render itself: `first` is the same render after its first `first_samples` of the
 /// `full_samples` samples per pixel. The later samples' mean B and the first ones' mean A are

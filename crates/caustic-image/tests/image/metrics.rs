@@ -1,6 +1,6 @@
 //! Error metrics against analytic values.
 
-use caustic_image::metrics::{RELMSE_EPSILON, estimated_relative_mse, mean_absolute_error, mean_ratio, relative_mse, rmse};
+use caustic_image::metrics::{RELMSE_EPSILON, estimated_relative_mse, mean_absolute_error, mean_ratio, relative_mse, relative_mse_scaled, rmse};
 use caustic_image::{Image, ImageError};
 
 /// Half the pixels 0.5, half 2.0, in every channel.
@@ -24,6 +24,22 @@ fn metrics_of_an_image_against_itself_are_zero() {
     assert_eq!(rmse(&image, &image).unwrap(), 0.0);
     assert_eq!(mean_absolute_error(&image, &image).unwrap(), 0.0);
     assert_eq!(mean_ratio(&image, &image).unwrap(), [1.0; 3]);
+}
+
+/// Scaled by the reference itself, the scaled relMSE is the relMSE; scaled by another image,
+/// each term is divided by that image's square instead, and a size mismatch is an error.
+#[test]
+fn the_scaled_relative_mse_divides_by_the_scale_image() {
+    let reference = two_level();
+    let image = scaled(&reference, 1.1);
+    let plain = relative_mse(&image, &reference, RELMSE_EPSILON).unwrap();
+    assert_eq!(relative_mse_scaled(&image, &reference, &reference, RELMSE_EPSILON).unwrap(), plain);
+    let ones = scaled(&reference, 0.0);
+    let ones = Image { pixels: ones.pixels.iter().map(|_| [1.0; 3]).collect(), ..ones };
+    let expected = (0.05f64.powi(2) + 0.2f64.powi(2)) / 2.0 / (1.0 + f64::from(RELMSE_EPSILON));
+    let measured = relative_mse_scaled(&image, &reference, &ones, RELMSE_EPSILON).unwrap();
+    assert!((measured / expected - 1.0).abs() < 1e-5, "{measured} against {expected} (the image holds 1.1 x in f32)");
+    assert!(relative_mse_scaled(&image, &reference, &Image::new(2, 2), RELMSE_EPSILON).is_err());
 }
 
 #[test]
