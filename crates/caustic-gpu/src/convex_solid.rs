@@ -13,7 +13,7 @@ use crate::gpu_types::GpuLight;
 use crate::light_kind::LightKind;
 use caustic_bvh::{GpuBvh, SHAPE_BIT};
 use glam::DVec3;
-use std::collections::HashMap;
+use std::collections::{BTreeMap, HashMap};
 
 /// Distance, relative to the scene's size, within which a point counts as on a plane.
 const PLANE_TOLERANCE: f64 = 1e-6;
@@ -182,9 +182,12 @@ fn solid_planes(bvh: &GpuBvh, slots: &[u32], scene: &[Vec<DVec3>], tolerance: f6
 
 /// The edges of the group `slots` that belong to one of its triangles only (a solid's open
 /// rim, a polygon's outline), or `None` if an edge belongs to more than two. Edges match by
-/// their corners' bits.
+/// their corners' bits and come in the order of those bits, so the planes fitted to them (and
+/// the kernel text they go into) are the same in every run: a hash map's order, different in
+/// each process, made the Cornell box's kernel differ in its last bits from run to run, which
+/// Mesa's shader cache never found again.
 fn open_edges(bvh: &GpuBvh, slots: &[u32]) -> Option<Vec<[DVec3; 2]>> {
-    let mut edges: HashMap<[[u32; 3]; 2], u32> = HashMap::new();
+    let mut edges: BTreeMap<[[u32; 3]; 2], u32> = BTreeMap::new();
     for &slot in slots {
         let vertices = bvh.triangles[slot as usize].vertices();
         for i in 0..3 {

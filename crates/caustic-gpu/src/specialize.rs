@@ -177,6 +177,19 @@ mod tests {
         assert!(wgsl.contains("(*cost).triangles += 5u;"));
     }
 
+    /// Mesa's shader cache finds a kernel again only if its text is the same: the generated
+    /// traversal of a room with a floor-standing (open) box, whose closing plane is fitted to
+    /// its rim, is generated alike every time (hash maps order differently in each one).
+    #[test]
+    fn the_generated_traversal_is_the_same_text_every_time() {
+        let gpu = bvh_of(&crate::convex_solid::fixtures::room(false));
+        let first = unrolled_traversal(&gpu, &[]).unwrap().wgsl;
+        assert!(first.contains("if any_hit && SHADOW_CONVEX_OCCLUDERS {"), "the room's boxes are clipped as occluders");
+        for _ in 0..16 {
+            assert!(unrolled_traversal(&gpu, &[]).unwrap().wgsl == first, "the generated traversal changed between two calls");
+        }
+    }
+
     #[test]
     fn a_lone_triangle_is_found_by_the_polygon_clip() {
         let gpu = bvh_of(&[[Vec3::ZERO, Vec3::X, Vec3::Y]]);
