@@ -187,7 +187,7 @@ impl GpuContext {
     /// error names the file.
     pub fn save_pipeline_cache(&self) -> Result<(), String> {
         match &self.pipeline_cache {
-            Some(cache) => cache.save().map_err(|e| format!("could not save the pipeline cache {}: {e}", cache.path().display())),
+            Some(cache) => cache.save(),
             None => Ok(()),
         }
     }

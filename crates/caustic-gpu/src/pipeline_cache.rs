@@ -3,22 +3,21 @@
 //!
 //! A render's first pipelines take seconds to compile. Many drivers keep their own cache
 //! (Mesa's shader disk cache holds lavapipe's LLVM output), others leave it to the
-//! application; the pipeline cache serves both: the driver decides what it stores (on
-//! lavapipe, the translated and optimised shaders that Mesa's disk cache does not keep).
+//! application; the pipeline cache serves the second kind (the driver decides what it stores:
+//! lavapipe stores nothing in it, its kernels live in Mesa's disk cache).
 //!
 //! The cache lives in one file per adapter ([`wgpu::util::pipeline_cache_key`]) in the folder
 //! [`cache_folder`] names: `CAUSTIC_CACHE_DIR`, else `$XDG_CACHE_HOME/caustic`, else
 //! `~/.cache/caustic`. `CAUSTIC_CACHE_DIR=off` (or empty) turns it off. A cache is only ever
 //! a shortcut: a file that is missing, not a regular file, too large, damaged (each file
 //! carries its length and a checksum) or from another driver is ignored (wgpu validates its
-//! own header and falls back to an empty cache), and a failure to
-//! save it is reported once on stderr and otherwise ignored. It is saved atomically (a
-//! temporary file renamed over the old one), so a run interrupted while saving leaves the
-//! previous cache whole.
+//! own header and falls back to an empty cache), and a failure to save it is the caller's to
+//! report (`caustic render` warns; a dropped context ignores it). It is saved atomically
+//! ([`caustic_image::write_file_atomically`]), so a run interrupted while saving leaves
+//! the previous cache whole.
 
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
-use std::sync::atomic::{AtomicU64, Ordering};
 
 /// Largest cache file read back: a larger one is ignored (and replaced when saved).
 pub const MAX_CACHE_BYTES: u64 = 512 << 20;
@@ -60,24 +59,19 @@ impl PipelineCacheFile {
         &self.path
     }
 
-    /// Writes the cache to its file if it grew since it was loaded or last saved: into a
-    /// temporary file beside it, then renamed over it.
-    pub fn save(&self) -> std::io::Result<()> {
+    /// Writes the cache to its file if its size changed since it was loaded or last saved,
+    /// atomically (a temporary file beside it, renamed over it); the error names the file.
+    pub fn save(&self) -> Result<(), String> {
         let Some(data) = self.cache.get_data() else { return Ok(()) };
         let mut saved_len = self.saved_len.lock().unwrap_or_else(|e| e.into_inner());
         if data.len() == *saved_len {
             return Ok(());
         }
+        let failed = |e: &dyn std::fmt::Display| format!("could not save the pipeline cache {}: {e}", self.path.display());
         if let Some(folder) = self.path.parent() {
-            std::fs::create_dir_all(folder)?;
+            std::fs::create_dir_all(folder).map_err(|e| failed(&e))?;
         }
-        // One temporary name per save, so contexts of one process saving at once do not write
-        // into each other's file.
-        static SAVES: AtomicU64 = AtomicU64::new(0);
-        let temporary = self.path.with_extension(format!("{}-{}.tmp", std::process::id(), SAVES.fetch_add(1, Ordering::Relaxed)));
-        std::fs::write(&temporary, framed(&data)).and_then(|()| std::fs::rename(&temporary, &self.path)).inspect_err(|_| {
-            let _ = std::fs::remove_file(&temporary);
-        })?;
+        caustic_image::write_file_atomically(&self.path, &framed(&data)).map_err(|e| failed(&e))?;
         *saved_len = data.len();
         Ok(())
     }
