@@ -39,6 +39,18 @@ fn rng_for_sample(pixel: u32, sample_index: u32, seed: u32) -> Rng {
     return Rng(pcg_hash(pixel ^ pcg_hash(sample_index ^ pcg_hash(seed))), 0u, 0u);
 }
 
+// A second stream of the same sample for a part of it that draws a varying number of
+// dimensions before the rest (bidirectional path tracing's light subpath, traced before the
+// camera subpath): Sobol and stratified draw it from dimension `first` on, so the rest keeps
+// the same dimensions in every sample and with them its stratification; the independent
+// sampler starts a new state. `first` lies beyond any dimension the rest can reach.
+fn rng_stream(rng: Rng, first: u32) -> Rng {
+    if SAMPLER == 0u {
+        return Rng(pcg_hash(rng.state ^ pcg_hash(first)), 0u, 0u);
+    }
+    return Rng(rng.state, rng.index, first);
+}
+
 // Uniform float in [0, 1).
 fn next_f32(rng: ptr<function, Rng>) -> f32 {
     if SAMPLER == 1u {

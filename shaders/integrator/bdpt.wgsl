@@ -403,6 +403,11 @@ fn strategy_layer(s: u32, t: u32) -> u32 {
     return 1u + k * (k + 3u) / 2u + s;
 }
 
+// The light subpath's first dimension (rng_stream): far beyond the camera subpath's last, so
+// the camera subpath draws the same dimensions in every sample whatever the light subpath's
+// length (its next-event samples stratified as the path tracer's are).
+const LIGHT_SUBPATH_DIMENSION: u32 = 65536u;
+
 // One sample of each pixel of the tile: the light subpath (its t = 1 strategies splatted as
 // it goes), then the camera subpath, every strategy with at most frame.max_depth (and
 // BDPT_MAX_DEPTH) scattering vertices.
@@ -415,7 +420,8 @@ fn render_bdpt(@builtin(global_invocation_id) id: vec3<u32>) {
     inspect_begin(pixel);
     var rng = rng_for_sample(pixel, pixel_sample, frame.seed);
     let ray = pixel_ray(pixel, &rng);
-    let light_count = light_subpath(&rng);
+    var light_rng = rng_stream(rng, LIGHT_SUBPATH_DIMENSION);
+    let light_count = light_subpath(&light_rng);
     let depth = bdpt_depth();
     var radiance = vec3<f32>(0.0);
     var path = Subpath(ray, vec3<f32>(1.0), mis(1.0 / camera_direction_pdf(ray.direction)), 0.0, 0u, 1.0, 1.0, false);

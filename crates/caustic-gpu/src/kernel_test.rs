@@ -40,6 +40,12 @@ impl<'a> KernelTest<'a> {
     /// Compiles `library` followed by `test_source` and the generated entry point; a WGSL
     /// error comes back as a [`GpuError`] carrying the compiler's message.
     pub fn new(ctx: &'a GpuContext, library: &[&ShaderFile], test_source: &str) -> Result<KernelTest<'a>, GpuError> {
+        KernelTest::with_constants(ctx, library, test_source, &[])
+    }
+
+    /// [`KernelTest::new`] with pipeline override `constants` set (e.g. `SAMPLER`, to test the
+    /// code a render's kernel selects with it).
+    pub fn with_constants(ctx: &'a GpuContext, library: &[&ShaderFile], test_source: &str, constants: &[(&str, f64)]) -> Result<KernelTest<'a>, GpuError> {
         let mut source: String = library.iter().map(|f| format!("// ---- shaders/{} ----\n{}\n", f.name, f.source)).collect();
         source.push_str("// ---- test kernel ----\n");
         source.push_str(test_source);
@@ -51,7 +57,7 @@ impl<'a> KernelTest<'a> {
             layout: None,
             module: &module,
             entry_point: Some("test_main"),
-            compilation_options: Default::default(),
+            compilation_options: wgpu::PipelineCompilationOptions { constants, ..Default::default() },
             cache: ctx.pipeline_cache(),
         });
         ctx.check()?;

@@ -88,3 +88,78 @@ fn pixels_and_dimensions_are_decorrelated_and_uniform() {
     assert!(pixels.abs() < 0.06 && dimensions.abs() < 0.06);
     assert!((mean - 0.5).abs() < 1e-3, "a net's mean is 0.5 to within its cell size");
 }
+
+/// One pixel's sample `index` as bidirectional path tracing draws it: the film position, then a
+/// number of pairs that varies from sample to sample (the light subpath), from a second stream
+/// (`rng_stream`) when `split` is set and from the sample's own stream otherwise, then the
+/// next pair of the sample's own stream (the camera subpath's first light sample). With
+/// `stream_first`, the output is instead the second stream's first pair beside the own
+/// stream's next one.
+const STREAM_KERNEL: &str = "
+struct TestInput {
+    split: u32,
+    stream_first: u32,
+    _pad0: u32,
+    _pad1: u32,
+}
+
+struct TestOutput {
+    point: vec2<f32>,
+    other: vec2<f32>,
+}
+
+fn test_kernel(index: u32) -> TestOutput {
+    let t = test_inputs[0];
+    var rng = rng_for_sample(777u, index, 3u);
+    let film = next_2d(&rng);
+    var light = rng_stream(rng, 65536u);
+    if t.stream_first != 0u {
+        let own = next_2d(&rng);
+        return TestOutput(next_2d(&light), own);
+    }
+    let draws = pcg_hash(index) % 6u;
+    for (var i = 0u; i < draws; i++) {
+        if t.split != 0u {
+            _ = next_2d(&light);
+        } else {
+            _ = next_2d(&rng);
+        }
+    }
+    return TestOutput(next_2d(&rng), film);
+}
+";
+
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct StreamOutput {
+    point: [f32; 2],
+    other: [f32; 2],
+}
+
+#[test]
+fn a_second_stream_keeps_the_other_draws_stratified_and_independent() {
+    let ctx = device();
+    let k = 8;
+    let sobol = KernelTest::with_constants(&ctx, &bsdf_library(), STREAM_KERNEL, &[("SAMPLER", 1.0)]).expect("kernel compiles");
+    let run = |kernel: &KernelTest<'_>, split: u32, stream_first: u32, n: usize| -> Vec<StreamOutput> {
+        kernel.run(&[[split, stream_first, 0u32, 0u32]], n).expect("kernel runs")
+    };
+    let defects = |outputs: &[StreamOutput]| net_defects(&outputs.iter().map(|o| o.point).collect::<Vec<_>>(), k);
+    let (split, shared) = (defects(&run(&sobol, 1, 0, 1 << k)), defects(&run(&sobol, 0, 0, 1 << k)));
+    println!("the pair after a varying number of draws, 256 samples: {split} net defects drawn from a second stream, {shared} from the same one");
+    assert_eq!(split, 0, "with the varying draws on a second stream, the next pair is still a (0,8,2)-net");
+    assert!(shared > 20, "the varying draws on the sample's own stream should break its stratification ({shared} defects): the test cannot see the difference");
+    // The second stream must not repeat the first's numbers (for the independent sampler it
+    // is a new state; for Sobol a dimension no other draw reaches).
+    let independent = KernelTest::new(&ctx, &bsdf_library(), STREAM_KERNEL).expect("kernel compiles");
+    for (name, kernel) in [("independent", &independent), ("sobol", &sobol)] {
+        let n = 4096;
+        let outputs = run(kernel, 1, 1, n);
+        let repeats = outputs.iter().filter(|o| o.point == o.other).count();
+        let (mp, mq) = (outputs.iter().map(|o| o.point[0]).sum::<f32>() / n as f32, outputs.iter().map(|o| o.other[0]).sum::<f32>() / n as f32);
+        let correlation = outputs.iter().map(|o| (o.point[0] - mp) * (o.other[0] - mq)).sum::<f32>() / n as f32 * 12.0;
+        println!("{name}: the second stream's first pair against the own stream's next, {n} samples: {repeats} equal, correlation {correlation:.4}");
+        assert_eq!(repeats, 0, "{name}: the second stream repeats the first's numbers");
+        assert!(correlation.abs() < 0.06, "{name}: the streams correlate ({correlation:.4})");
+    }
+}
