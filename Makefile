@@ -21,6 +21,11 @@ lint:
 	$(CARGO) clippy --workspace --all-targets --release -- -D warnings
 
 ## Run the lints, then every unit and end-to-end test (renders on the Vulkan device, lavapipe
-## on CPU machines; the viewer's window runs under Xvfb).
+## on CPU machines; the viewer's window runs under Xvfb). Mesa keeps compiled kernels in a
+## disk cache of 1 GiB by default, split into 50 parts of about 21 MB; the suite's kernels
+## fill their parts past that and evict each other, so a run recompiles kernels the last one
+## compiled (docs/PERFORMANCE.md, "the test suite"): the tests get 4 GiB unless the variable
+## is set.
+test: export MESA_SHADER_CACHE_MAX_SIZE ?= 4G
 test: vulkan xvfb lint
 	$(CARGO) test --release --workspace

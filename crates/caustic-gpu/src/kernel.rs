@@ -117,15 +117,12 @@ impl Kernel {
         Kernel { requirements: self.requirements | REQUIRES_INSPECTOR, ..self.clone() }
     }
 
-    /// Compiles the kernel against the integrators' bind group layout.
+    /// Compiles the kernel's entry point against the integrators' bind group layout. A render
+    /// that compiles more entry points of the program (splats' resolve, photon mapping's
+    /// photons, the wavefront's stages) makes the [`Kernel::module`] once and calls
+    /// [`Kernel::pipeline`] for each, so the WGSL is parsed and validated once.
     pub fn compile(&self, ctx: &GpuContext, layout: &wgpu::BindGroupLayout) -> wgpu::ComputePipeline {
-        self.compile_entry(ctx, layout, self.entry_point)
-    }
-
-    /// Compiles another entry point of the kernel's program with its specialisation (a pass
-    /// an integrator runs beside its main one: splats' resolve, photon mapping's photons).
-    pub fn compile_entry(&self, ctx: &GpuContext, layout: &wgpu::BindGroupLayout, entry_point: &str) -> wgpu::ComputePipeline {
-        self.pipeline(ctx, &self.module(&ctx.device), &[layout], entry_point)
+        self.pipeline(ctx, &self.module(&ctx.device), &[layout], self.entry_point)
     }
 
     /// The kernel's program: the path tracer's WGSL with the traversal and tables replaced, and

@@ -106,8 +106,15 @@ pub(crate) struct Splats {
 
 impl Splats {
     /// Buffers for `kernel` on an image of `pixels` pixels: zeroed, image-sized ones and the
-    /// resolve pipeline for the light tracer, placeholders for every other kernel.
-    pub(crate) fn for_kernel(ctx: &GpuContext, kernel: &Kernel, layout: &wgpu::BindGroupLayout, pixels: u32) -> Result<Splats, GpuError> {
+    /// resolve pipeline for the light tracer (from the kernel's `module`), placeholders for every
+    /// other kernel.
+    pub(crate) fn for_kernel(
+        ctx: &GpuContext,
+        kernel: &Kernel,
+        module: &wgpu::ShaderModule,
+        layout: &wgpu::BindGroupLayout,
+        pixels: u32,
+    ) -> Result<Splats, GpuError> {
         let light_tracer = splats(kernel.entry_point);
         let layers = if kernel.bdpt_strategies { 1 + u64::from(STRATEGIES) } else { 1 };
         let texels = layers * u64::from(pixels);
@@ -129,7 +136,7 @@ impl Splats {
                 mapped_at_creation: false,
             })
         };
-        let resolve = light_tracer.then(|| kernel.compile_entry(ctx, layout, RESOLVE_ENTRY_POINT));
+        let resolve = light_tracer.then(|| kernel.pipeline(ctx, module, &[layout], RESOLVE_ENTRY_POINT));
         let splats = Splats {
             pass: storage("splats", pass_bytes),
             sums: storage("splat sums", sum_bytes),

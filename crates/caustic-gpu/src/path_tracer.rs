@@ -84,9 +84,10 @@ impl<'a> PathTracer<'a> {
         let layout = bind_group_layout(device, &gpu.paging);
         let kernel = Kernel::for_render(ctx, gpu, settings);
         light_paths_fit(scene, gpu, settings, &kernel, &film)?;
-        let stages = Stages::new(ctx, &kernel, &layout, settings.shape, &frame)?;
-        let splats = Splats::for_kernel(ctx, &kernel, &layout, frame.width * frame.height)?;
-        let photons = photon_map(ctx, &kernel, &layout, &frame, settings, gpu)?;
+        let module = kernel.module(device);
+        let stages = Stages::new(ctx, &kernel, &module, &layout, settings.shape, &frame)?;
+        let splats = Splats::for_kernel(ctx, &kernel, &module, &layout, frame.width * frame.height)?;
+        let photons = photon_map(ctx, &kernel, &module, &layout, &frame, settings, gpu)?;
         let inspection = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("inspection"),
             size: std::mem::size_of::<InspectRecord>() as u64,
@@ -153,15 +154,17 @@ impl<'a> PathTracer<'a> {
         if wanted.paging != self.kernel.paging {
             self.layout = bind_group_layout(&self.ctx.device, &wanted.paging);
         }
-        if recompile || resized {
-            self.splats = Splats::for_kernel(self.ctx, &wanted, &self.layout, frame.width * frame.height)?;
-            self.photons = photon_map(self.ctx, &wanted, &self.layout, &frame, settings, gpu)?;
+        // The program is parsed once for every entry point compiled from it.
+        let module = (recompile || resized).then(|| wanted.module(&self.ctx.device));
+        if let Some(module) = &module {
+            self.splats = Splats::for_kernel(self.ctx, &wanted, module, &self.layout, frame.width * frame.height)?;
+            self.photons = photon_map(self.ctx, &wanted, module, &self.layout, &frame, settings, gpu)?;
         } else {
             self.splats.clear(self.ctx);
             self.photons.renew(self.ctx, &frame, settings.photons, gpu.units.length(1.0))?;
         }
-        if recompile {
-            self.stages = Stages::new(self.ctx, &wanted, &self.layout, settings.shape, &frame)?;
+        if let (true, Some(module)) = (recompile, &module) {
+            self.stages = Stages::new(self.ctx, &wanted, module, &self.layout, settings.shape, &frame)?;
             self.kernel = wanted;
         }
         match film {
@@ -496,17 +499,25 @@ const WAVEFRONT_MAX_TILE_PIXELS: u32 = 1 << 18;
 const SAFETY_MAX_BOUNCES: u32 = 1024;
 
 impl Stages {
-    /// `kernel` compiled in `shape` for `frame`'s image and light samples.
-    fn new(ctx: &GpuContext, kernel: &Kernel, layout: &wgpu::BindGroupLayout, shape: KernelShape, frame: &Frame) -> Result<Stages, GpuError> {
+    /// `kernel` compiled from its `module` ([`Kernel::module`]) in `shape` for `frame`'s image
+    /// and light samples.
+    fn new(
+        ctx: &GpuContext,
+        kernel: &Kernel,
+        module: &wgpu::ShaderModule,
+        layout: &wgpu::BindGroupLayout,
+        shape: KernelShape,
+        frame: &Frame,
+    ) -> Result<Stages, GpuError> {
         match shape {
-            KernelShape::Megakernel => Ok(Stages::Megakernel(kernel.compile(ctx, layout))),
+            KernelShape::Megakernel => Ok(Stages::Megakernel(kernel.pipeline(ctx, module, &[layout], kernel.entry_point))),
             KernelShape::Wavefront if kernel.entry_point != "render_sample" => Err(GpuError::Scene(format!(
                 "the wavefront kernel shape splits the path tracer (integrators pathtracer and direct, image pass, no debug view); this render runs {}",
                 kernel.entry_point
             ))),
             KernelShape::Wavefront => {
                 let (capacity, light_samples) = wavefront_size(frame);
-                Ok(Stages::Wavefront(Wavefront::new(ctx, kernel, layout, capacity, light_samples)?))
+                Ok(Stages::Wavefront(Wavefront::new(ctx, kernel, module, layout, capacity, light_samples)?))
             }
         }
     }
@@ -649,17 +660,18 @@ fn frame_constants(scene: &Scene, gpu: &GpuScene, settings: &RenderSettings) -> 
     }
 }
 
-/// Photon mapping's map for `kernel` with its photon pass compiled and `settings`' photons,
-/// or placeholders for other kernels.
+/// Photon mapping's map for `kernel` with its photon pass compiled (from the kernel's
+/// `module`) and `settings`' photons, or placeholders for other kernels.
 fn photon_map(
     ctx: &GpuContext,
     kernel: &Kernel,
+    module: &wgpu::ShaderModule,
     layout: &wgpu::BindGroupLayout,
     frame: &Frame,
     settings: &RenderSettings,
     gpu: &GpuScene,
 ) -> Result<PhotonMap, GpuError> {
-    let photon_pass = crate::sppm::is_sppm(kernel.entry_point).then(|| kernel.compile_entry(ctx, layout, crate::sppm::PHOTON_ENTRY_POINT));
+    let photon_pass = crate::sppm::is_sppm(kernel.entry_point).then(|| kernel.pipeline(ctx, module, &[layout], crate::sppm::PHOTON_ENTRY_POINT));
     PhotonMap::new(ctx, photon_pass, frame, settings.photons, gpu.units.length(1.0))
 }
 

@@ -29,8 +29,9 @@ pub const CACHE_DIR_VARIABLE: &str = "CAUSTIC_CACHE_DIR";
 pub struct PipelineCacheFile {
     cache: wgpu::PipelineCache,
     path: PathBuf,
-    /// Bytes of the data last loaded or saved, so an unchanged cache is not written again.
-    saved_len: Mutex<usize>,
+    /// Checksum of the data last loaded or saved, so an unchanged cache is not written again
+    /// (a change that keeps the length is still saved).
+    saved: Mutex<Option<u64>>,
 }
 
 impl PipelineCacheFile {
@@ -45,8 +46,8 @@ impl PipelineCacheFile {
         let path = folder.join(wgpu::util::pipeline_cache_key(info)?);
         let data = read_cache(&path).and_then(|file| payload(&file).map(<[u8]>::to_vec));
         let cache = create(device, data.as_deref());
-        let saved_len = Mutex::new(data.map_or(0, |d| d.len()));
-        Some(PipelineCacheFile { cache, path, saved_len })
+        let saved = Mutex::new(data.as_deref().map(checksum));
+        Some(PipelineCacheFile { cache, path, saved })
     }
 
     /// The cache, for pipeline descriptors.
@@ -63,8 +64,9 @@ impl PipelineCacheFile {
     /// atomically (a temporary file beside it, renamed over it); the error names the file.
     pub fn save(&self) -> Result<(), String> {
         let Some(data) = self.cache.get_data() else { return Ok(()) };
-        let mut saved_len = self.saved_len.lock().unwrap_or_else(|e| e.into_inner());
-        if data.len() == *saved_len {
+        let sum = checksum(&data);
+        let mut saved = self.saved.lock().unwrap_or_else(|e| e.into_inner());
+        if *saved == Some(sum) {
             return Ok(());
         }
         let failed = |e: &dyn std::fmt::Display| format!("could not save the pipeline cache {}: {e}", self.path.display());
@@ -72,7 +74,7 @@ impl PipelineCacheFile {
             std::fs::create_dir_all(folder).map_err(|e| failed(&e))?;
         }
         caustic_image::write_file_atomically(&self.path, &framed(&data)).map_err(|e| failed(&e))?;
-        *saved_len = data.len();
+        *saved = Some(sum);
         Ok(())
     }
 }

@@ -158,13 +158,20 @@ pub(crate) struct Wavefront {
 }
 
 impl Wavefront {
-    /// Compiles `kernel`'s wavefront entry points and allocates queues for tiles of up to
-    /// `capacity` pixels with `light_samples` light samples per path vertex.
-    pub fn new(ctx: &GpuContext, kernel: &Kernel, integrators: &wgpu::BindGroupLayout, capacity: u32, light_samples: u32) -> Result<Wavefront, GpuError> {
+    /// Compiles `kernel`'s wavefront entry points from its `module` ([`Kernel::module`]) and
+    /// allocates queues for tiles of up to `capacity` pixels with `light_samples` light samples
+    /// per path vertex.
+    pub fn new(
+        ctx: &GpuContext,
+        kernel: &Kernel,
+        module: &wgpu::ShaderModule,
+        integrators: &wgpu::BindGroupLayout,
+        capacity: u32,
+        light_samples: u32,
+    ) -> Result<Wavefront, GpuError> {
         let device = &ctx.device;
         let layout = bind_group_layout(device);
-        let module = kernel.module(device);
-        let pipeline = |entry| kernel.pipeline(ctx, &module, &[integrators, &layout], entry);
+        let pipeline = |entry| kernel.pipeline(ctx, module, &[integrators, &layout], entry);
         let sizes = [
             ("wavefront paths", size_of::<WavefrontPath>() as u64 * u64::from(capacity)),
             ("wavefront hits", HIT_BYTES * u64::from(capacity)),
