@@ -407,6 +407,10 @@ fn strategy_layer(s: u32, t: u32) -> u32 {
 // the camera subpath draws the same dimensions in every sample whatever the light subpath's
 // length (its next-event samples stratified as the path tracer's are).
 const LIGHT_SUBPATH_DIMENSION: u32 = 65536u;
+// Dimensions a camera subpath draws: film position, lens point and time, then five per vertex
+// (docs/SAMPLING.md); the program does not compile if they could reach the light subpath's.
+const CAMERA_SUBPATH_DIMENSIONS: u32 = 3u + 5u * (BDPT_MAX_DEPTH + 1u);
+const_assert CAMERA_SUBPATH_DIMENSIONS < LIGHT_SUBPATH_DIMENSION;
 
 // One sample of each pixel of the tile: the light subpath (its t = 1 strategies splatted as
 // it goes), then the camera subpath, every strategy with at most frame.max_depth (and

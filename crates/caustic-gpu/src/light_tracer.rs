@@ -115,7 +115,23 @@ impl Splats {
         layout: &wgpu::BindGroupLayout,
         pixels: u32,
     ) -> Result<Splats, GpuError> {
-        let light_tracer = splats(kernel.entry_point);
+        let resolve = splats(kernel.entry_point).then(|| kernel.pipeline(ctx, module, &[layout], RESOLVE_ENTRY_POINT));
+        Splats::with_resolve(ctx, kernel, resolve, pixels)
+    }
+
+    /// Zeroed buffers for an image of `pixels` pixels (a restart, a resize): the compiled
+    /// resolve pipeline is kept.
+    pub(crate) fn renew(&mut self, ctx: &GpuContext, kernel: &Kernel, pixels: u32) -> Result<(), GpuError> {
+        if pixels == self.pixels {
+            self.clear(ctx);
+        } else {
+            *self = Splats::with_resolve(ctx, kernel, self.resolve.clone(), pixels)?;
+        }
+        Ok(())
+    }
+
+    fn with_resolve(ctx: &GpuContext, kernel: &Kernel, resolve: Option<wgpu::ComputePipeline>, pixels: u32) -> Result<Splats, GpuError> {
+        let light_tracer = resolve.is_some();
         let layers = if kernel.bdpt_strategies { 1 + u64::from(STRATEGIES) } else { 1 };
         let texels = layers * u64::from(pixels);
         let (pass_bytes, sum_bytes) = if light_tracer { (texels * 12, texels * TEXEL_BYTES) } else { (4, TEXEL_BYTES) };
@@ -136,7 +152,6 @@ impl Splats {
                 mapped_at_creation: false,
             })
         };
-        let resolve = light_tracer.then(|| kernel.pipeline(ctx, module, &[layout], RESOLVE_ENTRY_POINT));
         let splats = Splats {
             pass: storage("splats", pass_bytes),
             sums: storage("splat sums", sum_bytes),

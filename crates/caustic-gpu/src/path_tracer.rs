@@ -154,18 +154,16 @@ impl<'a> PathTracer<'a> {
         if wanted.paging != self.kernel.paging {
             self.layout = bind_group_layout(&self.ctx.device, &wanted.paging);
         }
-        // The program is parsed once for every entry point compiled from it.
-        let module = (recompile || resized).then(|| wanted.module(&self.ctx.device));
-        if let Some(module) = &module {
-            self.splats = Splats::for_kernel(self.ctx, &wanted, module, &self.layout, frame.width * frame.height)?;
-            self.photons = photon_map(self.ctx, &wanted, module, &self.layout, &frame, settings, gpu)?;
-        } else {
-            self.splats.clear(self.ctx);
-            self.photons.renew(self.ctx, &frame, settings.photons, gpu.units.length(1.0))?;
-        }
-        if let (true, Some(module)) = (recompile, &module) {
-            self.stages = Stages::new(self.ctx, &wanted, module, &self.layout, settings.shape, &frame)?;
+        if recompile {
+            // The program is parsed once for every entry point compiled from it.
+            let module = wanted.module(&self.ctx.device);
+            self.splats = Splats::for_kernel(self.ctx, &wanted, &module, &self.layout, frame.width * frame.height)?;
+            self.photons = photon_map(self.ctx, &wanted, &module, &self.layout, &frame, settings, gpu)?;
+            self.stages = Stages::new(self.ctx, &wanted, &module, &self.layout, settings.shape, &frame)?;
             self.kernel = wanted;
+        } else {
+            self.splats.renew(self.ctx, &self.kernel, frame.width * frame.height)?;
+            self.photons.renew(self.ctx, &frame, settings.photons, gpu.units.length(1.0))?;
         }
         match film {
             Some(film) => self.film = film,

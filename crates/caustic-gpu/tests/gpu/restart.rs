@@ -56,6 +56,31 @@ fn restart_with_a_new_camera_size_and_settings_renders_what_a_new_tracer_renders
     assert_same("new size", &accumulate(&mut tracer), &fresh(&ctx, &scene, &changed));
 }
 
+/// Worst relative difference of two images' channels: light paths splat with atomic adds,
+/// whose order the device's threads choose.
+fn worst_relative(got: &[[f32; 3]], want: &[[f32; 3]]) -> f32 {
+    assert_eq!(got.len(), want.len(), "pixel count");
+    got.iter().zip(want).flat_map(|(a, b)| (0..3).map(move |c| (a[c] - b[c]).abs() / b[c].abs().max(1e-3))).fold(0.0f32, f32::max)
+}
+
+/// A resize without a new kernel keeps the compiled splat resolve and makes its buffers anew.
+#[test]
+fn bidirectional_restarts_at_a_new_size_with_its_splats_resized() {
+    let ctx = device();
+    let mut scene = small_cornell();
+    let gpu = GpuScene::upload(&ctx, &scene).expect("upload");
+    let settings = RenderSettings { integrator: Integrator::Bdpt, ..RenderSettings::default() };
+    let mut tracer = PathTracer::new(&ctx, &scene, &gpu, &settings).expect("tracer");
+    accumulate(&mut tracer);
+    for resolution in [(20, 30), (20, 30)] {
+        scene.resolution = resolution;
+        tracer.restart(&scene, &gpu, &settings).expect("restart");
+        let worst = worst_relative(&accumulate(&mut tracer), &fresh(&ctx, &scene, &settings));
+        println!("bidirectional restarted at {resolution:?}: worst pixel {worst:.2e} (relative) from a fresh tracer");
+        assert!(worst < 1e-4, "the restart renders another image: worst difference {worst}");
+    }
+}
+
 #[test]
 fn restart_recompiles_when_the_kernel_changes() {
     let ctx = device();
@@ -134,8 +159,7 @@ fn photon_mapping_restarts_with_a_new_camera_and_photon_settings() {
     scene.camera.eye += Vec3::new(60.0, -40.0, 100.0);
     let changed = RenderSettings { photons: caustic_gpu::PhotonSettings { per_iteration: Some(3000), initial_radius: Some(20.0) }, ..settings };
     tracer.restart(&scene, &gpu, &changed).expect("restart");
-    let (got, want) = (accumulate(&mut tracer), fresh(&ctx, &scene, &changed));
-    let worst = got.iter().zip(&want).flat_map(|(a, b)| (0..3).map(move |c| (a[c] - b[c]).abs() / b[c].abs().max(1e-3))).fold(0.0f32, f32::max);
+    let worst = worst_relative(&accumulate(&mut tracer), &fresh(&ctx, &scene, &changed));
     println!("photon mapping restarted: worst pixel {worst:.2e} (relative) from a fresh tracer");
     assert!(worst < 1e-4, "the restart renders another image: worst difference {worst}");
 }

@@ -51,6 +51,15 @@ fn net_defects(points: &[[f32; 2]], k: u32) -> usize {
     defects
 }
 
+/// Correlation of the first coordinates of two equally long point lists, relative to the
+/// variance 1/12 of a uniform number: independent lists of n points give about 1/sqrt(n).
+fn correlation(p: &[[f32; 2]], q: &[[f32; 2]]) -> f32 {
+    let n = p.len() as f32;
+    let (mp, mq) = (p.iter().map(|v| v[0]).sum::<f32>() / n, q.iter().map(|v| v[0]).sum::<f32>() / n);
+    let covariance = p.iter().zip(q).map(|(x, y)| (x[0] - mp) * (y[0] - mq)).sum::<f32>() / n;
+    covariance * 12.0
+}
+
 #[test]
 fn every_dimension_pair_is_a_0_k_2_net() {
     let ctx = device();
@@ -76,11 +85,6 @@ fn pixels_and_dimensions_are_decorrelated_and_uniform() {
     let a = points(&kernel, 10, 0, n);
     let b = points(&kernel, 11, 0, n);
     let c = points(&kernel, 10, 1, n);
-    let correlation = |p: &[[f32; 2]], q: &[[f32; 2]]| {
-        let (mp, mq) = (p.iter().map(|v| v[0]).sum::<f32>() / n as f32, q.iter().map(|v| v[0]).sum::<f32>() / n as f32);
-        let cov: f32 = p.iter().zip(q).map(|(x, y)| (x[0] - mp) * (y[0] - mq)).sum::<f32>() / n as f32;
-        cov / (1.0 / 12.0)
-    };
     let (pixels, dimensions) = (correlation(&a, &b), correlation(&a, &c));
     let mean = a.iter().map(|v| v[0] + v[1]).sum::<f32>() / (2 * n) as f32;
     println!("correlation between neighbouring pixels {pixels:.4}, between dimension pairs {dimensions:.4}, mean {mean:.5}");
@@ -156,8 +160,8 @@ fn a_second_stream_keeps_the_other_draws_stratified_and_independent() {
         let n = 4096;
         let outputs = run(kernel, 1, 1, n);
         let repeats = outputs.iter().filter(|o| o.point == o.other).count();
-        let (mp, mq) = (outputs.iter().map(|o| o.point[0]).sum::<f32>() / n as f32, outputs.iter().map(|o| o.other[0]).sum::<f32>() / n as f32);
-        let correlation = outputs.iter().map(|o| (o.point[0] - mp) * (o.other[0] - mq)).sum::<f32>() / n as f32 * 12.0;
+        let (streams, own): (Vec<_>, Vec<_>) = outputs.iter().map(|o| (o.point, o.other)).unzip();
+        let correlation = correlation(&streams, &own);
         println!("{name}: the second stream's first pair against the own stream's next, {n} samples: {repeats} equal, correlation {correlation:.4}");
         assert_eq!(repeats, 0, "{name}: the second stream repeats the first's numbers");
         assert!(correlation.abs() < 0.06, "{name}: the streams correlate ({correlation:.4})");
