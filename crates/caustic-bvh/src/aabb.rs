@@ -6,7 +6,7 @@ use glam::Vec3;
 ///
 /// The builder stores one per node; the GPU layout copies them verbatim, so an
 /// [`Aabb::empty`] box must keep failing slab tests once it is on the GPU.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Zeroable)]
 pub struct Aabb {
     /// Smallest corner (component-wise minimum of everything inside).
     pub min: Vec3,

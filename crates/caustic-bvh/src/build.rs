@@ -94,7 +94,7 @@ pub struct BuildStats {
 ///   (left) and `first + 1` (right), always allocated as an adjacent pair.
 /// * Empty leaf: `count == 0` and `first == 0`; only the root of an empty build
 ///   (no node can have the root as a child, so `first == 0` is never an interior).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Zeroable)]
 pub struct Node {
     /// Exact union of the bounds of every triangle below this node.
     pub bounds: Aabb,
@@ -171,7 +171,7 @@ pub(crate) fn build_isolating(bounds: &[Aabb], options: &BuildOptions, start: In
         isolate_from: isolate_from as u32,
         isolates: isolate_from < bounds.len(),
     };
-    let mut indices: Vec<u32> = (0..bounds.len() as u32).collect();
+    let mut indices: Vec<u32> = (0..bounds.len() as u32).into_par_iter().collect();
     let summary = split::summarize(builder.prims, &indices, indices.len() >= builder.parallel_threshold);
     let nodes = builder.subtree(&mut indices, 0, 0, summary).assemble();
     let build_ms = start.elapsed().as_secs_f64() * 1000.0;
@@ -374,31 +374,44 @@ impl Part {
     }
 
     /// The subtree as one vector in the sequential build's layout: each node's children
-    /// pair, then the left child's subtree, then the right child's.
+    /// pair, then the left child's subtree, then the right child's. The split nodes are placed
+    /// first, then the parts built alone are copied into their ranges in parallel (the
+    /// copies and the fresh pages they touch are most of the work).
     fn assemble(self) -> Vec<Node> {
-        let mut nodes = Vec::with_capacity(self.len());
-        nodes.push(Node::default());
-        self.place(&mut nodes, 0);
-        nodes
+        let mut out: Vec<Node> = bytemuck::zeroed_vec(self.len());
+        let mut copies = Vec::new();
+        let (root, mut rest) = out.split_first_mut().expect("a tree has a root");
+        *root = self.lay_out(&mut rest, &mut 1, &mut copies);
+        copies.into_par_iter().for_each(|(dest, nodes, shift)| {
+            for (to, node) in dest.iter_mut().zip(nodes) {
+                *to = shifted(node, shift);
+            }
+        });
+        out
     }
 
-    /// Writes the root at `at` (reserved by the caller) and appends the descendants.
-    fn place(self, out: &mut Vec<Node>, at: usize) {
+    /// This part's root as placed, its descendants given the front of `rest` (which starts at
+    /// output index `next`): split nodes written, dense parts' descendants queued in `copies`
+    /// with the shift of their child indices.
+    fn lay_out<'o, 'p>(&'p self, rest: &mut &'o mut [Node], next: &mut usize, copies: &mut Vec<(&'o mut [Node], &'p [Node], u32)>) -> Node {
         match self {
             Part::Dense(nodes) => {
                 // Local index j >= 1 lands at shift + j; local 0 (the root) is never a child.
-                let shift = out.len() as u32 - 1;
-                out[at] = shifted(&nodes[0], shift);
-                out.extend(nodes[1..].iter().map(|node| shifted(node, shift)));
+                let shift = *next as u32 - 1;
+                let (dest, tail) = std::mem::take(rest).split_at_mut(nodes.len() - 1);
+                *rest = tail;
+                *next += nodes.len() - 1;
+                copies.push((dest, &nodes[1..], shift));
+                shifted(&nodes[0], shift)
             }
-            Part::Split(mut node, sides) => {
-                let pair = out.len();
-                node.first = pair as u32;
-                out[at] = node;
-                out.extend([Node::default(); 2]);
-                let (left, right) = *sides;
-                left.place(out, pair);
-                right.place(out, pair + 1);
+            Part::Split(node, sides) => {
+                let first = *next;
+                let (pair, tail) = std::mem::take(rest).split_at_mut(2);
+                *rest = tail;
+                *next += 2;
+                pair[0] = sides.0.lay_out(rest, next, copies);
+                pair[1] = sides.1.lay_out(rest, next, copies);
+                Node { first: first as u32, ..*node }
             }
         }
     }

@@ -4,7 +4,7 @@
 //! Everything here works on a node's slice of the global index array and reorders it
 //! in place, so a finished build needs no gather step.
 
-use glam::Vec3;
+use glam::{BVec3A, Vec3A};
 use rayon::prelude::*;
 
 use crate::aabb::Aabb;
@@ -15,7 +15,7 @@ pub const MAX_BINS: usize = 64;
 /// Primitives per rayon task when summarising or binning a large node in parallel.
 const PARALLEL_CHUNK: usize = 1024;
 
-/// Per-triangle data the builder reads: bounds for node boxes, and their centres for
+/// Per-primitive data the builder reads: bounds for node boxes, and their centres for
 /// binning (computed where read: one array to gather from instead of two).
 #[derive(Clone, Copy)]
 pub(crate) struct Prims<'a> {
@@ -24,8 +24,16 @@ pub(crate) struct Prims<'a> {
 
 impl Prims<'_> {
     /// The centroid of primitive `i`'s bounds.
-    fn centroid(&self, i: u32) -> Vec3 {
-        self.bounds[i as usize].centroid()
+    fn centroid(&self, i: u32) -> Vec3A {
+        self.wide(i).2
+    }
+
+    /// Primitive `i`'s bounds in SIMD registers, and their centroid (the same numbers as
+    /// [`Aabb::centroid`]: the same operations lane by lane).
+    fn wide(&self, i: u32) -> (Vec3A, Vec3A, Vec3A) {
+        let bounds = &self.bounds[i as usize];
+        let (min, max) = (Vec3A::from(bounds.min), Vec3A::from(bounds.max));
+        (min, max, (min + max) * 0.5)
     }
 }
 
@@ -49,7 +57,7 @@ pub(crate) fn summarize(prims: Prims, indices: &[u32], parallel: bool) -> Summar
     let sequential = |chunk: &[u32]| {
         chunk.iter().fold(Summary::EMPTY, |mut s, &i| {
             s.bounds = s.bounds.union(&prims.bounds[i as usize]);
-            s.centroids.grow(prims.centroid(i));
+            s.centroids.grow(prims.centroid(i).into());
             s
         })
     };
@@ -59,40 +67,46 @@ pub(crate) fn summarize(prims: Prims, indices: &[u32], parallel: bool) -> Summar
 /// Maps centroids to bin numbers along each axis of a node's centroid bounds.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Binning {
-    origin: Vec3,
-    scale: Vec3,
+    origin: Vec3A,
+    scale: Vec3A,
     bins: usize,
 }
 
 impl Binning {
     /// Uniform bins over `centroids`; axes without extent get scale 0 and are skipped.
     fn new(centroids: &Aabb, bins: usize) -> Binning {
-        let extent = centroids.extent();
-        let scale = Vec3::select(extent.cmpgt(Vec3::ZERO), bins as f32 / extent, Vec3::ZERO);
-        Binning { origin: centroids.min, scale, bins }
+        let extent = Vec3A::from(centroids.extent());
+        let scale = Vec3A::select(extent.cmpgt(Vec3A::ZERO), bins as f32 / extent, Vec3A::ZERO);
+        Binning { origin: centroids.min.into(), scale, bins }
     }
 
     /// The bin of `centroid` on `axis`; the same formula is used for binning and partitioning,
     /// so the partition sizes always match the bin counts.
-    fn bin(&self, centroid: Vec3, axis: usize) -> usize {
-        let position = (centroid[axis] - self.origin[axis]) * self.scale[axis];
-        (position as usize).min(self.bins - 1)
+    fn bin(&self, centroid: Vec3A, axis: usize) -> usize {
+        let position = (centroid - self.origin) * self.scale;
+        (position[axis] as usize).min(self.bins - 1)
     }
 }
 
-/// Triangle count and bounds accumulated in one bin.
+/// Triangle count and bounds accumulated in one bin, the bounds in SIMD registers (a union
+/// is two instructions; the bins are updated three times per primitive and node).
 #[derive(Clone, Copy)]
 struct Bin {
-    bounds: Aabb,
+    min: Vec3A,
+    max: Vec3A,
     count: u32,
 }
 
 impl Bin {
-    const EMPTY: Bin = Bin { bounds: Aabb::empty(), count: 0 };
+    const EMPTY: Bin = Bin { min: Vec3A::MAX, max: Vec3A::MIN, count: 0 };
 
     /// This bin with `other`'s triangles added.
     fn grown(self, other: &Bin) -> Bin {
-        Bin { bounds: self.bounds.union(&other.bounds), count: self.count + other.count }
+        Bin { min: self.min.min(other.min), max: self.max.max(other.max), count: self.count + other.count }
+    }
+
+    fn bounds(&self) -> Aabb {
+        Aabb { min: self.min.into(), max: self.max.into() }
     }
 }
 
@@ -104,15 +118,24 @@ struct BinGrid<const B: usize>([[Bin; B]; 3]);
 impl<const B: usize> BinGrid<B> {
     const EMPTY: BinGrid<B> = BinGrid([[Bin::EMPTY; B]; 3]);
 
-    fn fill(&mut self, prims: Prims, indices: &[u32], binning: &Binning) {
+    /// The grid of `indices`.
+    fn filled(prims: Prims, indices: &[u32], binning: &Binning) -> BinGrid<B> {
+        let mut grid = BinGrid::EMPTY;
         for &i in indices {
-            let bounds = &prims.bounds[i as usize];
-            let centroid = bounds.centroid();
-            for (axis, row) in self.0.iter_mut().enumerate() {
-                let bin = &mut row[binning.bin(centroid, axis)];
-                bin.bounds = bin.bounds.union(bounds);
-                bin.count += 1;
-            }
+            grid.add(prims, i, binning);
+        }
+        grid
+    }
+
+    /// Adds primitive `i` to its bin on each axis.
+    fn add(&mut self, prims: Prims, i: u32, binning: &Binning) {
+        let (min, max, centroid) = prims.wide(i);
+        for (axis, row) in self.0.iter_mut().enumerate() {
+            // `bin` is below `binning.bins <= B`; the clamp spares a bounds check.
+            let bin = &mut row[binning.bin(centroid, axis).min(B - 1)];
+            bin.min = bin.min.min(min);
+            bin.max = bin.max.max(max);
+            bin.count += 1;
         }
     }
 
@@ -153,11 +176,7 @@ pub(crate) fn best_binned_split(prims: Prims, indices: &[u32], centroids: &Aabb,
 /// [`best_binned_split`] with a grid of `B >= bins` bins per axis.
 fn best_split_in<const B: usize>(prims: Prims, indices: &[u32], centroids: &Aabb, bins: usize, parallel: bool) -> Option<BinnedSplit> {
     let binning = Binning::new(centroids, bins);
-    let filled = |chunk: &[u32]| {
-        let mut grid = BinGrid::<B>::EMPTY;
-        grid.fill(prims, chunk, &binning);
-        grid
-    };
+    let filled = |chunk: &[u32]| BinGrid::<B>::filled(prims, chunk, &binning);
     let grid = if parallel { indices.par_chunks(PARALLEL_CHUNK).map(filled).reduce(|| BinGrid::EMPTY, BinGrid::merge) } else { filled(indices) };
     (0..3)
         .filter(|&axis| binning.scale[axis] > 0.0)
@@ -174,27 +193,27 @@ fn sweep<const B: usize>(bins: &[Bin]) -> Option<(usize, f32, [Aabb; 2])> {
     let planes = bins.len() - 1;
     let mut left_area = [0.0f32; B];
     let mut left_count = [0u32; B];
-    let mut bounds = Bin::EMPTY;
+    let mut sum = Bin::EMPTY;
     for (i, bin) in bins[..planes].iter().enumerate() {
-        bounds = bounds.grown(bin);
-        left_area[i] = bounds.bounds.surface_area();
-        left_count[i] = bounds.count;
+        sum = sum.grown(bin);
+        left_area[i] = sum.bounds().surface_area();
+        left_count[i] = sum.count;
     }
     let mut best: Option<(usize, f32, Aabb)> = None;
-    bounds = Bin::EMPTY;
+    sum = Bin::EMPTY;
     for plane in (0..planes).rev() {
-        bounds = bounds.grown(&bins[plane + 1]);
-        if bounds.count == 0 || left_count[plane] == 0 {
+        sum = sum.grown(&bins[plane + 1]);
+        if sum.count == 0 || left_count[plane] == 0 {
             continue;
         }
-        let right = bounds.bounds;
-        let cost = left_area[plane] * left_count[plane] as f32 + right.surface_area() * bounds.count as f32;
+        let right = sum.bounds();
+        let cost = left_area[plane] * left_count[plane] as f32 + right.surface_area() * sum.count as f32;
         if best.is_none_or(|(_, best_cost, _)| cost < best_cost) {
             best = Some((plane, cost, right));
         }
     }
     let (plane, cost, right) = best?;
-    let left = bins[..=plane].iter().fold(Bin::EMPTY, |sum, bin| sum.grown(bin)).bounds;
+    let left = bins[..=plane].iter().fold(Bin::EMPTY, |sum, bin| sum.grown(bin)).bounds();
     Some((plane, cost, [left, right]))
 }
 
@@ -253,22 +272,35 @@ fn sort_by_centroid(prims: Prims, indices: &mut [u32], axis: usize) {
 
 /// Reorders `indices` so the left side of `split` comes first; returns the left size and
 /// the two sides' summaries (bounds from the bins, centroid bounds gathered on the way).
+/// Branch-free (Lomuto's scheme, each index swapped with the left side's end and the end
+/// moved by the side): whether a primitive goes left is a coin toss the processor cannot
+/// predict.
 pub(crate) fn partition_binned(prims: Prims, indices: &mut [u32], split: &BinnedSplit) -> (usize, [Summary; 2]) {
-    let (mut left, mut right) = (0, indices.len());
-    let (mut left_centroids, mut right_centroids) = (Aabb::empty(), Aabb::empty());
-    while left < right {
-        let centroid = prims.centroid(indices[left]);
-        if split.binning.bin(centroid, split.axis) <= split.bin {
-            left_centroids.grow(centroid);
-            left += 1;
-        } else {
-            right_centroids.grow(centroid);
-            right -= 1;
-            indices.swap(left, right);
-        }
+    let mut left = 0;
+    let (mut left_min, mut left_max) = (Vec3A::MAX, Vec3A::MIN);
+    let (mut right_min, mut right_max) = (Vec3A::MAX, Vec3A::MIN);
+    for k in 0..indices.len() {
+        let i = indices[k];
+        let (_, _, centroid) = prims.wide(i);
+        let goes_left = split.binning.bin(centroid, split.axis) <= split.bin;
+        let side = BVec3A::splat(goes_left);
+        left_min = left_min.min(Vec3A::select(side, centroid, Vec3A::MAX));
+        left_max = left_max.max(Vec3A::select(side, centroid, Vec3A::MIN));
+        right_min = right_min.min(Vec3A::select(side, Vec3A::MAX, centroid));
+        right_max = right_max.max(Vec3A::select(side, Vec3A::MIN, centroid));
+        indices[k] = indices[left];
+        indices[left] = i;
+        left += usize::from(goes_left);
     }
+    let centroids = |min: Vec3A, max: Vec3A| Aabb { min: min.into(), max: max.into() };
     let [left_bounds, right_bounds] = split.sides;
-    (left, [Summary { bounds: left_bounds, centroids: left_centroids }, Summary { bounds: right_bounds, centroids: right_centroids }])
+    (
+        left,
+        [
+            Summary { bounds: left_bounds, centroids: centroids(left_min, left_max) },
+            Summary { bounds: right_bounds, centroids: centroids(right_min, right_max) },
+        ],
+    )
 }
 
 /// Reorders `indices` so the centroids below the middle of the widest centroid axis come
@@ -314,6 +346,7 @@ pub(crate) fn partition_median(prims: Prims, indices: &mut [u32], centroids: &Aa
 #[cfg(test)]
 mod tests {
     use super::*;
+    use glam::Vec3;
 
     fn line_of_boxes(n: usize) -> Vec<Aabb> {
         (0..n).map(|i| Aabb { min: Vec3::new(i as f32, 0.0, 0.0), max: Vec3::new(i as f32 + 0.5, 1.0, 1.0) }).collect()
