@@ -7,6 +7,7 @@ use crate::bake::BakedTables;
 use crate::features::FeatureConstants;
 use crate::pages::Paging;
 use crate::path_tracer::depth_limit;
+use crate::program_module::ProgramModule;
 use crate::render_settings::{DataPath, DebugView, RenderSettings};
 use crate::requirements::{REQUIRES_ALL, REQUIRES_INSPECTOR};
 use crate::shaders::Program;
@@ -122,12 +123,13 @@ impl Kernel {
     /// photons, the wavefront's stages) makes the [`Kernel::module`] once and calls
     /// [`Kernel::pipeline`] for each, so the WGSL is parsed and validated once.
     pub fn compile(&self, ctx: &GpuContext, layout: &wgpu::BindGroupLayout) -> wgpu::ComputePipeline {
-        self.pipeline(ctx, &self.module(&ctx.device), &[layout], self.entry_point)
+        self.pipeline(ctx, &self.module(), &[layout], self.entry_point)
     }
 
     /// The kernel's program: the path tracer's WGSL with the traversal and tables replaced, and
-    /// paged arrays read through their accessors.
-    pub fn module(&self, device: &wgpu::Device) -> wgpu::ShaderModule {
+    /// paged arrays read through their accessors; parsed once for every entry point compiled
+    /// from it ([`Kernel::pipeline`] hands the driver each entry point alone).
+    pub fn module(&self) -> ProgramModule {
         let source = match &self.traversal {
             Some(t) => Program::PathTracer.source_replacing(TRAVERSAL_FILE, t),
             None => Program::PathTracer.source(),
@@ -136,14 +138,14 @@ impl Kernel {
             Some(tables) => tables.apply(&source),
             None => source,
         };
-        let source = self.paging.apply(&source);
-        device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some(Program::PathTracer.label()), source: wgpu::ShaderSource::Wgsl(source.into()) })
+        ProgramModule::parse(Program::PathTracer.label(), self.paging.apply(&source))
     }
 
     /// The pipeline of `entry_point` of `module` (made by [`Kernel::module`]) with the
     /// kernel's override constants, for bind groups of `layouts` (group 0 the integrators').
-    pub fn pipeline(&self, ctx: &GpuContext, module: &wgpu::ShaderModule, layouts: &[&wgpu::BindGroupLayout], entry_point: &str) -> wgpu::ComputePipeline {
+    pub fn pipeline(&self, ctx: &GpuContext, module: &ProgramModule, layouts: &[&wgpu::BindGroupLayout], entry_point: &str) -> wgpu::ComputePipeline {
         let device = &ctx.device;
+        let entry = module.entry(device, entry_point);
         let layouts: Vec<_> = layouts.iter().map(|l| Some(*l)).collect();
         let pipeline_layout =
             device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("integrators"), bind_group_layouts: &layouts, immediate_size: 0 });
@@ -164,9 +166,9 @@ impl Kernel {
         device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some(entry_point),
             layout: Some(&pipeline_layout),
-            module,
+            module: &entry.module,
             entry_point: Some(entry_point),
-            compilation_options: wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() },
+            compilation_options: wgpu::PipelineCompilationOptions { constants: &entry.constants(&constants), ..Default::default() },
             cache: ctx.pipeline_cache(),
         })
     }

@@ -111,7 +111,7 @@ impl Splats {
     pub(crate) fn for_kernel(
         ctx: &GpuContext,
         kernel: &Kernel,
-        module: &wgpu::ShaderModule,
+        module: &crate::program_module::ProgramModule,
         layout: &wgpu::BindGroupLayout,
         pixels: u32,
     ) -> Result<Splats, GpuError> {

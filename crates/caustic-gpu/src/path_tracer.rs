@@ -84,7 +84,7 @@ impl<'a> PathTracer<'a> {
         let layout = bind_group_layout(device, &gpu.paging);
         let kernel = Kernel::for_render(ctx, gpu, settings);
         light_paths_fit(scene, gpu, settings, &kernel, &film)?;
-        let module = kernel.module(device);
+        let module = kernel.module();
         let stages = Stages::new(ctx, &kernel, &module, &layout, settings.shape, &frame)?;
         let splats = Splats::for_kernel(ctx, &kernel, &module, &layout, frame.width * frame.height)?;
         let photons = photon_map(ctx, &kernel, &module, &layout, &frame, settings, gpu)?;
@@ -156,7 +156,7 @@ impl<'a> PathTracer<'a> {
         }
         if recompile {
             // The program is parsed once for every entry point compiled from it.
-            let module = wanted.module(&self.ctx.device);
+            let module = wanted.module();
             self.splats = Splats::for_kernel(self.ctx, &wanted, &module, &self.layout, frame.width * frame.height)?;
             self.photons = photon_map(self.ctx, &wanted, &module, &self.layout, &frame, settings, gpu)?;
             self.stages = Stages::new(self.ctx, &wanted, &module, &self.layout, settings.shape, &frame)?;
@@ -502,7 +502,7 @@ impl Stages {
     fn new(
         ctx: &GpuContext,
         kernel: &Kernel,
-        module: &wgpu::ShaderModule,
+        module: &crate::program_module::ProgramModule,
         layout: &wgpu::BindGroupLayout,
         shape: KernelShape,
         frame: &Frame,
@@ -663,7 +663,7 @@ fn frame_constants(scene: &Scene, gpu: &GpuScene, settings: &RenderSettings) -> 
 fn photon_map(
     ctx: &GpuContext,
     kernel: &Kernel,
-    module: &wgpu::ShaderModule,
+    module: &crate::program_module::ProgramModule,
     layout: &wgpu::BindGroupLayout,
     frame: &Frame,
     settings: &RenderSettings,

@@ -164,7 +164,7 @@ impl Wavefront {
     pub fn new(
         ctx: &GpuContext,
         kernel: &Kernel,
-        module: &wgpu::ShaderModule,
+        module: &crate::program_module::ProgramModule,
         integrators: &wgpu::BindGroupLayout,
         capacity: u32,
         light_samples: u32,
