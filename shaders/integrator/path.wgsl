@@ -107,29 +107,41 @@ fn no_deferred_light() -> DeferredLight {
     return DeferredLight(ShadowRay(Ray(vec3<f32>(0.0), vec3<f32>(0.0, 0.0, 1.0)), 0.0), vec3<f32>(0.0), vec3<f32>(0.0), false, 0.0, vec3<f32>(0.0));
 }
 
-// Draws the vertex's light samples: all but the last are traced at once, the last is deferred
-// where the traversal walks two rays in one loop (PAIR_WALK, bvh/traverse_wide.wgsl), else
-// traced at once too (the binary and generated traversals would walk the two in turn anyway,
-// and the waiting state cost the Cornell box's kernel 5%); one that carries nothing whatever
+// Draws the vertex's light samples, each traced at once except the last where the traversal
+// walks two rays in one loop (PAIR_WALK, bvh/traverse_wide.wgsl): that one is deferred (the
+// binary and generated traversals would walk the two in turn anyway, and the waiting state
+// cost the Cornell box's kernel 5%). One loop traces them all, so the kernel holds one copy of
+// the shadow walk (the driver inlines a copy per call). A sample that carries nothing whatever
 // the visibility is added at once.
 fn defer_next_events(path: ptr<function, PathState>, si: SurfaceInteraction, local: Frame3, wo: vec3<f32>, rng: ptr<function, Rng>) -> DeferredLight {
     let count = light_sample_count();
     var sum = vec3<f32>(0.0);
-    for (var i = 0u; i + 1u < count; i++) {
-        sum += next_event(si, local, wo, rng);
+    for (var i = 0u; i < count; i++) {
+        let connection = light_connection(si, local, wo, rng);
+        let last = i + 1u == count;
+        if PAIR_WALK && last {
+            let unlit = (*path).throughput * ((sum + vec3<f32>(0.0)) / f32(count));
+            if !connection.connects {
+                (*path).radiance += unlit;
+                return no_deferred_light();
+            }
+            let lit = (*path).throughput * ((sum + connection.contribution) / f32(count));
+            return DeferredLight(connection.shadow, lit, unlit, true, connection.weight, connection.contribution);
+        }
+        var found = vec3<f32>(0.0);
+        if connection.connects {
+            if occluded(connection.shadow.ray, connection.shadow.t_max) {
+                inspect_light_occluded();
+            } else {
+                found = inspect_light_result(connection.weight, connection.contribution);
+            }
+        }
+        if last {
+            (*path).radiance += (*path).throughput * ((sum + found) / f32(count));
+        } else {
+            sum += found;
+        }
     }
-    let last = light_connection(si, local, wo, rng);
-    let unlit = (*path).throughput * ((sum + vec3<f32>(0.0)) / f32(count));
-    if !last.connects {
-        (*path).radiance += unlit;
-        return no_deferred_light();
-    }
-    let lit = (*path).throughput * ((sum + last.contribution) / f32(count));
-    let light = DeferredLight(last.shadow, lit, unlit, true, last.weight, last.contribution);
-    if PAIR_WALK {
-        return light;
-    }
-    resolve_light(path, light, occluded(last.shadow.ray, last.shadow.t_max));
     return no_deferred_light();
 }
 
@@ -260,7 +272,7 @@ fn extend_path(path: ptr<function, PathState>, deferred: ptr<function, DeferredL
     let ray = (*path).ray;
     let light = *deferred;
     var cost = TraversalCost(0u, 0u);
-    let traced = trace_pair(light.shadow.ray, light.shadow.t_max, light.pending, ray, 3.0e38, &cost);
+    let traced = trace_pair(light.shadow.ray, light.shadow.t_max, PAIR_WALK && light.pending, ray, 3.0e38, &cost);
     resolve_light(path, light, traced.occluded);
     *deferred = no_deferred_light();
     let hit = traced.hit;
@@ -276,7 +288,7 @@ fn extend_path(path: ptr<function, PathState>, deferred: ptr<function, DeferredL
     let sf = scattering_frame(si, ray);
     let next = defer_next_events(path, si, sf.local, sf.wo, rng);
     if !scatter(path, si, sf, rng) {
-        resolve_light(path, next, next.pending && occluded(next.shadow.ray, next.shadow.t_max));
+        resolve_light(path, next, PAIR_WALK && next.pending && occluded(next.shadow.ray, next.shadow.t_max));
         return false;
     }
     *deferred = next;

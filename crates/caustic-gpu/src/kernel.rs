@@ -145,7 +145,6 @@ impl Kernel {
     /// kernel's override constants, for bind groups of `layouts` (group 0 the integrators').
     pub fn pipeline(&self, ctx: &GpuContext, module: &ProgramModule, layouts: &[&wgpu::BindGroupLayout], entry_point: &str) -> wgpu::ComputePipeline {
         let device = &ctx.device;
-        let entry = module.entry(device, entry_point);
         let layouts: Vec<_> = layouts.iter().map(|l| Some(*l)).collect();
         let pipeline_layout =
             device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("integrators"), bind_group_layouts: &layouts, immediate_size: 0 });
@@ -163,6 +162,7 @@ impl Kernel {
         constants.push(("SHADOW_CONVEX_OCCLUDERS", f64::from(u8::from(self.shadow_convex_occluders))));
         constants.push(("SHADOW_LIGHT_PLANES", f64::from(u8::from(self.shadow_light_planes))));
         constants.push(("BDPT_STRATEGIES", f64::from(u8::from(self.bdpt_strategies))));
+        let entry = module.entry(device, entry_point, &constants);
         device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some(entry_point),
             layout: Some(&pipeline_layout),

@@ -15,6 +15,7 @@ pub mod bloom;
 pub mod classic;
 pub mod classic_reference;
 pub mod closest_solid;
+mod constant_branches;
 mod context;
 pub mod convex_occluder;
 pub mod convex_solid;

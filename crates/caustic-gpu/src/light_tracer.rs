@@ -11,6 +11,7 @@ use crate::bindings;
 use crate::film::TEXEL_BYTES;
 use crate::gpu_types::AccumTexel;
 use crate::kernel::Kernel;
+use crate::program_module::ProgramModule;
 use crate::readback::read_buffer;
 use crate::render_settings::RenderSettings;
 use crate::requirements::{REQUIRES_DIRECTIONAL_LIGHTS, REQUIRES_ENVIRONMENT_LIGHT, REQUIRES_MEDIA};
@@ -111,7 +112,7 @@ impl Splats {
     pub(crate) fn for_kernel(
         ctx: &GpuContext,
         kernel: &Kernel,
-        module: &crate::program_module::ProgramModule,
+        module: &ProgramModule,
         layout: &wgpu::BindGroupLayout,
         pixels: u32,
     ) -> Result<Splats, GpuError> {

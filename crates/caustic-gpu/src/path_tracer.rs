@@ -10,6 +10,7 @@ use crate::inspector::PathRecord;
 use crate::kernel::Kernel;
 use crate::light_tracer::Splats;
 use crate::pages::{PagedArray, Paging};
+use crate::program_module::ProgramModule;
 use crate::readback::read_buffer;
 use crate::render_settings::RenderSettings;
 use crate::sppm::PhotonMap;
@@ -502,7 +503,7 @@ impl Stages {
     fn new(
         ctx: &GpuContext,
         kernel: &Kernel,
-        module: &crate::program_module::ProgramModule,
+        module: &ProgramModule,
         layout: &wgpu::BindGroupLayout,
         shape: KernelShape,
         frame: &Frame,
@@ -663,7 +664,7 @@ fn frame_constants(scene: &Scene, gpu: &GpuScene, settings: &RenderSettings) -> 
 fn photon_map(
     ctx: &GpuContext,
     kernel: &Kernel,
-    module: &crate::program_module::ProgramModule,
+    module: &ProgramModule,
     layout: &wgpu::BindGroupLayout,
     frame: &Frame,
     settings: &RenderSettings,

@@ -5,7 +5,9 @@
 //! point reaches changes. naga's own per-entry-point compaction keeps every named constant of
 //! the program, so a constant edited in one integrator's file changed every kernel's SPIR-V
 //! and a CI run recompiled them all cold; here constants are anonymous before compaction
-//! (their names do not reach the SPIR-V) and unreached ones go with the rest.
+//! (their names do not reach the SPIR-V) and unreached ones go with the rest. The branches the
+//! pipeline's override constants decide go too ([`crate::constant_branches`]): the driver then
+//! translates only the code the scene's kernel runs.
 
 use std::borrow::Cow;
 
@@ -23,11 +25,12 @@ impl ProgramModule {
         ProgramModule { label, program }
     }
 
-    /// The shader module of `entry_point` alone: the program compacted to what it reaches.
-    pub fn entry(&self, device: &wgpu::Device, entry_point: &str) -> EntryModule {
+    /// The shader module of `entry_point` alone, for a pipeline with override values
+    /// `constants`: the program compacted to what it reaches with those values.
+    pub fn entry(&self, device: &wgpu::Device, entry_point: &str, constants: &[(&str, f64)]) -> EntryModule {
         let (source, unread) = match &self.program {
             Ok(program) => {
-                let module = entry_point_module(program, entry_point);
+                let module = entry_point_module(program, entry_point, constants);
                 let kept: Vec<_> = module.overrides.iter().filter_map(|(_, o)| o.name.clone()).collect();
                 let unread = program.overrides.iter().filter_map(|(_, o)| o.name.clone()).filter(|name| !kept.contains(name)).collect();
                 (wgpu::ShaderSource::Naga(Cow::Owned(module)), unread)
@@ -55,14 +58,16 @@ impl EntryModule {
 }
 
 /// `program` with `entry_point` its only entry point, its constants anonymous, and everything
-/// that entry point does not reach removed. A missing entry point leaves a module without one,
-/// which the pipeline's creation reports.
-pub fn entry_point_module(program: &naga::Module, entry_point: &str) -> naga::Module {
+/// that entry point does not reach with the override values `constants` removed. A missing
+/// entry point leaves a module without one, which the pipeline's creation reports.
+pub fn entry_point_module(program: &naga::Module, entry_point: &str, constants: &[(&str, f64)]) -> naga::Module {
     let mut module = program.clone();
     module.entry_points.retain(|e| e.name == entry_point);
     for (_, constant) in module.constants.iter_mut() {
         constant.name = None;
     }
+    naga::compact::compact(&mut module, naga::compact::KeepUnused::No);
+    crate::constant_branches::fold(&mut module, constants);
     naga::compact::compact(&mut module, naga::compact::KeepUnused::No);
     module
 }
@@ -84,13 +89,75 @@ mod tests {
         spv::write_vec(&module, &info, &spv::Options::default(), Some(&pipeline)).expect("SPIR-V")
     }
 
+    /// The expressions the driver handles for `entry_point` of `module` once every call is
+    /// inlined (Mesa inlines all of them before it removes dead code): each function's own,
+    /// plus its callees' as often as they are called.
+    fn inlined_size(module: &naga::Module, entry_point: &str) -> usize {
+        fn calls(block: &naga::Block, out: &mut Vec<naga::Handle<naga::Function>>) {
+            for statement in block.iter() {
+                match statement {
+                    naga::Statement::Call { function, .. } => out.push(*function),
+                    naga::Statement::Block(b) => calls(b, out),
+                    naga::Statement::If { accept, reject, .. } => {
+                        calls(accept, out);
+                        calls(reject, out);
+                    }
+                    naga::Statement::Loop { body, continuing, .. } => {
+                        calls(body, out);
+                        calls(continuing, out);
+                    }
+                    naga::Statement::Switch { cases, .. } => cases.iter().for_each(|c| calls(&c.body, out)),
+                    _ => {}
+                }
+            }
+        }
+        fn size(module: &naga::Module, function: &naga::Function) -> usize {
+            let mut callees = Vec::new();
+            calls(&function.body, &mut callees);
+            function.expressions.len() + callees.iter().map(|&c| size(module, &module.functions[c])).sum::<usize>()
+        }
+        size(module, &module.entry_points.iter().find(|e| e.name == entry_point).expect("the entry point").function)
+    }
+
+    /// A Cornell-box-like scene's override values: Lambert only, no optional part.
+    const SMALL_SCENE: [(&str, f64); 2] = [("LOBE_MASK", 1.0), ("SCENE_REQUIRES", 0.0)];
+
+    #[test]
+    fn every_entry_point_folds_to_a_valid_module() {
+        let program = naga::front::wgsl::parse_str(&Program::PathTracer.source()).expect("the program parses");
+        for entry in &program.entry_points {
+            for constants in [&[][..], &SMALL_SCENE[..]] {
+                let module = entry_point_module(&program, &entry.name, constants);
+                naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::all())
+                    .validate(&module)
+                    .unwrap_or_else(|e| panic!("{} folded with {constants:?} is invalid: {e:?}", entry.name));
+            }
+        }
+        println!("{} entry points fold to valid modules with the defaults and with a small scene's constants", program.entry_points.len());
+    }
+
+    #[test]
+    fn a_small_scene_kernel_leaves_out_what_its_constants_exclude() {
+        let program = naga::front::wgsl::parse_str(&Program::PathTracer.source()).expect("the program parses");
+        for entry in ["render_sample", "render_bdpt"] {
+            let mut unfolded = program.clone();
+            unfolded.entry_points.retain(|e| e.name == entry);
+            naga::compact::compact(&mut unfolded, naga::compact::KeepUnused::No);
+            let [general, small] = [&[][..], &SMALL_SCENE[..]].map(|constants| inlined_size(&entry_point_module(&program, entry, constants), entry));
+            let whole = inlined_size(&unfolded, entry);
+            println!("{entry}: {whole} expressions inlined unfolded, {general} folded with the defaults, {small} with a small scene's constants");
+            assert!(general <= whole, "folding with the defaults grew {entry}");
+            assert!(small * 3 < whole, "a Lambert scene without optional parts keeps more than a third of {entry}");
+        }
+    }
+
     #[test]
     fn an_edited_constant_changes_only_the_kernels_that_reach_it() {
         let source = Program::PathTracer.source();
         let edited = source.replace("const LIGHT_SUBPATH_DIMENSION: u32 = 65536u;", "const LIGHT_SUBPATH_DIMENSION: u32 = 65537u;");
         assert_ne!(source, edited, "the constant this test edits is gone: pick another one only bidirectional path tracing reads");
         let [before, after] = [&source, &edited].map(|text| naga::front::wgsl::parse_str(text).expect("the program parses"));
-        let kernel = |program: &naga::Module, entry: &str| spirv(&entry_point_module(program, entry), entry);
+        let kernel = |program: &naga::Module, entry: &str| spirv(&entry_point_module(program, entry, &[]), entry);
         assert_eq!(kernel(&before, "render_sample"), kernel(&after, "render_sample"), "the path tracer's SPIR-V changed with a constant it never reads");
         assert_ne!(kernel(&before, "render_bdpt"), kernel(&after, "render_bdpt"), "bidirectional path tracing's SPIR-V must change");
         // What wgpu writes from the whole program: the named constant reaches every kernel.

@@ -5,6 +5,7 @@
 //! specialised kernels beat one long one.
 
 use crate::kernel::Kernel;
+use crate::program_module::ProgramModule;
 use crate::readback::read_buffer;
 use crate::{GpuContext, GpuError};
 use bytemuck::{Pod, Zeroable};
@@ -164,7 +165,7 @@ impl Wavefront {
     pub fn new(
         ctx: &GpuContext,
         kernel: &Kernel,
-        module: &crate::program_module::ProgramModule,
+        module: &ProgramModule,
         integrators: &wgpu::BindGroupLayout,
         capacity: u32,
         light_samples: u32,
