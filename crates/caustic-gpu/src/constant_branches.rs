@@ -17,7 +17,7 @@
 //! (a value read at run time, a float) leaves the statement as it is.
 
 use naga::{Arena, BinaryOperator, Block, Expression, Function, Handle, Literal, LocalVariable, Module, Statement, UnaryOperator};
-use std::collections::{HashMap, VecDeque};
+use std::collections::{HashMap, HashSet, VecDeque};
 
 /// Each call's result expression and the call (callee and arguments) that makes it.
 type Calls = HashMap<Handle<Expression>, (Handle<Function>, Vec<Handle<Expression>>)>;
@@ -70,8 +70,8 @@ pub fn fold(module: &mut Module, constants: &[(&str, f64)]) {
 /// `functions` reordered so that each comes after the functions it calls (naga's rule; the
 /// specialised copies were appended after their callers), with every call renamed to match.
 fn callees_first(functions: Arena<Function>, entry_points: &mut [naga::EntryPoint]) -> Arena<Function> {
-    fn visit(handle: Handle<Function>, functions: &Arena<Function>, seen: &mut HashMap<Handle<Function>, bool>, order: &mut Vec<Handle<Function>>) {
-        if seen.insert(handle, true).is_some() {
+    fn visit(handle: Handle<Function>, functions: &Arena<Function>, seen: &mut HashSet<Handle<Function>>, order: &mut Vec<Handle<Function>>) {
+        if !seen.insert(handle) {
             return;
         }
         let mut callees = Vec::new();
@@ -81,7 +81,7 @@ fn callees_first(functions: Arena<Function>, entry_points: &mut [naga::EntryPoin
         }
         order.push(handle);
     }
-    let mut seen = HashMap::new();
+    let mut seen = HashSet::new();
     let mut order = Vec::new();
     for (handle, _) in functions.iter() {
         visit(handle, &functions, &mut seen, &mut order);
@@ -105,7 +105,7 @@ fn callees_first(functions: Arena<Function>, entry_points: &mut [naga::EntryPoin
 }
 
 /// Calls `f` with the callee of every call in `block` and the blocks within it.
-fn for_each_call(block: &mut Block, f: &mut dyn FnMut(&mut Handle<Function>)) {
+pub(crate) fn for_each_call(block: &mut Block, f: &mut dyn FnMut(&mut Handle<Function>)) {
     for statement in block.iter_mut() {
         match statement {
             Statement::Call { function, .. } => f(function),

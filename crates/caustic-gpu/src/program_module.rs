@@ -93,27 +93,9 @@ mod tests {
     /// inlined (Mesa inlines all of them before it removes dead code): each function's own,
     /// plus its callees' as often as they are called.
     fn inlined_size(module: &naga::Module, entry_point: &str) -> usize {
-        fn calls(block: &naga::Block, out: &mut Vec<naga::Handle<naga::Function>>) {
-            for statement in block.iter() {
-                match statement {
-                    naga::Statement::Call { function, .. } => out.push(*function),
-                    naga::Statement::Block(b) => calls(b, out),
-                    naga::Statement::If { accept, reject, .. } => {
-                        calls(accept, out);
-                        calls(reject, out);
-                    }
-                    naga::Statement::Loop { body, continuing, .. } => {
-                        calls(body, out);
-                        calls(continuing, out);
-                    }
-                    naga::Statement::Switch { cases, .. } => cases.iter().for_each(|c| calls(&c.body, out)),
-                    _ => {}
-                }
-            }
-        }
         fn size(module: &naga::Module, function: &naga::Function) -> usize {
             let mut callees = Vec::new();
-            calls(&function.body, &mut callees);
+            crate::constant_branches::for_each_call(&mut function.body.clone(), &mut |callee| callees.push(*callee));
             function.expressions.len() + callees.iter().map(|&c| size(module, &module.functions[c])).sum::<usize>()
         }
         size(module, &module.entry_points.iter().find(|e| e.name == entry_point).expect("the entry point").function)
