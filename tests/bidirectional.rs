@@ -29,7 +29,7 @@ fn against_reference(reference: &Image, integrator: &str, spp: &str) -> (f64, f6
 #[test]
 fn both_converge_to_the_mitsuba_reference_of_the_cornell_box() {
     let Some(shared) = support::shared() else { return };
-    let reference = Image::load(&shared.join("references/cornell/reference.exr")).expect("reference");
+    let reference = support::cornell_reference(&shared, 1);
     // The reference's own noise (relMSE about 1e-5) and the depth cap of bidirectional path
     // tracing (14 bounces: 0.05% of the energy) sit well below the renders' noise.
     for (integrator, spp) in [("lighttracer", "16"), ("bdpt", "8")] {
@@ -55,7 +55,7 @@ fn both_converge_to_the_mitsuba_reference_of_the_cornell_box() {
 #[test]
 fn photon_mapping_converges_to_the_mitsuba_reference_of_the_cornell_box() {
     let Some(shared) = support::shared() else { return };
-    let reference = Image::load(&shared.join("references/cornell/reference.exr")).expect("reference").downsample(2).expect("512x512 halves");
+    let reference = support::cornell_reference(&shared, 2);
     let errors: Vec<(u32, f64, [f64; 3])> = [4u32, 16, 64]
         .into_iter()
         .map(|spp| {

@@ -10,14 +10,13 @@ use caustic_scene::{SceneSource, load_scene};
 /// for our sampler while still catching any bias (a 3% brightness error alone adds 9e-4).
 const CORNELL_RELMSE_AT_64_SPP: f64 = 8e-3;
 
-/// The box at 256x256 against the 512x512 reference averaged over 2x2 blocks: with a box pixel
-/// filter a pixel is the mean of the four it covers, so the expectation is the same, and so is
-/// the error at a given spp (a pixel's noise is its paths', whatever its area: 2.78e-3 at 64 spp
+/// The box at 256x256 against the reference averaged over 2x2 blocks
+/// ([`support::cornell_reference`]): the same expectation and error per spp (2.78e-3 at 64 spp
 /// here, 2.76e-3 at 512x512), in a quarter of the time (CI time, issue 26).
 #[test]
 fn cornell_box_converges_to_the_mitsuba_reference() {
     let Some(shared) = support::shared() else { return };
-    let reference = Image::load(&shared.join("references/cornell/reference.exr")).expect("reference").downsample(2).expect("512x512 halves");
+    let reference = support::cornell_reference(&shared, 2);
     let mut scene = load_scene(&SceneSource::parse("cornell")).expect("built-in scene");
     scene.resolution = (reference.width, reference.height);
     let ctx = GpuContext::new(std::env::var("CAUSTIC_ADAPTER").ok().as_deref()).expect("device");

@@ -22,6 +22,15 @@ pub fn shared() -> Option<PathBuf> {
     None
 }
 
+/// The Mitsuba reference of the Cornell box in `shared`, averaged over `block` x `block`
+/// pixels (1: the 512x512 reference itself). With a box pixel filter a render at the smaller
+/// size has the same expectation, and its error per spp is the same (a pixel's noise is its
+/// paths', whatever its area), in 1 / block^2 of the time.
+pub fn cornell_reference(shared: &Path, block: u32) -> caustic_image::Image {
+    let reference = caustic_image::Image::load(&shared.join("references/cornell/reference.exr")).expect("the Cornell box's reference");
+    reference.downsample(block).expect("a block size that divides 512")
+}
+
 /// A fresh, empty scratch folder for one test.
 pub fn scratch(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("caustic-e2e-{}-{name}", std::process::id()));
