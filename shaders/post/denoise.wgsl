@@ -1,6 +1,8 @@
+// The denoiser of crates/caustic-gpu/src/denoise.rs, whose CPU twin does the same arithmetic:
+// the a-trous passes, then one regression pass (`denoise_regress`, below).
+//
 // One iteration of the edge-avoiding a-trous wavelet filter (Dammertz et al. 2010, with the
-// variance-guided luminance term of Schied et al. 2017, SVGF) of crates/caustic-gpu/src/
-// denoise.rs, whose CPU twin does the same arithmetic. The host runs it DENOISE_ITERATIONS
+// variance-guided luminance term of Schied et al. 2017, SVGF). The host runs it DENOISE_ITERATIONS
 // times with step 1, 2, 4, ...; each pass averages a 5x5 B3-spline stencil of taps `step`
 // pixels apart, each tap weighted by how alike its surface is:
 //   normal:    max(dot(n_p, n_q), 0)^sigma_normal
@@ -95,4 +97,116 @@ fn denoise_atrous(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_wor
     }
     // The centre's own weight is B3[2]^2 > 0, so total > 0.
     filtered[index] = vec4<f32>(sum / total, variance / (total * total));
+}
+
+// The regression pass that follows the a-trous passes (crates/caustic-gpu/src/denoise.rs,
+// `regression_pass` its CPU twin): per pixel p, a weighted least-squares fit of the noisy
+// irradiance over the taps q of a (2 REGRESSION_RADIUS + 1)^2 window, every
+// REGRESSION_STRIDE-th pixel, by a plane in the tap's screen offset (basis 1, dx / R, dy / R,
+// the last two with a small ridge); the fit's value at p is the estimate, limited to the range
+// of the a-trous result over p's (2 CLAMP_RADIUS + 1)^2 neighbours. Weights:
+//   spatial:  exp(-|p - q|^2 / (2 REGRESSION_SIGMA^2))
+//   surface:  surface_weight, and exp(-|albedo_p - albedo_q|^2 / ALBEDO_TOLERANCE)
+//   guide:    exp(-max(|g_p - g_q|^2 - (v_p + min(v_p, v_q)), 0) / (GUIDE_TOLERANCE (v_p + v_q)))
+// with g the a-trous result (`source`, far less noisy than the samples) and v the summed
+// per-channel variance of the demodulated mean (`noisy.w`): a non-local-means distance with
+// the noise's expected share taken off. A plane over a wide window averages away the blotches
+// the a-trous passes leave on flat surfaces without flattening gradients; the guide keeps it
+// off shadow edges, and the clamp off overshoots where the plane extrapolates.
+
+// Set by the host from the Rust constants of the same names (Denoiser::new).
+override REGRESSION_RADIUS: i32;
+override REGRESSION_STRIDE: i32;
+override REGRESSION_SIGMA: f32;
+override REGRESSION_RIDGE: f32;
+override GUIDE_TOLERANCE: f32;
+override ALBEDO_TOLERANCE: f32;
+override CLAMP_RADIUS: i32;
+
+// Per pixel: the noisy irradiance (rgb) and the summed variance of its channels' means.
+@group(0) @binding(5) var<storage, read> noisy: array<vec4<f32>>;
+// Per pixel: the albedo the colour was divided by (rgb).
+@group(0) @binding(6) var<storage, read> albedo: array<vec4<f32>>;
+
+// The weight of tap q (offset dx, dy) in pixel p's fit.
+fn regression_weight(p: u32, q: u32, dx: i32, dy: i32) -> f32 {
+    let d2 = f32(dx * dx + dy * dy);
+    let similar = surface_weight(guides[p], guides[q], depth_gradient[p], sqrt(d2));
+    let albedo_step = albedo[p].rgb - albedo[q].rgb;
+    let guide_step = source[p].rgb - source[q].rgb;
+    let v_p = noisy[p].w;
+    let v_q = noisy[q].w;
+    let excess = max(dot(guide_step, guide_step) - (v_p + min(v_p, v_q)), 0.0);
+    return exp(-d2 / (2.0 * REGRESSION_SIGMA * REGRESSION_SIGMA)) * similar * exp(-dot(albedo_step, albedo_step) / ALBEDO_TOLERANCE)
+        * exp(-excess / (GUIDE_TOLERANCE * (v_p + v_q) + 1e-10));
+}
+
+@compute @workgroup_size(64)
+fn denoise_regress(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let index = id.x + id.y * groups.x * 64u;
+    if index >= denoise.width * denoise.height {
+        return;
+    }
+    let x = i32(index % denoise.width);
+    let y = i32(index / denoise.width);
+    // The normal equations' upper triangle (m00 m01 m02 m11 m12 m22) and right-hand sides.
+    var m00 = 0.0;
+    var m01 = 0.0;
+    var m02 = 0.0;
+    var m11 = REGRESSION_RIDGE;
+    var m12 = 0.0;
+    var m22 = REGRESSION_RIDGE;
+    var b0 = vec3<f32>(0.0);
+    var b1 = vec3<f32>(0.0);
+    var b2 = vec3<f32>(0.0);
+    for (var dy = -REGRESSION_RADIUS; dy <= REGRESSION_RADIUS; dy += REGRESSION_STRIDE) {
+        let qy = y + dy;
+        if qy < 0 || qy >= i32(denoise.height) {
+            continue;
+        }
+        for (var dx = -REGRESSION_RADIUS; dx <= REGRESSION_RADIUS; dx += REGRESSION_STRIDE) {
+            let qx = x + dx;
+            if qx < 0 || qx >= i32(denoise.width) {
+                continue;
+            }
+            let q = u32(qy) * denoise.width + u32(qx);
+            let w = regression_weight(index, q, dx, dy);
+            let fx = f32(dx) / f32(REGRESSION_RADIUS);
+            let fy = f32(dy) / f32(REGRESSION_RADIUS);
+            let value = noisy[q].rgb;
+            m00 += w;
+            m01 += w * fx;
+            m02 += w * fy;
+            m11 += w * fx * fx;
+            m12 += w * fx * fy;
+            m22 += w * fy * fy;
+            b0 += w * value;
+            b1 += (w * fx) * value;
+            b2 += (w * fy) * value;
+        }
+    }
+    // Row 0 of the inverse by cofactors (the centre's own weight is 1, so m00 >= 1 and the
+    // ridge keeps the determinant positive).
+    let c0 = m11 * m22 - m12 * m12;
+    let c1 = m02 * m12 - m01 * m22;
+    let c2 = m01 * m12 - m02 * m11;
+    let fit = (c0 * b0 + c1 * b1 + c2 * b2) / (m00 * c0 + m01 * c1 + m02 * c2);
+    var low = source[index].rgb;
+    var high = low;
+    for (var dy = -CLAMP_RADIUS; dy <= CLAMP_RADIUS; dy++) {
+        let qy = y + dy;
+        if qy < 0 || qy >= i32(denoise.height) {
+            continue;
+        }
+        for (var dx = -CLAMP_RADIUS; dx <= CLAMP_RADIUS; dx++) {
+            let qx = x + dx;
+            if qx < 0 || qx >= i32(denoise.width) {
+                continue;
+            }
+            let g = source[u32(qy) * denoise.width + u32(qx)].rgb;
+            low = min(low, g);
+            high = max(high, g);
+        }
+    }
+    filtered[index] = vec4<f32>(min(max(fit, low), high), 0.0);
 }
