@@ -165,8 +165,9 @@ pub struct RenderArgs {
     /// script.
     #[arg(long, value_name = "LIST", value_parser = crate::aovs::parse_aovs)]
     pub aovs: Option<crate::aovs::AovList>,
-    /// Denoise the image (docs/SAMPLING.md): an edge-avoiding a-trous filter guided by the
-    /// albedo, normal, depth and variance AOVs. LDR and HDR outputs hold the denoised image;
+    /// Denoise the image (docs/SAMPLING.md): an edge-avoiding a-trous filter, then a
+    /// plane-fitting regression, guided by the albedo, normal, depth and variance AOVs. LDR
+    /// and HDR outputs hold the denoised image;
     /// an .exr keeps the samples for merging and adds it as `denoised.R/G/B`. Whole renders
     /// only.
     #[arg(long)]

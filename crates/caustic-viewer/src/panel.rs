@@ -92,7 +92,7 @@ impl ViewerApp {
         if let Some((low, high)) = self.view.legend_range() {
             ui.label(RichText::new(format!("heat map: {low} … light yellow {high} (legend under the image)")).small());
         }
-        ui.checkbox(&mut c.denoise, "denoise (a-trous, guided by albedo, normal, depth and variance)");
+        ui.checkbox(&mut c.denoise, "denoise (a-trous and regression, guided by albedo, normal, depth and variance)");
         let restart =
             (c.integrator, c.max_depth, c.seed, c.divisor, c.debug) != (before.integrator, before.max_depth, before.seed, before.divisor, before.debug);
         if c.denoise != before.denoise {
