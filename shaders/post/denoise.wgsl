@@ -185,8 +185,9 @@ fn denoise_regress(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_wo
             b2 += (w * fy) * value;
         }
     }
-    // Row 0 of the inverse by cofactors (the centre's own weight is 1, so m00 >= 1 and the
-    // ridge keeps the determinant positive).
+    // Row 0 of the inverse by cofactors. The centre's own weight is 1 (up to the rounding of
+    // its normal's dot product with itself), so m00 > 0, and with the ridge on the slopes the
+    // matrix is positive definite: the determinant is positive.
     let c0 = m11 * m22 - m12 * m12;
     let c1 = m02 * m12 - m01 * m22;
     let c2 = m01 * m12 - m02 * m11;
