@@ -128,13 +128,26 @@ override CLAMP_RADIUS: i32;
 // Per pixel: the albedo the colour was divided by (rgb).
 @group(0) @binding(6) var<storage, read> albedo: array<vec4<f32>>;
 
-// The weight of tap q (offset dx, dy) in pixel p's fit.
-fn regression_weight(p: u32, q: u32, dx: i32, dy: i32) -> f32 {
+// What a pixel's fit compares every tap with, loaded once per pixel rather than per tap.
+struct RegressionCentre {
+    guide: vec4<f32>,
+    gradient: f32,
+    albedo: vec3<f32>,
+    filtered: vec3<f32>,
+    variance: f32,
+}
+
+fn regression_centre(p: u32) -> RegressionCentre {
+    return RegressionCentre(guides[p], depth_gradient[p], albedo[p].rgb, source[p].rgb, noisy[p].w);
+}
+
+// The weight of tap q (offset dx, dy) in the fit of the pixel whose values are `centre`.
+fn regression_weight(centre: RegressionCentre, q: u32, dx: i32, dy: i32) -> f32 {
     let d2 = f32(dx * dx + dy * dy);
-    let similar = surface_weight(guides[p], guides[q], depth_gradient[p], sqrt(d2));
-    let albedo_step = albedo[p].rgb - albedo[q].rgb;
-    let guide_step = source[p].rgb - source[q].rgb;
-    let v_p = noisy[p].w;
+    let similar = surface_weight(centre.guide, guides[q], centre.gradient, sqrt(d2));
+    let albedo_step = centre.albedo - albedo[q].rgb;
+    let guide_step = centre.filtered - source[q].rgb;
+    let v_p = centre.variance;
     let v_q = noisy[q].w;
     let excess = max(dot(guide_step, guide_step) - (v_p + min(v_p, v_q)), 0.0);
     return exp(-d2 / (2.0 * REGRESSION_SIGMA * REGRESSION_SIGMA)) * similar * exp(-dot(albedo_step, albedo_step) / ALBEDO_TOLERANCE)
@@ -149,6 +162,7 @@ fn denoise_regress(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_wo
     }
     let x = i32(index % denoise.width);
     let y = i32(index / denoise.width);
+    let centre = regression_centre(index);
     // The normal equations' upper triangle (m00 m01 m02 m11 m12 m22) and right-hand sides.
     var m00 = 0.0;
     var m01 = 0.0;
@@ -170,7 +184,7 @@ fn denoise_regress(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_wo
                 continue;
             }
             let q = u32(qy) * denoise.width + u32(qx);
-            let w = regression_weight(index, q, dx, dy);
+            let w = regression_weight(centre, q, dx, dy);
             let fx = f32(dx) / f32(REGRESSION_RADIUS);
             let fy = f32(dy) / f32(REGRESSION_RADIUS);
             let value = noisy[q].rgb;
@@ -192,7 +206,7 @@ fn denoise_regress(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_wo
     let c1 = m02 * m12 - m01 * m22;
     let c2 = m01 * m12 - m02 * m11;
     let fit = (c0 * b0 + c1 * b1 + c2 * b2) / (m00 * c0 + m01 * c1 + m02 * c2);
-    var low = source[index].rgb;
+    var low = centre.filtered;
     var high = low;
     for (var dy = -CLAMP_RADIUS; dy <= CLAMP_RADIUS; dy++) {
         let qy = y + dy;
