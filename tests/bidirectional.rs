@@ -41,8 +41,9 @@ fn both_converge_to_the_mitsuba_reference_of_the_cornell_box() {
         if integrator == "bdpt" {
             // The error per sample guards the camera subpath's stratification: a light subpath
             // drawn from the sample's own stream shifts every camera dimension by its varying
-            // length (the bound sits between the two schemes' errors, docs/SAMPLING.md).
-            assert!(relmse < 9.4e-3, "bdpt at 8 spp: relMSE {relmse:.3e}, the camera subpath's samples no longer stratified?");
+            // length (the bound sits between the two schemes' errors with light subpaths shared
+            // by four pixels, 9.86e-3 and 1.25e-2; docs/SAMPLING.md).
+            assert!(relmse < 1.1e-2, "bdpt at 8 spp: relMSE {relmse:.3e}, the camera subpath's samples no longer stratified?");
         }
     }
 }

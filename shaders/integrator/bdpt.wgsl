@@ -233,7 +233,12 @@ fn light_subpath(rng: ptr<function, Rng>) -> u32 {
         light_vertices[path.length] = vertex;
         keep_light_surface(path.length, si);
         path.length++;
-        camera_strategy(vertex, si, path.length + 1u, rng);
+        // The lens sample is drawn whether or not this trace splats, so a light subpath traced
+        // again for a group cut by a tile's start is the same light subpath.
+        let u_lens = next_2d(rng);
+        if splats_light_subpath || inspect_armed() {
+            camera_strategy(vertex, si, path.length + 1u, u_lens);
+        }
         if path.length >= depth || !scatter_subpath(&path, si, true, rng) {
             break;
         }
@@ -251,8 +256,10 @@ fn add_strategy(s: u32, t: u32, pixel: u32, value: vec3<f32>, radiance: ptr<func
         return;
     }
     if BDPT_STRATEGIES {
+        // The layers are read as light-path splats (caustic_gpu::light_tracer::Splats): a camera
+        // subpath's strategy counts its share of the light subpaths per camera subpath.
         if s + t - 2u <= STRATEGY_MAX_DEPTH && !inspect_armed() {
-            splat_pixel(strategy_layer(s, t), pixel, value);
+            splat_pixel(strategy_layer(s, t), pixel, select(value * LIGHT_PATH_SHARE, value, t == 1u));
         }
     } else if t == 1u {
         if !inspect_armed() {
@@ -263,11 +270,11 @@ fn add_strategy(s: u32, t: u32, pixel: u32, value: vec3<f32>, radiance: ptr<func
     }
 }
 
-// t = 1: a light subpath's vertex (the s-th) connected to a point of the lens and splatted to
-// the pixel it is seen in, weighted against the strategies that trace more of the path from
-// the camera.
-fn camera_strategy(vertex: LightVertex, si: SurfaceInteraction, s: u32, rng: ptr<function, Rng>) {
-    let connection = connect_camera(si, vertex.to_prev, next_2d(rng));
+// t = 1: a light subpath's vertex (the s-th) connected to a point of the lens (`u_lens`) and
+// splatted to the pixel it is seen in, weighted against the strategies that trace more of the
+// path from the camera; its density counts the light subpaths per camera subpath.
+fn camera_strategy(vertex: LightVertex, si: SurfaceInteraction, s: u32, u_lens: vec2<f32>) {
+    let connection = connect_camera(si, vertex.to_prev, u_lens);
     let camera = connection.camera;
     inspect_link_ends(si.p + camera.wi * camera.distance, si.p, 0u);
     if all(connection.factor == vec3<f32>(0.0)) {
@@ -277,7 +284,7 @@ fn camera_strategy(vertex: LightVertex, si: SurfaceInteraction, s: u32, rng: ptr
     let to_camera = camera.wi;
     let camera_pdf = camera_direction_pdf(-to_camera) * abs(dot(to_camera, si.ng)) / (camera.distance * camera.distance);
     let pdf_rev = oriented_pdf(si, to_camera, vertex.to_prev);
-    let w_light = mis(camera_pdf) * (vertex.d_vcm + vertex.d_vc * mis(pdf_rev));
+    let w_light = mis(camera_pdf / LIGHT_PATH_SHARE) * (vertex.d_vcm + vertex.d_vc * mis(pdf_rev));
     var unused = vec3<f32>(0.0);
     add_strategy(s, 1u, film_pixel(camera.film), inspect_link_weighted(vertex.beta * connection.factor, 1.0 + w_light), &unused);
 }
@@ -412,23 +419,55 @@ const LIGHT_SUBPATH_DIMENSION: u32 = 65536u;
 const CAMERA_SUBPATH_DIMENSIONS: u32 = 3u + 5u * (BDPT_MAX_DEPTH + 1u);
 const_assert CAMERA_SUBPATH_DIMENSIONS < LIGHT_SUBPATH_DIMENSION;
 
-// One sample of each pixel of the tile: the light subpath (its t = 1 strategies splatted as
-// it goes), then the camera subpath, every strategy with at most frame.max_depth (and
-// BDPT_MAX_DEPTH) scattering vertices.
+// Light subpaths per camera subpath: BDPT_CAMERA_PATHS camera subpaths join one light subpath
+// (caustic_gpu::light_tracer::BDPT_CAMERA_PATHS), so the light-tracing strategy (t = 1) has this
+// share of a light subpath per camera subpath. The camera subpath's first recurrence quantity
+// and that strategy's weight carry it (Georgiev et al.'s light path count), so the weights of
+// every path's strategies still sum to one.
+const LIGHT_PATH_SHARE: f32 = 1.0 / f32(BDPT_CAMERA_PATHS);
+
+// Whether this invocation's light subpath is splatted (its t = 1 strategies): the group's first
+// pixel is in the tile. A group cut by the tile's start was splatted with the tile before; the
+// light subpath is traced again here only for the joins of this tile's pixels.
+var<private> splats_light_subpath: bool;
+
+// One sample of a group of BDPT_CAMERA_PATHS neighbouring pixels of the tile: the light subpath
+// of the group's first pixel's sample (its t = 1 strategies splatted as it goes), then each
+// pixel's camera subpath joined to it, every strategy with at most frame.max_depth (and
+// BDPT_MAX_DEPTH) scattering vertices. Groups are fixed in the film (pixels k K .. k K + K - 1),
+// so the image does not depend on how the film is cut into tiles.
 @compute @workgroup_size(64)
 fn render_bdpt(@builtin(global_invocation_id) id: vec3<u32>) {
-    if id.x >= frame.tile_pixels {
+    let first = (frame.tile_start / BDPT_CAMERA_PATHS + id.x) * BDPT_CAMERA_PATHS;
+    let end = frame.tile_start + frame.tile_pixels;
+    if first >= end {
         return;
     }
-    let pixel = begin_pixel(id.x);
-    inspect_begin(pixel);
+    load_pass_constants();
+    pixel_sample = frame.sample_index;
+    // The inspected pixel's record holds the group's light subpath too.
+    let inspected = frame.inspect_pixel >= first && frame.inspect_pixel - first < BDPT_CAMERA_PATHS;
+    inspect_begin(select(first, frame.inspect_pixel, inspected));
+    splats_light_subpath = first >= frame.tile_start;
+    var light_rng = rng_stream(rng_for_sample(first, pixel_sample, frame.seed), LIGHT_SUBPATH_DIMENSION);
+    let light_count = light_subpath(&light_rng);
+    for (var k = 0u; k < BDPT_CAMERA_PATHS; k++) {
+        let pixel = first + k;
+        if pixel >= frame.tile_start && pixel < end {
+            inspect_resume(pixel);
+            camera_subpath(pixel, light_count);
+        }
+    }
+}
+
+// Pixel `pixel`'s camera subpath of this sample, joined to the light subpath's `light_count`
+// kept vertices; its radiance recorded (the t = 1 strategies are the light subpath's splats).
+fn camera_subpath(pixel: u32, light_count: u32) {
     var rng = rng_for_sample(pixel, pixel_sample, frame.seed);
     let ray = pixel_ray(pixel, &rng);
-    var light_rng = rng_stream(rng, LIGHT_SUBPATH_DIMENSION);
-    let light_count = light_subpath(&light_rng);
     let depth = bdpt_depth();
     var radiance = vec3<f32>(0.0);
-    var path = Subpath(ray, vec3<f32>(1.0), mis(1.0 / camera_direction_pdf(ray.direction)), 0.0, 0u, 1.0, 1.0, false);
+    var path = Subpath(ray, vec3<f32>(1.0), mis(LIGHT_PATH_SHARE / camera_direction_pdf(ray.direction)), 0.0, 0u, 1.0, 1.0, false);
     loop {
         let hit = closest_hit(path.ray, 3.0e38);
         inspect_ray(path.length, path.ray, hit, path.beta, radiance);

@@ -50,6 +50,13 @@ fn inspect_begin(pixel: u32) {
     inspection.connection_count = 0u;
 }
 
+// Arms the hooks for `pixel`'s camera subpath, disarms them for another's, keeping the record:
+// bidirectional path tracing's pixels share a light subpath traced (and recorded) before their
+// camera subpaths (integrator/bdpt.wgsl).
+fn inspect_resume(pixel: u32) {
+    inspecting = scene_needs(REQUIRES_INSPECTOR) && pixel == frame.inspect_pixel && frame.inspect_pixel != NO_PIXEL;
+}
+
 // Whether the hooks record in this invocation.
 fn inspect_armed() -> bool {
     return scene_needs(REQUIRES_INSPECTOR) && inspecting;

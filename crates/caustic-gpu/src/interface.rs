@@ -39,6 +39,7 @@ pub const SHARED_CONSTANTS: &[(&str, u32)] = &[
     ("PROJECTION_PERSPECTIVE", PROJECTION_PERSPECTIVE),
     ("PROJECTION_ORTHOGRAPHIC", PROJECTION_ORTHOGRAPHIC),
     ("BDPT_MAX_DEPTH", crate::light_tracer::BDPT_MAX_DEPTH),
+    ("BDPT_CAMERA_PATHS", crate::light_tracer::BDPT_CAMERA_PATHS),
     ("STRATEGY_MAX_DEPTH", crate::light_tracer::STRATEGY_MAX_DEPTH),
     ("PHOTON_HEADER_WORDS", crate::sppm::HEADER_WORDS),
     ("PHOTON_COUNT", crate::sppm::COUNT),

@@ -32,6 +32,32 @@ pub const BDPT_ENTRY_POINT: &str = "render_bdpt";
 /// or none, renders paths up to this depth.
 pub const BDPT_MAX_DEPTH: u32 = 14;
 
+/// Camera subpaths that share one light subpath in bidirectional path tracing: the film's
+/// pixels k K .. k K + K - 1 join their samples' camera subpaths to the light subpath of pixel
+/// k K's sample (`integrator/bdpt.wgsl`), so one light subpath is traced (and splatted) for
+/// every K camera subpaths. On the Cornell box the light subpath, its kept vertices and its
+/// connections to the camera were about 40% of a sample's time; the joins and the camera
+/// subpath stay one per sample, and the t = 1 strategy's weight counts 1 / K light subpaths
+/// per camera subpath (Georgiev et al.'s light path count), so the image stays unbiased. K = 4
+/// did better than 2 on the four scenes measured (docs/BIDIRECTIONAL.md, "Light subpaths
+/// shared").
+pub const BDPT_CAMERA_PATHS: u32 = 4;
+
+/// Light subpaths a bidirectional dispatch of `pixels` pixels from film pixel `start` traces
+/// and splats: one per group of [`BDPT_CAMERA_PATHS`] pixels whose first pixel lies in the
+/// tile (a group cut by the tile's start was traced with its first pixel's tile; the kernel
+/// traces it again for the pixels here, without splatting it).
+pub fn bdpt_light_paths(start: u32, pixels: u32) -> u32 {
+    (start + pixels).div_ceil(BDPT_CAMERA_PATHS) - start.div_ceil(BDPT_CAMERA_PATHS)
+}
+
+/// Invocations of `render_bdpt` that cover `pixels` pixels of a tile, one per group of
+/// [`BDPT_CAMERA_PATHS`] pixels it touches: at most one more than whole groups, for a group
+/// cut by each end (those past the tile's last group return at once).
+pub fn bdpt_invocations(pixels: u32) -> u32 {
+    pixels.div_ceil(BDPT_CAMERA_PATHS) + 1
+}
+
 /// Deepest strategies the `bdpt-strategies` debug view shows apart (bounces s + t - 2).
 pub const STRATEGY_MAX_DEPTH: u32 = 4;
 
@@ -307,6 +333,25 @@ pub(crate) fn light_path_refusal(scene: &Scene, gpu: &GpuScene) -> Option<String
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// However a film of odd size is cut into tiles, each group of pixels sharing a light
+    /// subpath is splatted by exactly one tile (the one holding its first pixel), and every
+    /// tile dispatches an invocation for each group it touches.
+    #[test]
+    fn every_light_subpath_is_splatted_once_whatever_the_tiles() {
+        let film = 1001u32;
+        for tile in [1u32, 2, 3, 7, 64, 333, 1001] {
+            let (mut start, mut splatted) = (0u32, 0u32);
+            while start < film {
+                let pixels = tile.min(film - start);
+                let touched = (start + pixels - 1) / BDPT_CAMERA_PATHS - start / BDPT_CAMERA_PATHS + 1;
+                assert!(bdpt_invocations(pixels) >= touched, "tile {start}+{pixels}: {touched} groups");
+                splatted += bdpt_light_paths(start, pixels);
+                start += pixels;
+            }
+            assert_eq!(splatted, film.div_ceil(BDPT_CAMERA_PATHS), "tiles of {tile}");
+        }
+    }
 
     #[test]
     fn every_strategy_up_to_the_view_depth_has_its_own_layer() {

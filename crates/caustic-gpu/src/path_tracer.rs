@@ -270,7 +270,7 @@ impl<'a> PathTracer<'a> {
             Stages::Megakernel(pipeline) => self.run_megakernel(pipeline, self.kernel.invocations(pixels).div_ceil(WORKGROUP_SIZE))?,
             Stages::Wavefront(wavefront) => wavefront.trace_tile(self.ctx, self.tile_bind_group(), pixels, self.frame.max_depth.min(SAFETY_MAX_BOUNCES))?,
         }
-        self.splats.traced(pixels);
+        self.splats.traced(self.kernel.light_paths(start, pixels));
         Ok(())
     }
 

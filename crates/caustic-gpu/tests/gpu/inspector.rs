@@ -9,6 +9,7 @@
 use crate::support::device;
 use caustic_bvh::{BuildOptions, GpuBvh, Ray};
 use caustic_gpu::inspector::{PathRecord, Primitive, Termination};
+use caustic_gpu::light_tracer::BDPT_CAMERA_PATHS;
 use caustic_gpu::{GpuContext, GpuScene, PathTracer, RenderSettings};
 use caustic_scene::{Scene, SceneSource, load_scene};
 use glam::Vec3;
@@ -180,10 +181,12 @@ fn a_rescaled_scene_is_inspected_in_its_own_coordinates() {
 
 /// Bidirectional path tracing's record, for every pixel of a 16x16 box after one pass: the
 /// camera subpath's strategies (t >= 2) sum to the recorded radiance and to what the pass
-/// added to the pixel itself (its image less its splats); the t = 1 strategies of all pixels'
-/// records, summed per pixel they land on, are the splats the pass added; every join (s >= 2)
-/// ends at a vertex its light subpath splatted from; blocked connections contribute nothing;
-/// and inspecting leaves the film and the splats as they were.
+/// added to the pixel itself (its image less its splats); each pixel's record holds its
+/// group's shared light subpath (`BDPT_CAMERA_PATHS` pixels to one), whose t = 1 strategies,
+/// summed once per light subpath (from the records of the groups' first pixels) per pixel
+/// they land on, are the splats the pass added; every join (s >= 2) ends at a vertex its light
+/// subpath splatted from; blocked connections contribute nothing; and inspecting leaves the
+/// film and the splats as they were.
 #[test]
 fn bidirectional_records_every_strategy_of_a_sample() {
     const SIDE: u32 = 16;
@@ -196,7 +199,9 @@ fn bidirectional_records_every_strategy_of_a_sample() {
     tracer.render_sample().expect("pass");
     let image = tracer.image().expect("image");
     let (sums, paths) = tracer.splat_sums().expect("splats");
-    assert_eq!(paths, u64::from(SIDE * SIDE), "one light path per pixel");
+    assert_eq!(paths, u64::from(SIDE * SIDE / BDPT_CAMERA_PATHS), "one light path per group of pixels");
+    // The image adds each pixel's splat sum times pixels over light paths.
+    let splat_scale = (SIDE * SIDE) as f32 / paths as f32;
     let mut splatted = vec![Vec3::ZERO; (SIDE * SIDE) as usize];
     let mut strategies = std::collections::BTreeMap::new();
     let (mut worst_own, mut worst_render, mut blocked) = (0f32, 0f32, 0usize);
@@ -208,7 +213,7 @@ fn bidirectional_records_every_strategy_of_a_sample() {
             let scale = path.radiance.abs().max_element().max(1e-3);
             worst_own = worst_own.max((own - path.radiance).abs().max_element() / scale);
             let pixel = (y * SIDE + x) as usize;
-            let rendered = Vec3::from(image.get(x, y)) - Vec3::from(sums[pixel]);
+            let rendered = Vec3::from(image.get(x, y)) - Vec3::from(sums[pixel]) * splat_scale;
             worst_render = worst_render.max((rendered - path.radiance).abs().max_element() / scale);
             for link in &path.connections {
                 *strategies.entry((link.s, link.t)).or_insert(0) += 1;
@@ -217,7 +222,8 @@ fn bidirectional_records_every_strategy_of_a_sample() {
                     assert_eq!(link.weighted(), Vec3::ZERO, "pixel ({x}, {y}): a blocked connection contributed");
                 }
                 if link.t == 1 {
-                    if let Some((px, py)) = link.pixel {
+                    let owns_light_subpath = (y * SIDE + x).is_multiple_of(BDPT_CAMERA_PATHS);
+                    if let Some((px, py)) = link.pixel.filter(|_| owns_light_subpath) {
                         splatted[(py * SIDE + px) as usize] += link.weighted();
                     }
                 } else {
