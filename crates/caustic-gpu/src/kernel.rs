@@ -109,6 +109,7 @@ impl Kernel {
     /// [`Kernel::paths_per_invocation`] pixels, but never fewer than
     /// [`MIN_REGENERATING_INVOCATIONS`] (or one per pixel), so that a small tile still gives
     /// every thread of a CPU device work; its invocations then trace fewer paths each.
+    ///
     /// Bidirectional path tracing's invocations each trace a group of pixels that share a light
     /// subpath ([`crate::light_tracer::bdpt_invocations`]).
     pub fn invocations(&self, pixels: u32) -> u32 {
@@ -119,8 +120,9 @@ impl Kernel {
     }
 
     /// Light paths a dispatch of `pixels` pixels from film pixel `start` traces and splats: one
-    /// per pixel for the light tracer, one per group of pixels for bidirectional path tracing
-    /// ([`crate::light_tracer::bdpt_light_paths`]), none for the kernels that do not splat.
+    /// per group of pixels for bidirectional path tracing
+    /// ([`crate::light_tracer::bdpt_light_paths`]), else one per pixel (the light tracer's; the
+    /// kernels that do not splat have placeholder splats, which count nothing).
     pub fn light_paths(&self, start: u32, pixels: u32) -> u32 {
         if self.entry_point == crate::light_tracer::BDPT_ENTRY_POINT {
             return crate::light_tracer::bdpt_light_paths(start, pixels);
