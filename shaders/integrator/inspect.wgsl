@@ -38,8 +38,8 @@ var<private> inspect_link_open: bool;
 
 // Arms the hooks if `pixel` is the inspected one, and clears its record.
 fn inspect_begin(pixel: u32) {
-    inspecting = scene_needs(REQUIRES_INSPECTOR) && pixel == frame.inspect_pixel && frame.inspect_pixel != NO_PIXEL;
-    if !scene_needs(REQUIRES_INSPECTOR) || !inspecting {
+    inspect_resume(pixel);
+    if !inspect_armed() {
         return;
     }
     inspection.pixel = pixel;
@@ -50,7 +50,7 @@ fn inspect_begin(pixel: u32) {
     inspection.connection_count = 0u;
 }
 
-// Arms the hooks for `pixel`'s camera subpath, disarms them for another's, keeping the record:
+// Arms the hooks if `pixel` is the inspected one, else disarms them, keeping the record:
 // bidirectional path tracing's pixels share a light subpath traced (and recorded) before their
 // camera subpaths (integrator/bdpt.wgsl).
 fn inspect_resume(pixel: u32) {
