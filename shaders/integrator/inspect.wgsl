@@ -54,7 +54,9 @@ fn inspect_begin(pixel: u32) {
 // bidirectional path tracing's pixels share a light subpath traced (and recorded) before their
 // camera subpaths (integrator/bdpt.wgsl).
 fn inspect_resume(pixel: u32) {
-    inspecting = scene_needs(REQUIRES_INSPECTOR) && pixel == frame.inspect_pixel && frame.inspect_pixel != NO_PIXEL;
+    if scene_needs(REQUIRES_INSPECTOR) {
+        inspecting = pixel == frame.inspect_pixel && frame.inspect_pixel != NO_PIXEL;
+    }
 }
 
 // Whether the hooks record in this invocation.

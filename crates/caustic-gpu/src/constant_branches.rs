@@ -12,9 +12,13 @@
 //!
 //! A condition is decided when it evaluates, with the pipeline's constant values, from
 //! literals, constants, overrides, constant arguments, logical and integer operators, the
-//! temporaries of `&&` and `||`, and calls of functions whose body is one `return` of such an
-//! expression of their arguments (`scene_needs(bits)`, `lobe_in_scene(slot)`). Anything else
-//! (a value read at run time, a float) leaves the statement as it is.
+//! temporaries of `&&` and `||`, and calls of functions that the constants and their
+//! arguments lead, without side effects, to a decided `return` (`scene_needs(bits)`,
+//! `lobe_in_scene(slot)`, `inspect_armed()`); such a call becomes its value. Anything else (a
+//! value read at run time, a float) leaves the statement as it is. Calls of functions left
+//! doing nothing (the pixel inspector's hooks in a kernel that does not inspect) go too, so
+//! an edit of code a kernel never runs leaves its SPIR-V, and the driver's cache entry, as
+//! they were.
 
 use naga::{Arena, BinaryOperator, Block, Expression, Function, Handle, Literal, LocalVariable, Module, Statement, UnaryOperator};
 use std::collections::{HashMap, HashSet, VecDeque};
@@ -63,8 +67,70 @@ pub fn fold(module: &mut Module, constants: &[(&str, f64)]) {
         folder.fold_function(&mut function);
         folder.functions[handle] = function;
     }
-    module.functions = callees_first(folder.functions, &mut entry_points);
+    let mut functions = folder.functions;
+    drop_calls_that_do_nothing(&mut functions, &mut entry_points);
+    module.functions = callees_first(functions, &mut entry_points);
     module.entry_points = entry_points;
+}
+
+/// Removes every call of a function without a result whose folded body does nothing (the
+/// inspector's hooks in a kernel that does not inspect: at most a call of `scene_needs` and a
+/// return), until no more go: compaction then drops the functions, so an edit of their code
+/// leaves the kernels that never run it as they were (the driver's cache keeps finding them).
+fn drop_calls_that_do_nothing(functions: &mut Arena<Function>, entry_points: &mut [naga::EntryPoint]) {
+    /// Whether `block` of `function` changes nothing outside the function: it stores only to
+    /// local variables, calls only functions of `pure`, and has no loop.
+    fn pure_block(function: &Function, block: &Block, pure: &HashSet<Handle<Function>>) -> bool {
+        block.iter().all(|statement| match statement {
+            Statement::Emit(_) | Statement::Return { .. } | Statement::Break => true,
+            Statement::Store { pointer, .. } => matches!(function.expressions[*pointer], Expression::LocalVariable(_)),
+            Statement::Call { function: callee, .. } => pure.contains(callee),
+            Statement::Block(inner) => pure_block(function, inner, pure),
+            Statement::If { accept, reject, .. } => pure_block(function, accept, pure) && pure_block(function, reject, pure),
+            Statement::Switch { cases, .. } => cases.iter().all(|case| pure_block(function, &case.body, pure)),
+            _ => false,
+        })
+    }
+    fn drop_calls(block: Block, idle: &HashSet<Handle<Function>>, dropped: &mut bool) -> Block {
+        let mut out = Block::with_capacity(block.len());
+        for (statement, span) in block.span_into_iter() {
+            let statement = match statement {
+                Statement::Call { function, result: None, .. } if idle.contains(&function) => {
+                    *dropped = true;
+                    continue;
+                }
+                Statement::Block(inner) => Statement::Block(drop_calls(inner, idle, dropped)),
+                Statement::If { condition, accept, reject } => {
+                    Statement::If { condition, accept: drop_calls(accept, idle, dropped), reject: drop_calls(reject, idle, dropped) }
+                }
+                Statement::Loop { body, continuing, break_if } => {
+                    Statement::Loop { body: drop_calls(body, idle, dropped), continuing: drop_calls(continuing, idle, dropped), break_if }
+                }
+                Statement::Switch { selector, cases } => Statement::Switch {
+                    selector,
+                    cases: cases.into_iter().map(|case| naga::SwitchCase { body: drop_calls(case.body, idle, dropped), ..case }).collect(),
+                },
+                other => other,
+            };
+            out.push(statement, span);
+        }
+        out
+    }
+    loop {
+        let mut pure = HashSet::new();
+        while let Some(next) = functions.iter().find(|(h, f)| !pure.contains(h) && pure_block(f, &f.body, &pure)).map(|(h, _)| h) {
+            pure.insert(next);
+        }
+        let idle: HashSet<_> = pure.iter().copied().filter(|&h| functions[h].result.is_none()).collect();
+        let mut dropped = false;
+        for function in functions.iter_mut().map(|(_, f)| f).chain(entry_points.iter_mut().map(|e| &mut e.function)) {
+            let body = std::mem::take(&mut function.body);
+            function.body = drop_calls(body, &idle, &mut dropped);
+        }
+        if !dropped {
+            return;
+        }
+    }
 }
 
 /// `functions` reordered so that each comes after the functions it calls (naga's rule; the
@@ -197,6 +263,14 @@ impl Folder<'_> {
                 }
                 Statement::Call { function: callee, arguments, result } => {
                     let values: Vec<_> = arguments.iter().map(|&a| self.evaluate(function, a, calls, &known)).collect();
+                    if let (Some(result), Some(arguments)) = (result, values.iter().copied().collect::<Option<Vec<_>>>()) {
+                        // A call the constants decide (it runs without side effects to a
+                        // decided `return`) becomes its value.
+                        if let Some(value) = self.call(callee, &arguments) {
+                            function.expressions[result] = Expression::Literal(value.literal());
+                            continue;
+                        }
+                    }
                     let callee = if values.iter().any(Option::is_some) { self.specialise(callee, values) } else { callee };
                     if let Some(result) = result {
                         function.expressions[result] = Expression::CallResult(callee);
@@ -243,39 +317,83 @@ impl Folder<'_> {
     /// The value of `expression` of `function`, if the constants decide it (`known`: local
     /// variables' values at this point).
     fn evaluate(&self, function: &Function, expression: Handle<Expression>, calls: &Calls, known: &HashMap<Handle<LocalVariable>, Value>) -> Option<Value> {
-        match function.expressions[expression] {
-            Expression::CallResult(callee) => {
-                let (_, arguments) = calls.get(&expression).filter(|(f, _)| *f == callee)?;
-                let values = arguments.iter().map(|&a| self.evaluate(function, a, calls, known)).collect::<Option<Vec<_>>>()?;
-                self.call(callee, &values)
-            }
-            Expression::Load { pointer } => match function.expressions[pointer] {
-                Expression::LocalVariable(local) => known.get(&local).copied(),
-                _ => None,
-            },
-            _ => self.value(function, expression, &|_| None),
-        }
+        let env = Env { locals: known.clone(), results: HashMap::new(), calls: Some(calls) };
+        self.value(function, expression, &|_| None, &env)
     }
 
-    /// The value a call of `callee` with `arguments` returns, when its body is one `return`
-    /// of an expression the arguments and constants decide.
+    /// The value a call of `callee` with `arguments` returns, when the constants and the
+    /// arguments decide it: its body run with the branches they decide, through stores to
+    /// local variables and calls of such functions, to a `return` of such an expression
+    /// (`scene_needs(bits)`; `inspect_armed()`, whose `&&` naga lowers to an `if` storing a
+    /// temporary).
     fn call(&self, callee: Handle<Function>, arguments: &[Value]) -> Option<Value> {
         let function = &self.functions[callee];
-        let mut statements = function.body.iter().filter(|s| !matches!(s, Statement::Emit(_)));
-        let (Some(Statement::Return { value: Some(value) }), None) = (statements.next(), statements.next()) else {
-            return None;
-        };
-        self.value(function, *value, &|index| arguments.get(index as usize).copied())
+        let argument = |index: u32| arguments.get(index as usize).copied();
+        self.run(function, &function.body, &argument, &mut Env::default())?
     }
 
-    /// The value of a pure expression of `function`, its arguments given by `argument`.
-    fn value(&self, function: &Function, expression: Handle<Expression>, argument: &dyn Fn(u32) -> Option<Value>) -> Option<Value> {
-        let operand = |e| self.value(function, e, argument);
+    /// Runs `block` of `function` as far as the constants decide it: `Some(Some(value))` if it
+    /// returns a decided value, `Some(None)` if it ends without returning, `None` where a
+    /// statement is not decided (a branch on a run-time value, a store to memory, a loop).
+    fn run(&self, function: &Function, block: &Block, argument: &dyn Fn(u32) -> Option<Value>, env: &mut Env) -> Option<Option<Value>> {
+        for statement in block.iter() {
+            match *statement {
+                Statement::Emit(_) => {}
+                Statement::Store { pointer, value } => {
+                    let Expression::LocalVariable(local) = function.expressions[pointer] else {
+                        return None;
+                    };
+                    match self.value(function, value, argument, env) {
+                        Some(v) => env.locals.insert(local, v),
+                        None => env.locals.remove(&local),
+                    };
+                }
+                Statement::Call { function: callee, ref arguments, result: Some(result) } => {
+                    let values = arguments.iter().map(|&a| self.value(function, a, argument, env)).collect::<Option<Vec<_>>>()?;
+                    let value = self.call(callee, &values)?;
+                    env.results.insert(result, value);
+                }
+                Statement::Block(ref inner) => {
+                    if let Some(value) = self.run(function, inner, argument, env)? {
+                        return Some(Some(value));
+                    }
+                }
+                Statement::If { condition, ref accept, ref reject } => {
+                    let Value::Bool(taken) = self.value(function, condition, argument, env)? else {
+                        return None;
+                    };
+                    if let Some(value) = self.run(function, if taken { accept } else { reject }, argument, env)? {
+                        return Some(Some(value));
+                    }
+                }
+                Statement::Return { value: Some(value) } => return Some(Some(self.value(function, value, argument, env)?)),
+                _ => return None,
+            }
+        }
+        Some(None)
+    }
+
+    /// The value of an expression of `function`, its arguments given by `argument` and the
+    /// local variables and call results known so far by `env`.
+    fn value(&self, function: &Function, expression: Handle<Expression>, argument: &dyn Fn(u32) -> Option<Value>, env: &Env) -> Option<Value> {
+        let operand = |e| self.value(function, e, argument, env);
         match function.expressions[expression] {
             Expression::Literal(literal) => from_literal(literal),
             Expression::Constant(constant) => global_value(self.module, self.module.constants[constant].init),
             Expression::Override(o) => self.overrides.get(&o).copied(),
             Expression::FunctionArgument(index) => argument(index),
+            Expression::Load { pointer } => match function.expressions[pointer] {
+                Expression::LocalVariable(local) => env.locals.get(&local).copied(),
+                _ => None,
+            },
+            Expression::CallResult(callee) => match env.results.get(&expression) {
+                Some(&value) => Some(value),
+                None => {
+                    let (_, arguments) = env.calls?.get(&expression).filter(|(f, _)| *f == callee)?;
+                    let values = arguments.iter().map(|&a| operand(a)).collect::<Option<Vec<_>>>()?;
+                    self.call(callee, &values)
+                }
+            },
             Expression::Unary { op, expr } => unary(op, operand(expr)?),
             Expression::Binary { op: BinaryOperator::LogicalAnd, left, right } => match (operand(left), operand(right)) {
                 (Some(Value::Bool(false)), _) | (_, Some(Value::Bool(false))) => Some(Value::Bool(false)),
@@ -291,6 +409,16 @@ impl Folder<'_> {
             _ => None,
         }
     }
+}
+
+/// What an evaluation knows: local variables' values, the results of the calls
+/// [`Folder::run`] has evaluated, and (in the function being folded) the calls that make
+/// each call result, evaluated when a condition reads them.
+#[derive(Default)]
+struct Env<'a> {
+    locals: HashMap<Handle<LocalVariable>, Value>,
+    results: HashMap<Handle<Expression>, Value>,
+    calls: Option<&'a Calls>,
 }
 
 impl Value {
@@ -473,9 +601,10 @@ mod tests {
 
     #[test]
     fn decided_branches_go_with_the_functions_only_they_call() {
-        assert_eq!(functions_left(&[]), ["expensive", "needs", "shadows"], "the defaults take the shadow branch and the slow one");
-        assert_eq!(functions_left(&[("FEATURES", 0.0)]), ["expensive", "needs"], "no shadows: their branch goes");
-        assert_eq!(functions_left(&[("FEATURES", 4.0), ("FAST", 1.0)]), ["needs", "shadows"], "fast: the slow branch goes");
+        // `needs(SHADOWS)` is decided too: its call becomes its value and the function goes.
+        assert_eq!(functions_left(&[]), ["expensive", "shadows"], "the defaults take the shadow branch and the slow one");
+        assert_eq!(functions_left(&[("FEATURES", 0.0)]), ["expensive"], "no shadows: their branch goes");
+        assert_eq!(functions_left(&[("FEATURES", 4.0), ("FAST", 1.0)]), ["shadows"], "fast: the slow branch goes");
     }
 
     #[test]

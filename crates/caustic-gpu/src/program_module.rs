@@ -101,6 +101,15 @@ mod tests {
         size(module, &module.entry_points.iter().find(|e| e.name == entry_point).expect("the entry point").function)
     }
 
+    /// The path tracer's program parsed as it is and with `from` replaced by `to` (`else_what`:
+    /// what to do when `from` is no longer in it).
+    fn program_and_edit(from: &str, to: &str, else_what: &str) -> [naga::Module; 2] {
+        let source = Program::PathTracer.source();
+        let edited = source.replace(from, to);
+        assert_ne!(source, edited, "`{from}` is gone from the program: {else_what}");
+        [&source, &edited].map(|text| naga::front::wgsl::parse_str(text).expect("the program parses"))
+    }
+
     /// A Cornell-box-like scene's override values: Lambert only, no optional part.
     const SMALL_SCENE: [(&str, f64); 2] = [("LOBE_MASK", 1.0), ("SCENE_REQUIRES", 0.0)];
 
@@ -135,15 +144,37 @@ mod tests {
 
     #[test]
     fn an_edited_constant_changes_only_the_kernels_that_reach_it() {
-        let source = Program::PathTracer.source();
-        let edited = source.replace("const LIGHT_SUBPATH_DIMENSION: u32 = 65536u;", "const LIGHT_SUBPATH_DIMENSION: u32 = 65537u;");
-        assert_ne!(source, edited, "the constant this test edits is gone: pick another one only bidirectional path tracing reads");
-        let [before, after] = [&source, &edited].map(|text| naga::front::wgsl::parse_str(text).expect("the program parses"));
+        let [before, after] = program_and_edit(
+            "const LIGHT_SUBPATH_DIMENSION: u32 = 65536u;",
+            "const LIGHT_SUBPATH_DIMENSION: u32 = 65537u;",
+            "pick another constant only bidirectional path tracing reads",
+        );
         let kernel = |program: &naga::Module, entry: &str| spirv(&entry_point_module(program, entry, &[]), entry);
         assert_eq!(kernel(&before, "render_sample"), kernel(&after, "render_sample"), "the path tracer's SPIR-V changed with a constant it never reads");
         assert_ne!(kernel(&before, "render_bdpt"), kernel(&after, "render_bdpt"), "bidirectional path tracing's SPIR-V must change");
         // What wgpu writes from the whole program: the named constant reaches every kernel.
         assert_ne!(spirv(&before, "render_sample"), spirv(&after, "render_sample"), "naga now drops unread named constants itself");
         println!("an edit of one of bidirectional path tracing's constants changes its SPIR-V and leaves the path tracer's as it was");
+    }
+
+    #[test]
+    fn kernels_that_do_not_inspect_keep_none_of_the_inspectors_code() {
+        let [before, after] = program_and_edit(
+            "inspection.radiance = radiance;",
+            "inspection.radiance = 2.0 * radiance;",
+            "pick another line of shaders/integrator/inspect.wgsl",
+        );
+        for entry in ["render_sample", "render_bdpt"] {
+            let module = entry_point_module(&before, entry, &SMALL_SCENE);
+            let hooks: Vec<_> = module.functions.iter().filter_map(|(_, f)| f.name.clone()).filter(|name| name.starts_with("inspect_")).collect();
+            let returning = ["inspect_light_result", "inspect_link_weighted"];
+            assert!(hooks.iter().all(|name| returning.iter().any(|r| name.starts_with(r))), "{entry} keeps the inspector's hooks {hooks:?}");
+            let kernel = |program: &naga::Module| spirv(&entry_point_module(program, entry, &SMALL_SCENE), entry);
+            assert_eq!(kernel(&before), kernel(&after), "{entry}'s SPIR-V changed with an inspector hook it never runs");
+            println!("{entry}, a small scene's kernel: hooks left {hooks:?} (they return their value), SPIR-V unchanged by an edit of a hook");
+        }
+        let inspecting = [("LOBE_MASK", 1.0), ("SCENE_REQUIRES", f64::from(crate::requirements::REQUIRES_INSPECTOR))];
+        let kernel = |program: &naga::Module| spirv(&entry_point_module(program, "render_sample", &inspecting), "render_sample");
+        assert_ne!(kernel(&before), kernel(&after), "the inspecting kernel must change with its hook");
     }
 }
