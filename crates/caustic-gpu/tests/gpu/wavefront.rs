@@ -50,6 +50,8 @@ fn path_traced() -> RenderSettings {
     RenderSettings { integrator: Integrator::PathTracer, max_depth: None, ..RenderSettings::default() }
 }
 
+// The cases are three tests so that the test harness compiles their kernels on two threads:
+// with Mesa's cache cold, the feature scenes' wavefront stages take minutes each.
 #[test]
 fn wavefront_renders_the_megakernel_image() {
     let ctx = device();
@@ -57,21 +59,29 @@ fn wavefront_renders_the_megakernel_image() {
     wavefront_matches(&ctx, "cornell (generated traversal)", &cornell, path_traced(), 4);
     wavefront_matches(&ctx, "cornell (BVH in buffers)", &cornell, RenderSettings { data_path: DataPath::Buffers, ..path_traced() }, 4);
     wavefront_matches(&ctx, "cornell, max depth 2", &cornell, RenderSettings { max_depth: Some(2), ..path_traced() }, 4);
-    // The generated traversal traces a vertex's shadow ray at once; the four-wide BVH walk
-    // (`Buffers`) defers its last one to walk it with the path's next ray (`trace_pair`), while
-    // the wavefront traces it in its connect stage: the same values either way.
-    for (label, data_path) in [("generated traversal", DataPath::Auto), ("BVH in buffers", DataPath::Buffers)] {
-        let settings = RenderSettings { data_path, ..path_traced() };
-        wavefront_matches(&ctx, &format!("refraction.scene (glass, unbounded depth; {label})"), &feature_scene("refraction.scene", (40, 30)), settings, 3);
-        wavefront_matches(
-            &ctx,
-            &format!("soft_shadows.scene (4 light samples per vertex; {label})"),
-            &feature_scene("soft_shadows.scene", (40, 30)),
-            settings,
-            3,
-        );
-        wavefront_matches(&ctx, &format!("motion.scene (motion blur; {label})"), &feature_scene("motion.scene", (40, 30)), settings, 3);
-    }
+}
+
+/// Glass, several light samples per vertex and motion blur, on the wavefront and the
+/// megakernel with the traversal `data_path` chooses. The generated traversal traces a
+/// vertex's shadow ray at once; the four-wide BVH walk (`Buffers`) defers its last one to walk
+/// it with the path's next ray (`trace_pair`), while the wavefront traces it in its connect
+/// stage: the same values either way.
+fn feature_scenes_match(label: &str, data_path: DataPath) {
+    let ctx = device();
+    let settings = RenderSettings { data_path, ..path_traced() };
+    wavefront_matches(&ctx, &format!("refraction.scene (glass, unbounded depth; {label})"), &feature_scene("refraction.scene", (40, 30)), settings, 3);
+    wavefront_matches(&ctx, &format!("soft_shadows.scene (4 light samples per vertex; {label})"), &feature_scene("soft_shadows.scene", (40, 30)), settings, 3);
+    wavefront_matches(&ctx, &format!("motion.scene (motion blur; {label})"), &feature_scene("motion.scene", (40, 30)), settings, 3);
+}
+
+#[test]
+fn wavefront_renders_the_feature_scenes_with_the_generated_traversal() {
+    feature_scenes_match("generated traversal", DataPath::Auto);
+}
+
+#[test]
+fn wavefront_renders_the_feature_scenes_with_the_bvh_in_buffers() {
+    feature_scenes_match("BVH in buffers", DataPath::Buffers);
 }
 
 #[test]
