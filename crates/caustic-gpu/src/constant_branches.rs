@@ -329,7 +329,14 @@ impl Folder<'_> {
     fn call(&self, callee: Handle<Function>, arguments: &[Value]) -> Option<Value> {
         let function = &self.functions[callee];
         let argument = |index: u32| arguments.get(index as usize).copied();
-        self.run(function, &function.body, &argument, &mut Env::default())?
+        let mut env = Env::default();
+        // Locals start with their initialiser's value (`var on = false;`).
+        for (local, variable) in function.local_variables.iter() {
+            if let Some(value) = variable.init.and_then(|init| self.value(function, init, &argument, &env)) {
+                env.locals.insert(local, value);
+            }
+        }
+        self.run(function, &function.body, &argument, &mut env)?
     }
 
     /// Runs `block` of `function` as far as the constants decide it: `Some(Some(value))` if it
@@ -618,5 +625,35 @@ mod tests {
         // return are gone.
         assert!(ifs >= 1, "the run-time condition was folded away");
         assert!(matches!(main.body.last(), Some(Statement::Return { .. })), "the taken side's return ends the body");
+    }
+
+    #[test]
+    fn calls_left_doing_nothing_go_and_calls_with_effects_stay() {
+        const HOOKS: &str = "
+            override TRACE: bool = false;
+            var<private> armed: bool;
+            @group(0) @binding(0) var<storage, read_write> out: array<u32>;
+            fn tracing() -> bool { var on = false; if TRACE { on = armed; } return on; }
+            fn record(x: u32) { if !tracing() { return; } out[1] = x; }
+            fn arm(x: u32) { if TRACE { armed = x == 3u; } }
+            fn touch() { out[2] = 1u; }
+            @compute @workgroup_size(1)
+            fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+                arm(id.x);
+                record(id.x);
+                touch();
+                out[0] = id.x;
+            }";
+        let names = |trace: f64| {
+            let mut module = naga::front::wgsl::parse_str(HOOKS).expect("the program parses");
+            fold(&mut module, &[("TRACE", trace)]);
+            naga::compact::compact(&mut module, naga::compact::KeepUnused::No);
+            naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::all()).validate(&module).expect("valid");
+            let mut names: Vec<_> = module.functions.iter().filter_map(|(_, f)| f.name.clone()).collect();
+            names.sort();
+            names
+        };
+        assert_eq!(names(0.0), ["touch"], "without TRACE the hooks do nothing and go; the store stays");
+        assert_eq!(names(1.0), ["arm", "record", "touch", "tracing"], "with TRACE the hooks stay");
     }
 }
