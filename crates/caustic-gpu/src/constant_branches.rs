@@ -116,10 +116,15 @@ fn drop_calls_that_do_nothing(functions: &mut Arena<Function>, entry_points: &mu
         }
         out
     }
+    // A pure function stays pure as calls are dropped, so the set only grows.
+    let mut pure = HashSet::new();
     loop {
-        let mut pure = HashSet::new();
-        while let Some(next) = functions.iter().find(|(h, f)| !pure.contains(h) && pure_block(f, &f.body, &pure)).map(|(h, _)| h) {
-            pure.insert(next);
+        loop {
+            let found: Vec<_> = functions.iter().filter(|(h, f)| !pure.contains(h) && pure_block(f, &f.body, &pure)).map(|(h, _)| h).collect();
+            if found.is_empty() {
+                break;
+            }
+            pure.extend(found);
         }
         let idle: HashSet<_> = pure.iter().copied().filter(|&h| functions[h].result.is_none()).collect();
         let mut dropped = false;
