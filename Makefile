@@ -1,7 +1,7 @@
 # The set-up commands of the README. Each first makes sure what it needs exists.
 CARGO ?= cargo
 
-.PHONY: demo test lint vulkan xvfb
+.PHONY: demo test lint lint-tools vulkan xvfb
 
 vulkan:
 	@scripts/ensure-vulkan.sh
@@ -14,18 +14,30 @@ xvfb:
 demo: vulkan
 	$(CARGO) run --release -p caustic-cli -- render cornell --spp 64 -o cornell.png
 
-## Formatting and lints as CI checks them: rustfmt, and clippy with every warning an error.
-lint:
-	@$(CARGO) clippy --version >/dev/null 2>&1 && $(CARGO) fmt --version >/dev/null 2>&1 || rustup component add clippy rustfmt
+## Formatting and lints: rustfmt, and clippy with every warning an error (a check build).
+lint: lint-tools
 	$(CARGO) fmt --all -- --check
 	$(CARGO) clippy --workspace --all-targets --release -- -D warnings
 
-## Run the lints, then every unit and end-to-end test (renders on the Vulkan device, lavapipe
-## on CPU machines; the viewer's window runs under Xvfb). Mesa keeps compiled kernels in a
-## disk cache of 1 GiB by default, split into 50 parts of about 21 MB; the suite's kernels
-## fill their parts past that and evict each other, so a run recompiles kernels the last one
-## compiled (docs/PERFORMANCE.md, "the test suite"): the tests get 4 GiB unless the variable
-## is set.
+lint-tools:
+	@$(CARGO) clippy --version >/dev/null 2>&1 && $(CARGO) fmt --version >/dev/null 2>&1 || rustup component add clippy rustfmt
+
+## The same lints inside the test build: cargo hands the workspace's crates to clippy-driver
+## (what `cargo clippy` does, with its CLIPPY_ARGS), which lints them as rustc compiles them, so
+## the dependencies are compiled once instead of checked for clippy and then built again. The
+## build covers clippy's `--all-targets` (libraries, their tests, binaries, integration tests;
+## the workspace has no benches or examples). Artifacts built this way sit beside a plain
+## build's under other hashes: neither evicts the other.
+CLIPPY_BUILD = RUSTC_WORKSPACE_WRAPPER="$$(rustup which clippy-driver 2>/dev/null || command -v clippy-driver)" \
+	CLIPPY_ARGS=-D__CLIPPY_HACKERY__warnings__CLIPPY_HACKERY__
+
+## Check formatting, then build with the lints and run every unit and end-to-end test (renders
+## on the Vulkan device, lavapipe on CPU machines; the viewer's window runs under Xvfb). Mesa
+## keeps compiled kernels in a disk cache of 1 GiB by default, split into 50 parts of about
+## 21 MB; the suite's kernels fill their parts past that and evict each other, so a run
+## recompiles kernels the last one compiled (docs/PERFORMANCE.md, "the test suite"): the tests
+## get 4 GiB unless the variable is set.
 test: export MESA_SHADER_CACHE_MAX_SIZE ?= 4G
-test: vulkan xvfb lint
-	$(CARGO) test --release --workspace
+test: vulkan xvfb lint-tools
+	$(CARGO) fmt --all -- --check
+	$(CLIPPY_BUILD) $(CARGO) test --release --workspace
