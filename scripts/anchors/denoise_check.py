@@ -11,8 +11,14 @@ tone mapped by ACES at exposure 0 (what `caustic render -o X.png` shows). Issue 
 denoised 16 spp at least as close to the reference in FLIP as undenoised 256 spp, on the
 Cornell box and `cornell_dragon`.
 
+With --oidn the renders also write the albedo and normal AOVs, and Intel's Open Image
+Denoise (`pip install pyoidn`: its CPU device, the `RT` filter at high quality, HDR input,
+the same albedo and normal guides Caustic's filter reads) denoises the same samples' mean,
+measured the same way: the well-kept learned denoiser issue 30 asks the filter to be
+compared with.
+
     python3 scripts/anchors/denoise_check.py [--scenes cornell,cornell_dragon] [--spp 16,64,256]
-        [--caustic target/release/caustic] [--json out.json]
+        [--oidn] [--caustic target/release/caustic] [--json out.json]
 """
 
 import argparse
@@ -37,8 +43,9 @@ def srgb(x):
     return np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(np.maximum(x, 0.0031308), 1 / 2.4) - 0.055)
 
 
-def layers(mi, path):
-    """(samples' mean, denoised image) of one `--denoise` EXR, each HxWx3 float32."""
+def layers(mi, path, guides=False):
+    """(samples' mean, denoised image) of one `--denoise` EXR, each HxWx3 float32, and with
+    `guides` its (albedo, normal) AOVs too."""
     bitmap = mi.Bitmap(path)
     names = [field.name for field in bitmap.struct_()]
     data = np.array(bitmap, np.float32)
@@ -49,7 +56,22 @@ def layers(mi, path):
             sys.exit(f"{path} lacks the channels {', '.join(missing)} (it has {', '.join(names)})")
         return np.stack([data[..., names.index(c)] for c in channels], axis=-1)
 
-    return take(["R", "G", "B"]), take(["denoised.R", "denoised.G", "denoised.B"])
+    images = take(["R", "G", "B"]), take(["denoised.R", "denoised.G", "denoised.B"])
+    if not guides:
+        return images
+    return images + (take(["albedo.R", "albedo.G", "albedo.B"]), take(["N.X", "N.Y", "N.Z"]))
+
+
+def open_image_denoise(beauty, albedo, normal):
+    """Open Image Denoise's `RT` filter (high quality, HDR) on the samples' mean, guided by the
+    render's albedo and normal AOVs."""
+    import pyoidn
+
+    def contiguous(image):
+        return np.ascontiguousarray(np.nan_to_num(image).astype(np.float32))
+
+    return np.asarray(pyoidn.denoise(contiguous(np.maximum(beauty, 0.0)), albedo=contiguous(np.clip(albedo, 0.0, 1.0)),
+                                     normal=contiguous(normal), hdr=True, quality="high"), np.float32)
 
 
 def measure(flip, image, reference):
@@ -63,8 +85,14 @@ def main():
     parser.add_argument("--scenes", default="cornell,cornell_dragon")
     parser.add_argument("--spp", default="16,64,256")
     parser.add_argument("--caustic", default=os.path.join(ROOT, "target", "release", "caustic"))
+    parser.add_argument("--oidn", action="store_true", help="also measure Open Image Denoise on the same samples")
     parser.add_argument("--json", help="write the rows here")
     args = parser.parse_args()
+    if args.oidn:
+        try:
+            import pyoidn  # noqa: F401
+        except ImportError:
+            sys.exit("Open Image Denoise's Python package is not installed: pip install pyoidn")
     try:
         import flip_evaluator as flip
     except ImportError:
@@ -85,11 +113,16 @@ def main():
                 path = os.path.join(tmp, "a.exr")
                 command = [args.caustic, "render", scene, "--size", "512x512", "--spp", str(spp),
                            "--denoise", "-o", path, "--json"] + extra
+                if args.oidn:
+                    command += ["--aovs", "albedo,normal"]
                 out = subprocess.run(command, capture_output=True, text=True)
                 if out.returncode != 0:
                     sys.exit(f"{' '.join(command)} failed: {out.stderr.strip()[-2000:]}")
-                beauty, denoised = layers(mi, path)
-            for kind, image in (("samples", beauty), ("denoised", denoised)):
+                images = layers(mi, path, guides=args.oidn)
+            kinds = [("samples", images[0]), ("denoised", images[1])]
+            if args.oidn:
+                kinds.append(("oidn", open_image_denoise(images[0], images[2], images[3])))
+            for kind, image in kinds:
                 row = {"scene": name, "spp": spp, "image": kind, **measure(flip, image, reference)}
                 rows.append(row)
                 print(f"{name:16} {spp:>5} {kind:9} {row['relmse']:>10.3e} {row['hdr_flip']:>9.4f} {row['ldr_flip']:>9.4f}",
