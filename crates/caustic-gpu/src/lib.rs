@@ -30,6 +30,7 @@ pub mod gpu_types;
 pub mod inspector;
 pub mod interface;
 pub mod kernel;
+#[cfg(feature = "kernel-test")]
 pub mod kernel_test;
 pub mod light_kind;
 pub mod light_plane;

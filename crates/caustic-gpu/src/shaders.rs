@@ -142,8 +142,8 @@ pub const BLOOM: ShaderFile = shader_file!("post/bloom.wgsl");
 pub const DENOISE: ShaderFile = shader_file!("post/denoise.wgsl");
 
 /// The files every program shares (types, random numbers, sampling warps, rays, ray-triangle
-/// and ray-box tests): no bindings, so kernel tests ([`crate::kernel_test`]) can run their
-/// functions alone.
+/// and ray-box tests): no bindings, so kernel tests (`kernel_test`, behind the `kernel-test`
+/// feature) can run their functions alone.
 pub fn common_library() -> Vec<&'static ShaderFile> {
     common().collect()
 }
