@@ -28,8 +28,9 @@ lint-tools:
 ## build covers clippy's `--all-targets` (libraries, their tests, binaries, integration tests;
 ## the workspace has no benches or examples). Artifacts built this way sit beside a plain
 ## build's under other hashes: neither evicts the other.
-CLIPPY_BUILD = RUSTC_WORKSPACE_WRAPPER="$$(rustup which clippy-driver 2>/dev/null || command -v clippy-driver)" \
-	CLIPPY_ARGS=-D__CLIPPY_HACKERY__warnings__CLIPPY_HACKERY__
+## Found when the recipe runs, after `lint-tools` has installed clippy; a run without it stops
+## instead of building without the lints.
+CLIPPY_DRIVER = $(shell rustup which clippy-driver 2>/dev/null || command -v clippy-driver)
 
 ## Check formatting, then build with the lints and run every unit and end-to-end test (renders
 ## on the Vulkan device, lavapipe on CPU machines; the viewer's window runs under Xvfb). Mesa
@@ -40,4 +41,6 @@ CLIPPY_BUILD = RUSTC_WORKSPACE_WRAPPER="$$(rustup which clippy-driver 2>/dev/nul
 test: export MESA_SHADER_CACHE_MAX_SIZE ?= 4G
 test: vulkan xvfb lint-tools
 	$(CARGO) fmt --all -- --check
-	$(CLIPPY_BUILD) $(CARGO) test --release --workspace
+	@test -n "$(CLIPPY_DRIVER)" || { echo "make test: clippy-driver not found (rustup component add clippy)" >&2; exit 1; }
+	RUSTC_WORKSPACE_WRAPPER="$(CLIPPY_DRIVER)" CLIPPY_ARGS=-D__CLIPPY_HACKERY__warnings__CLIPPY_HACKERY__ \
+		$(CARGO) test --release --workspace
