@@ -44,8 +44,8 @@ def srgb(x):
 
 
 def layers(mi, path, guides=False):
-    """(samples' mean, denoised image) of one `--denoise` EXR, each HxWx3 float32, and with
-    `guides` its (albedo, normal) AOVs too."""
+    """The layers of one `--denoise` EXR by name, each HxWx3 float32: `samples` (the samples'
+    mean) and `denoised`, and with `guides` the `albedo` and `normal` AOVs too."""
     bitmap = mi.Bitmap(path)
     names = [field.name for field in bitmap.struct_()]
     data = np.array(bitmap, np.float32)
@@ -56,10 +56,10 @@ def layers(mi, path, guides=False):
             sys.exit(f"{path} lacks the channels {', '.join(missing)} (it has {', '.join(names)})")
         return np.stack([data[..., names.index(c)] for c in channels], axis=-1)
 
-    images = take(["R", "G", "B"]), take(["denoised.R", "denoised.G", "denoised.B"])
-    if not guides:
-        return images
-    return images + (take(["albedo.R", "albedo.G", "albedo.B"]), take(["N.X", "N.Y", "N.Z"]))
+    images = {"samples": take(["R", "G", "B"]), "denoised": take(["denoised.R", "denoised.G", "denoised.B"])}
+    if guides:
+        images.update(albedo=take(["albedo.R", "albedo.G", "albedo.B"]), normal=take(["N.X", "N.Y", "N.Z"]))
+    return images
 
 
 def open_image_denoise(beauty, albedo, normal):
@@ -119,9 +119,9 @@ def main():
                 if out.returncode != 0:
                     sys.exit(f"{' '.join(command)} failed: {out.stderr.strip()[-2000:]}")
                 images = layers(mi, path, guides=args.oidn)
-            kinds = [("samples", images[0]), ("denoised", images[1])]
+            kinds = [("samples", images["samples"]), ("denoised", images["denoised"])]
             if args.oidn:
-                kinds.append(("oidn", open_image_denoise(images[0], images[2], images[3])))
+                kinds.append(("oidn", open_image_denoise(images["samples"], images["albedo"], images["normal"])))
             for kind, image in kinds:
                 row = {"scene": name, "spp": spp, "image": kind, **measure(flip, image, reference)}
                 rows.append(row)
