@@ -26,6 +26,11 @@ fn camera_direction_pdf(direction: vec3<f32>) -> f32 {
 
 // Whether `light` is a delta light, which no path can hit.
 fn is_delta_light(light: Light) -> bool {
+    if scene_needs(REGISTERED_LIGHTS) {
+        if is_registered_light(light.kind) {
+            return registered_light_is_delta(light.kind);
+        }
+    }
     return light.kind == LIGHT_POINT || light.kind == LIGHT_SPOT || light.kind == LIGHT_SEGMENT || light.kind == LIGHT_DIRECTIONAL;
 }
 
@@ -88,6 +93,11 @@ fn emitter_origin_pdf(hit: Hit, emission: vec3<f32>) -> f32 {
 // the cone for spot lights, cosine-weighted for area lights; 1 / (pi R^2), the density of the
 // disk point, for directional lights and the environment (whose direction is drawn apart).
 fn emission_direction_pdf(light: Light, n: vec3<f32>, w: vec3<f32>) -> f32 {
+    if scene_needs(REGISTERED_LIGHTS) {
+        if is_registered_light(light.kind) {
+            return registered_emission_direction_pdf(light, n, w);
+        }
+    }
     if light.kind == LIGHT_DIRECTIONAL || light.kind == LIGHT_ENVIRONMENT {
         return 1.0 / (PI * frame.scene_radius * frame.scene_radius);
     }

@@ -39,6 +39,11 @@ fn sample_emission(u_select: f32, u_point: vec2<f32>, u_direction: vec2<f32>) ->
 
 // Emission of one given light (its selection probability not applied).
 fn sample_one_emission(light: Light, u_point: vec2<f32>, u_direction: vec2<f32>) -> EmissionSample {
+    if scene_needs(REGISTERED_LIGHTS) {
+        if is_registered_light(light.kind) {
+            return emit_registered_light(light, u_point, u_direction);
+        }
+    }
     if scene_needs(REQUIRES_POINT_LIGHTS) && (light.kind == LIGHT_POINT || light.kind == LIGHT_SPOT) {
         // A spread point light emits from a point drawn uniformly on its sphere, as
         // sample_one_light draws it; a spot light into the cone where spot_cone is positive.

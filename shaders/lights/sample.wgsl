@@ -47,6 +47,11 @@ fn sample_light(p: vec3<f32>, u_select: f32, u_point: vec2<f32>) -> LightSample 
 
 // A sample of one given light, with the density of the point on it (not of selecting it).
 fn sample_one_light(light: Light, p: vec3<f32>, u: vec2<f32>) -> LightSample {
+    if scene_needs(REGISTERED_LIGHTS) {
+        if is_registered_light(light.kind) {
+            return sample_registered_light(light, p, u);
+        }
+    }
     if scene_needs(REQUIRES_POINT_LIGHTS) && (light.kind == LIGHT_POINT || light.kind == LIGHT_SPOT) {
         // A spread point light is a sphere: a point of it drawn uniformly (soft shadows, the
         // same colour on average); spot lights keep their point.

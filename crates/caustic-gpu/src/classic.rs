@@ -6,8 +6,7 @@ use crate::features::{
     FEATURE_ENVIRONMENT_REFLECTIONS, FEATURE_GLOSSY, FEATURE_LIGHT_TRANSPARENCY, FEATURE_REFLECTION, FEATURE_REFRACTION, FEATURE_SHADOWS,
     FEATURE_SMOOTH_NORMALS, FEATURE_SOFT_SHADOWS,
 };
-use crate::gpu_types::GpuLight;
-use crate::light_kind::LightKind;
+use crate::lights::LightKind;
 use caustic_scene::{Material, Scene, ShadingModel};
 
 /// The classic tracer's refraction weight of `m` (`GpuMaterial::transparency`): the scene
@@ -23,16 +22,6 @@ pub fn transparency(m: &Material) -> f32 {
     (layered + base * transmitted).clamp(0.0, 1.0)
 }
 
-/// Whether a light gives different light at different points of it (area lights, spread point
-/// and directional lights), so soft shadows sample it.
-pub fn is_extended(light: &GpuLight) -> bool {
-    match LightKind::of(light) {
-        LightKind::Point | LightKind::Directional => light.area > 0.0,
-        LightKind::Spot => false,
-        LightKind::Triangle | LightKind::Quad | LightKind::Sphere | LightKind::Disk | LightKind::Environment | LightKind::Segment => true,
-    }
-}
-
 /// The `FEATURE_*` bits `scene` uses: shadows, smooth normals and environment reflections
 /// always; soft shadows with an extended light; reflection where a material has a specular
 /// colour or reflectance; refraction and light transparency where one is transparent; glossy
@@ -42,7 +31,7 @@ pub fn is_extended(light: &GpuLight) -> bool {
 pub fn scene_features(scene: &Scene) -> u32 {
     let mut bits = FEATURE_SHADOWS | FEATURE_SMOOTH_NORMALS | FEATURE_ENVIRONMENT_REFLECTIONS;
     let (lights, _) = crate::scene_data::device_lights(scene);
-    if lights.iter().any(is_extended) {
+    if lights.iter().any(LightKind::is_extended) {
         bits |= FEATURE_SOFT_SHADOWS;
     }
     let reflects = |m: &Material| m.specular_color.max_element() > 0.0 || m.reflectance > 0.0;

@@ -6,13 +6,13 @@
 //! constant environment, untextured materials without gloss or frost;
 //! [`ClassicReference::new`] names anything else it meets.
 
-use crate::classic::is_extended;
 use crate::features::{
     ClassicFeatures, FEATURE_ENVIRONMENT_REFLECTIONS, FEATURE_FROSTED, FEATURE_GLOSSY, FEATURE_LIGHT_TRANSPARENCY, FEATURE_REFLECTION, FEATURE_REFRACTION,
     FEATURE_SHADOWS, FEATURE_SMOOTH_NORMALS, FeatureConstants,
 };
 use crate::gpu_types::{CHECKER_DARK, FLAG_VERTEX_NORMALS, GpuLight, GpuMaterial, MATERIAL_CHECKERS, MATERIAL_FLAT, checker_odd, toon_ramp};
-use crate::scene_data::{LIGHT_DIRECTIONAL, LIGHT_FLAG_CLASSIC, LIGHT_POINT, SceneData};
+use crate::lights::LightKind;
+use crate::scene_data::{LIGHT_FLAG_CLASSIC, SceneData};
 use caustic_bsdf::{fresnel_dielectric, fresnel_schlick, reflect, refract};
 use caustic_bvh::{Hit, Ray, closest_hit_brute_force};
 use caustic_scene::{Environment, Scene};
@@ -73,7 +73,8 @@ impl ClassicReference {
         if !scene.instances.is_empty() {
             return Err("the classic reference traces the world's meshes only, not instances (flatten them first)".into());
         }
-        if let Some(light) = classic_lights(&data).find(|l| is_extended(l) || !matches!(l.kind, LIGHT_POINT | LIGHT_DIRECTIONAL)) {
+        if let Some(light) = classic_lights(&data).find(|l| LightKind::is_extended(l) || !matches!(LightKind::of(l), LightKind::Point | LightKind::Directional))
+        {
             return Err(format!("the classic reference has point and directional lights without spread, not kind {}", light.kind));
         }
         let frosted = |m: &GpuMaterial| m.transparency > 0.0 && m.dielectric_alpha > 0.0 && constants.mask & FEATURE_FROSTED != 0;
@@ -183,7 +184,7 @@ impl ClassicReference {
 
     /// Light from one point or directional light (`classic_light_sample`).
     fn light_sample(&self, si: &Interaction, view: Vec3, light: &GpuLight) -> Vec3 {
-        let (wi, distance, radiance) = if light.kind == LIGHT_POINT {
+        let (wi, distance, radiance) = if LightKind::of(light) == LightKind::Point {
             let to_light = Vec3::from(light.v0) - si.p;
             let d = to_light.length();
             let falloff = light.e1[0] + d * (light.e1[1] + d * light.e1[2]);

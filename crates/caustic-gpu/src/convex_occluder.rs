@@ -12,9 +12,9 @@
 //! `SHADOW_CONVEX_OCCLUDERS` override (`shaders/bvh/hit.wgsl`) is on; closest-hit rays still
 //! test every triangle.
 
-use crate::convex_solid::{SceneSolids, SolidPlane, light_corners, outward};
+use crate::convex_solid::{SceneSolids, SolidPlane, outward};
 use crate::gpu_types::GpuLight;
-use crate::light_kind::LightKind;
+use crate::lights::{Extent, LightKind};
 use crate::requirements::REQUIRES_PLANES;
 use caustic_bvh::{GpuBvh, SHAPE_BIT};
 use glam::{DVec3, Vec3};
@@ -74,11 +74,10 @@ impl ConvexOccluders {
         let outside = |points: &[DVec3]| {
             self.occluders.iter().all(|o| o.planes.iter().any(|&(n, c)| points.iter().all(|p| n.as_dvec3().dot(*p) - f64::from(c) > self.tolerance)))
         };
-        lights.iter().all(|light| match LightKind::of(light) {
-            LightKind::Directional | LightKind::Environment => true,
-            LightKind::Triangle | LightKind::Quad | LightKind::Point | LightKind::Spot | LightKind::Sphere | LightKind::Disk | LightKind::Segment => {
-                light_corners(light).is_some_and(|corners| outside(&corners))
-            }
+        lights.iter().all(|light| match LightKind::extent(light) {
+            Extent::Distant => true,
+            Extent::Corners(corners) | Extent::SceneCorners(corners) => outside(&corners),
+            Extent::SceneSurface => false,
         })
     }
 
@@ -129,7 +128,6 @@ fn beyond_a_plane(planes: &[SolidPlane], points: &[DVec3], tolerance: f64) -> bo
 mod tests {
     use super::*;
     use crate::convex_solid::fixtures::{bvh_of, moved, random};
-    use crate::scene_data::{LIGHT_POINT, LIGHT_TRIANGLE};
     use caustic_bvh::{Ray, intersect_triangle, unit_cube_triangles};
 
     fn room() -> Vec<[Vec3; 3]> {
@@ -210,12 +208,13 @@ mod tests {
     #[test]
     fn lights_inside_a_solid_or_infinite_planes_turn_the_clip_off() {
         let found = ConvexOccluders::new(&bvh_of(&room()));
-        let point = |p: Vec3, area: f32| GpuLight { v0: p.into(), kind: LIGHT_POINT, area, ..bytemuck::Zeroable::zeroed() };
+        let point = |p: Vec3, area: f32| GpuLight { v0: p.into(), kind: LightKind::Point as u32, area, ..bytemuck::Zeroable::zeroed() };
         assert!(found.clip_shadow_rays(&[point(Vec3::splat(5.0), 0.0)], 0));
         assert!(!found.clip_shadow_rays(&[point(Vec3::new(2.5, 3.5, 2.5), 0.0)], 0), "a point light inside the cube");
         assert!(!found.clip_shadow_rays(&[point(Vec3::new(2.5, 3.5, 3.3), 0.5)], 0), "a spread light reaching into the cube");
         assert!(!found.clip_shadow_rays(&[], REQUIRES_PLANES));
-        let cube_face = GpuLight { v0: [2.0, 3.0, 3.0], e1: [1.0, 0.0, 0.0], e2: [0.0, 1.0, 0.0], kind: LIGHT_TRIANGLE, ..bytemuck::Zeroable::zeroed() };
+        let cube_face =
+            GpuLight { v0: [2.0, 3.0, 3.0], e1: [1.0, 0.0, 0.0], e2: [0.0, 1.0, 0.0], kind: LightKind::Triangle as u32, ..bytemuck::Zeroable::zeroed() };
         assert!(!found.clip_shadow_rays(&[cube_face], 0), "an area light on the cube's top face: a shadow ray could run inside");
     }
 }

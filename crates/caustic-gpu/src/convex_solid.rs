@@ -10,7 +10,7 @@
 //! through [`crate::closest_solid`].
 
 use crate::gpu_types::GpuLight;
-use crate::light_kind::LightKind;
+use crate::lights::{Extent, LightKind};
 use caustic_bvh::{GpuBvh, SHAPE_BIT};
 use glam::DVec3;
 use std::collections::{BTreeMap, HashMap};
@@ -85,27 +85,13 @@ impl SceneSolids {
     }
 }
 
-/// The corners of what a light samples: a triangle's or quad's corners, a spread point
-/// light's box (radius `area`), a spot light's point, a segment's ends; `None` for lights
-/// without a finite set of corners (directional, environment, sphere and disk lights).
+/// The corners of what a light samples ([`crate::lights::LightKind::extent`]); `None` for
+/// lights without a finite set of corners (directional, environment, sphere and disk lights).
 pub(crate) fn light_corners(light: &GpuLight) -> Option<Vec<DVec3>> {
-    let [v0, e1, e2] = [light.v0, light.e1, light.e2].map(|v| glam::Vec3::from(v).as_dvec3());
-    match LightKind::of(light) {
-        LightKind::Triangle => Some(vec![v0, v0 + e1, v0 + e2]),
-        LightKind::Quad => Some(vec![v0, v0 + e1, v0 + e2, v0 + e1 + e2]),
-        LightKind::Point => {
-            let r = f64::from(light.area.max(0.0));
-            Some((0..8).map(|i| v0 + DVec3::new(corner(i, 0), corner(i, 1), corner(i, 2)) * r).collect())
-        }
-        LightKind::Spot => Some(vec![v0]),
-        LightKind::Segment => Some(vec![v0, v0 + e1]),
-        LightKind::Directional | LightKind::Environment | LightKind::Sphere | LightKind::Disk => None,
+    match LightKind::extent(light) {
+        Extent::Corners(corners) | Extent::SceneCorners(corners) => Some(corners),
+        Extent::Distant | Extent::SceneSurface => None,
     }
-}
-
-/// -1 or 1: corner `i`'s sign along `axis`.
-fn corner(i: u32, axis: u32) -> f64 {
-    if i >> axis & 1 == 1 { 1.0 } else { -1.0 }
 }
 
 /// Every primitive's points, by gathered slot: a triangle's corners, a bounded shape's box.

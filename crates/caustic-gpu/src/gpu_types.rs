@@ -357,8 +357,7 @@ pub struct GpuLight {
     pub area: f32,
     /// Edge v2 - v0.
     pub e2: [f32; 3],
-    /// Kind: 0 triangle, 1 quad, 2 point, 3 directional, 4 spot, 5 sphere, 6 disk,
-    /// 7 environment, 8 segment (`scene_data::LIGHT_*`).
+    /// Kind: a [`crate::lights::LightKind`]'s number (which says what the other fields hold).
     pub kind: u32,
     /// Emitted radiance.
     pub radiance: [f32; 3],

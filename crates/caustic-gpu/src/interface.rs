@@ -12,7 +12,7 @@ use crate::gpu_types::{
     ALPHA_BLEND, ALPHA_MASK, ALPHA_OPAQUE, CHECKER_DARK, FLAG_ALPHA_TESTED, FLAG_LIGHT_LISTED, FLAG_QUAD_LIGHT, FLAG_VERTEX_NORMALS, INSPECT_MAX_BOUNCES,
     INSPECT_MAX_CONNECTIONS, MATERIAL_CHECKERS, MATERIAL_FLAT, NO_PIXEL, PROJECTION_ORTHOGRAPHIC, PROJECTION_PERSPECTIVE,
 };
-use crate::light_kind::LightKind;
+use crate::lights::LightKind;
 use crate::scene_data::LIGHT_FLAG_CLASSIC;
 use std::sync::LazyLock;
 
@@ -58,7 +58,7 @@ pub const INTERFACE_FILE: &str = "generated/interface.wgsl";
 
 /// The WGSL declarations of [`SHARED_CONSTANTS`].
 pub fn wgsl_constants() -> String {
-    let mut text = String::from("// Generated from caustic_gpu::interface and caustic_gpu::light_kind: edit the Rust side.\n");
+    let mut text = String::from("// Generated from caustic_gpu::interface and caustic_gpu::lights: edit the Rust side.\n");
     for kind in LightKind::ALL {
         text.push_str(&format!("const {}: u32 = {}u;\n", kind.wgsl_name(), kind as u32));
     }

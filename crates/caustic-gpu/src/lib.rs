@@ -32,9 +32,9 @@ pub mod interface;
 pub mod kernel;
 #[cfg(feature = "kernel-test")]
 pub mod kernel_test;
-pub mod light_kind;
 pub mod light_plane;
 pub mod light_tracer;
+pub mod lights;
 pub mod memory;
 pub mod motion;
 pub mod pages;

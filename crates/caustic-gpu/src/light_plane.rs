@@ -76,11 +76,11 @@ mod tests {
     use super::*;
     use crate::convex_solid::SceneSolids;
     use crate::convex_solid::fixtures::bvh_of;
-    use crate::scene_data::{LIGHT_DIRECTIONAL, LIGHT_QUAD};
+    use crate::lights::LightKind;
     use glam::Vec3;
 
     fn quad(y: f32) -> GpuLight {
-        GpuLight { v0: [1.0, y, 1.0], e1: [1.0, 0.0, 0.0], e2: [0.0, 0.0, 1.0], kind: LIGHT_QUAD, ..bytemuck::Zeroable::zeroed() }
+        GpuLight { v0: [1.0, y, 1.0], e1: [1.0, 0.0, 0.0], e2: [0.0, 0.0, 1.0], kind: LightKind::Quad as u32, ..bytemuck::Zeroable::zeroed() }
     }
 
     /// A floor at y = 0 and a light's two triangles at y = 9.
@@ -99,7 +99,7 @@ mod tests {
         assert!(ids.iter().all(|&id| id != 0), "the floor holds no light");
         assert!(planes.skip_in_shadow_rays(&[quad(9.0)]));
         assert!(!planes.skip_in_shadow_rays(&[quad(9.0), quad(5.0)]), "a second light below");
-        let sun = GpuLight { kind: LIGHT_DIRECTIONAL, ..bytemuck::Zeroable::zeroed() };
+        let sun = GpuLight { kind: LightKind::Directional as u32, ..bytemuck::Zeroable::zeroed() };
         assert!(!planes.skip_in_shadow_rays(&[quad(9.0), sun]), "a directional light");
         assert!(LightPlanes::new(&bvh, &[quad(9.0), quad(5.0)], tolerance).slots().next().is_none());
         assert!(!LightPlanes::new(&bvh, &[], tolerance).skip_in_shadow_rays(&[]));

@@ -10,7 +10,7 @@
 
 use crate::SceneData;
 use crate::gpu_types::{FLAG_QUAD_LIGHT, FLAG_VERTEX_NORMALS, GpuLight, GpuMaterial, MATERIAL_CHECKERS, MATERIAL_FLAT};
-use crate::light_kind::LightKind;
+use crate::lights::LightKind;
 use caustic_bvh::ShapeKind;
 use caustic_scene::Environment;
 
@@ -44,8 +44,36 @@ pub const REQUIRES_INSPECTOR: u32 = 0x1000;
 pub const REQUIRES_SEED_MATERIALS: u32 = 0x2000;
 /// Instances: the walk enters prototype trees (bvh/instance.wgsl).
 pub const REQUIRES_INSTANCES: u32 = 0x4000;
+/// The bits above by their WGSL names in `shaders/common/requires.wgsl`; light kinds may
+/// declare bits of their own ([`crate::lights::LightKind::requirement`]).
+pub const NAMED_BITS: [(&str, u32); 15] = [
+    ("REQUIRES_SHAPES", REQUIRES_SHAPES),
+    ("REQUIRES_PLANES", REQUIRES_PLANES),
+    ("REQUIRES_VERTEX_NORMALS", REQUIRES_VERTEX_NORMALS),
+    ("REQUIRES_TEXTURES", REQUIRES_TEXTURES),
+    ("REQUIRES_NORMAL_MAPS", REQUIRES_NORMAL_MAPS),
+    ("REQUIRES_QUAD_LIGHTS", REQUIRES_QUAD_LIGHTS),
+    ("REQUIRES_MEDIA", REQUIRES_MEDIA),
+    ("REQUIRES_POINT_LIGHTS", REQUIRES_POINT_LIGHTS),
+    ("REQUIRES_DIRECTIONAL_LIGHTS", REQUIRES_DIRECTIONAL_LIGHTS),
+    ("REQUIRES_SHAPE_LIGHTS", REQUIRES_SHAPE_LIGHTS),
+    ("REQUIRES_ENVIRONMENT_LIGHT", REQUIRES_ENVIRONMENT_LIGHT),
+    ("REQUIRES_ENVIRONMENT_MAP", REQUIRES_ENVIRONMENT_MAP),
+    ("REQUIRES_INSPECTOR", REQUIRES_INSPECTOR),
+    ("REQUIRES_SEED_MATERIALS", REQUIRES_SEED_MATERIALS),
+    ("REQUIRES_INSTANCES", REQUIRES_INSTANCES),
+];
+
 /// Every part: the general kernel.
-pub const REQUIRES_ALL: u32 = 0x7fff;
+pub const REQUIRES_ALL: u32 = {
+    let mut bits = crate::lights::KIND_REQUIREMENTS;
+    let mut i = 0;
+    while i < NAMED_BITS.len() {
+        bits |= NAMED_BITS[i].1;
+        i += 1;
+    }
+    bits
+};
 
 /// The bits that follow from the geometry, which [`crate::GpuScene::update_materials`] keeps.
 pub const GEOMETRY_REQUIREMENTS: u32 = REQUIRES_SHAPES | REQUIRES_PLANES | REQUIRES_VERTEX_NORMALS | REQUIRES_QUAD_LIGHTS | REQUIRES_INSTANCES;
@@ -97,14 +125,7 @@ pub fn shading_requirements(materials: &[GpuMaterial], lights: &[GpuLight], envi
         bits |= REQUIRES_SEED_MATERIALS;
     }
     for light in lights {
-        bits |= match LightKind::of(light) {
-            LightKind::Point | LightKind::Spot | LightKind::Segment => REQUIRES_POINT_LIGHTS,
-            LightKind::Directional => REQUIRES_DIRECTIONAL_LIGHTS,
-            LightKind::Sphere | LightKind::Disk => REQUIRES_SHAPE_LIGHTS,
-            LightKind::Environment => REQUIRES_ENVIRONMENT_LIGHT,
-            // Emissive geometry: part of every kernel (quad lights' own bit is set above).
-            LightKind::Triangle | LightKind::Quad => 0,
-        };
+        bits |= LightKind::of(light).requirement();
     }
     if matches!(environment, Environment::Map(_)) {
         bits |= REQUIRES_ENVIRONMENT_MAP;
@@ -125,28 +146,11 @@ mod tests {
     #[test]
     fn the_bits_match_the_shader_constants() {
         let wgsl = crate::shaders::common_library().iter().find(|f| f.name == "common/requires.wgsl").unwrap().source;
-        let named = [
-            ("REQUIRES_SHAPES", REQUIRES_SHAPES),
-            ("REQUIRES_PLANES", REQUIRES_PLANES),
-            ("REQUIRES_VERTEX_NORMALS", REQUIRES_VERTEX_NORMALS),
-            ("REQUIRES_TEXTURES", REQUIRES_TEXTURES),
-            ("REQUIRES_NORMAL_MAPS", REQUIRES_NORMAL_MAPS),
-            ("REQUIRES_QUAD_LIGHTS", REQUIRES_QUAD_LIGHTS),
-            ("REQUIRES_MEDIA", REQUIRES_MEDIA),
-            ("REQUIRES_POINT_LIGHTS", REQUIRES_POINT_LIGHTS),
-            ("REQUIRES_DIRECTIONAL_LIGHTS", REQUIRES_DIRECTIONAL_LIGHTS),
-            ("REQUIRES_SHAPE_LIGHTS", REQUIRES_SHAPE_LIGHTS),
-            ("REQUIRES_ENVIRONMENT_LIGHT", REQUIRES_ENVIRONMENT_LIGHT),
-            ("REQUIRES_ENVIRONMENT_MAP", REQUIRES_ENVIRONMENT_MAP),
-            ("REQUIRES_INSPECTOR", REQUIRES_INSPECTOR),
-            ("REQUIRES_SEED_MATERIALS", REQUIRES_SEED_MATERIALS),
-            ("REQUIRES_INSTANCES", REQUIRES_INSTANCES),
-        ];
         let mut all = 0;
-        for (name, bit) in named {
+        for (name, bit) in NAMED_BITS {
             assert!(wgsl.contains(&format!("const {name}: u32 = {bit:#x}u;")), "{name} = {bit:#x} in requires.wgsl");
             all |= bit;
         }
-        assert_eq!(all, REQUIRES_ALL);
+        assert_eq!(all | crate::lights::KIND_REQUIREMENTS, REQUIRES_ALL);
     }
 }

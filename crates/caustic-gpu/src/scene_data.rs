@@ -7,30 +7,12 @@ use crate::gpu_types::{
     ALPHA_BLEND, ALPHA_MASK, ALPHA_OPAQUE, FLAG_ALPHA_TESTED, FLAG_LIGHT_LISTED, FLAG_QUAD_LIGHT, FLAG_VERTEX_NORMALS, GpuLight, GpuMaterial, GpuTextureRef,
     MATERIAL_CHECKERS, MATERIAL_FLAT, TriangleShading,
 };
-use crate::light_kind::LightKind;
+use crate::lights::LightKind;
 use caustic_bsdf::params::BsdfParams;
 use caustic_bvh::ShapeInput;
-use caustic_scene::{AlphaMode, ColorSpace, Light, MipFilter, Scene, ShadingModel, Shape, ShapeKind, Texture, TextureFilter, TextureSlot, WrapMode, luminance};
+use caustic_scene::{AlphaMode, ColorSpace, Light, MipFilter, Scene, ShadingModel, Shape, ShapeKind, Texture, TextureFilter, TextureSlot, WrapMode};
 use glam::Vec3;
 
-/// [`LightKind`] numbers as `GpuLight::kind` holds them, for code that writes lights.
-pub const LIGHT_TRIANGLE: u32 = LightKind::Triangle as u32;
-/// [`LightKind::Quad`].
-pub const LIGHT_QUAD: u32 = LightKind::Quad as u32;
-/// [`LightKind::Point`].
-pub const LIGHT_POINT: u32 = LightKind::Point as u32;
-/// [`LightKind::Directional`].
-pub const LIGHT_DIRECTIONAL: u32 = LightKind::Directional as u32;
-/// [`LightKind::Spot`].
-pub const LIGHT_SPOT: u32 = LightKind::Spot as u32;
-/// [`LightKind::Sphere`].
-pub const LIGHT_SPHERE: u32 = LightKind::Sphere as u32;
-/// [`LightKind::Disk`].
-pub const LIGHT_DISK: u32 = LightKind::Disk as u32;
-/// [`LightKind::Environment`].
-pub const LIGHT_ENVIRONMENT: u32 = LightKind::Environment as u32;
-/// [`LightKind::Segment`].
-pub const LIGHT_SEGMENT: u32 = LightKind::Segment as u32;
 /// Light flag (`GpuLight::flags`): the classic ray tracer lights with it (the scene's declared
 /// lights and emissive triangles; not other emissive shapes, nor the environment).
 pub const LIGHT_FLAG_CLASSIC: u32 = 1;
@@ -158,9 +140,9 @@ pub(crate) fn device_lights(scene: &Scene) -> (Vec<GpuLight>, f32) {
         .emissive_triangles()
         .iter()
         .filter(|e| !textured.iter().any(|range| range.contains(&e.triangle)))
-        .map(|e| area_light(LIGHT_TRIANGLE, e.vertices[0], e.vertices[1] - e.vertices[0], e.vertices[2] - e.vertices[0], e.radiance))
+        .map(|e| crate::lights::area_light(LightKind::Triangle, e.vertices[0], e.vertices[1] - e.vertices[0], e.vertices[2] - e.vertices[0], e.radiance))
         .chain(scene.shapes.iter().enumerate().filter_map(|(i, s)| shape_light(s, i, scene)))
-        .chain(scene.lights.iter().enumerate().filter_map(|(i, l)| light(l).map(|g| GpuLight { samples: samples_of(scene, i), ..g })))
+        .chain(scene.lights.iter().enumerate().filter_map(|(i, l)| crate::lights::pack(l).map(|g| GpuLight { samples: samples_of(scene, i), ..g })))
         .chain(environment_light(scene))
         .collect();
     with_power_cdf(with_quad_emitters(lights, scene.materials.len() as u32), radius)
@@ -174,7 +156,7 @@ fn samples_of(scene: &Scene, index: usize) -> u32 {
 /// Points each quad light at its emitter material, the `device_materials` entry after the
 /// scene's materials in the order of the quads.
 fn with_quad_emitters(mut lights: Vec<GpuLight>, first: u32) -> Vec<GpuLight> {
-    for (k, light) in lights.iter_mut().filter(|l| l.kind == LIGHT_QUAD).enumerate() {
+    for (k, light) in lights.iter_mut().filter(|l| l.kind == LightKind::Quad as u32).enumerate() {
         light.emitter_material = first + k as u32;
     }
     lights
@@ -182,7 +164,7 @@ fn with_quad_emitters(mut lights: Vec<GpuLight>, first: u32) -> Vec<GpuLight> {
 
 /// The mean of a quad light's corner colours: its emitter material's colour and, times its
 /// area, its power.
-fn mean_color(radiance: &[Vec3; 4]) -> Vec3 {
+pub(crate) fn mean_color(radiance: &[Vec3; 4]) -> Vec3 {
     (radiance[0] + radiance[1] + radiance[2] + radiance[3]) * 0.25
 }
 
@@ -234,11 +216,11 @@ fn shape_light(shape: &Shape, index: usize, scene: &Scene) -> Option<GpuLight> {
     let light = GpuLight { v0: centre.to_array(), radiance: radiance.to_array(), flags, samples, ..Default::default() };
     if shape.kind == ShapeKind::Sphere {
         let radius = m.x_axis.length();
-        return Some(GpuLight { e1: [radius, 0.0, 0.0], area: 4.0 * std::f32::consts::PI * radius * radius, kind: LIGHT_SPHERE, ..light });
+        return Some(GpuLight { e1: [radius, 0.0, 0.0], area: 4.0 * std::f32::consts::PI * radius * radius, kind: LightKind::Sphere as u32, ..light });
     }
     let (a, b) = if m.determinant() < 0.0 { (m.y_axis, m.x_axis) } else { (m.x_axis, m.y_axis) };
     let area = std::f32::consts::PI * a.as_dvec3().cross(b.as_dvec3()).length() as f32;
-    Some(GpuLight { e1: a.to_array(), e2: b.to_array(), area, kind: LIGHT_DISK, ..light })
+    Some(GpuLight { e1: a.to_array(), e2: b.to_array(), area, kind: LightKind::Disk as u32, ..light })
 }
 
 /// The environment as a light, with its luminance integral over the sphere in `area`: a map
@@ -250,7 +232,7 @@ fn environment_light(scene: &Scene) -> Option<GpuLight> {
         caustic_scene::Environment::Constant(color) if caustic_bsdf::luminance(*color) > 0.0 => 4.0 * std::f32::consts::PI * caustic_bsdf::luminance(*color),
         caustic_scene::Environment::Constant(_) => return None,
     };
-    Some(GpuLight { area: integral, kind: LIGHT_ENVIRONMENT, ..Default::default() })
+    Some(GpuLight { area: integral, kind: LightKind::Environment as u32, ..Default::default() })
 }
 
 fn shape_input(shape: &Shape) -> ShapeInput {
@@ -467,99 +449,17 @@ pub fn extension_entry(mesh: &caustic_scene::Mesh, tri: [u32; 3]) -> TriangleSha
     TriangleShading { n0: xyz(0), n1: xyz(1), n2: xyz(2), flags: handedness, uv0: uv1(0), uv1: uv1(1), uv2: uv1(2), ..Default::default() }
 }
 
-fn area_light(kind: u32, v0: Vec3, e1: Vec3, e2: Vec3, radiance: Vec3) -> GpuLight {
-    // In f64: the squared length of the cross product overflows f32 for edges past ~4e9.
-    let parallelogram = e1.as_dvec3().cross(e2.as_dvec3()).length() as f32;
-    let area = if kind == LIGHT_TRIANGLE { 0.5 * parallelogram } else { parallelogram };
-    GpuLight {
-        v0: v0.to_array(),
-        e1: e1.to_array(),
-        e2: e2.to_array(),
-        area,
-        kind,
-        radiance: radiance.to_array(),
-        flags: LIGHT_FLAG_CLASSIC,
-        ..Default::default()
-    }
-}
-
-/// The device light of one of the scene's lights (flagged for the classic ray tracer); `None`
-/// for a declared shape light, which [`shape_light`] lists with the shapes.
-fn light(light: &Light) -> Option<GpuLight> {
-    let gpu = match *light {
-        Light::Shape { .. } => return None,
-        Light::Segment { start, end, color_start, color_end, attenuation: a } => GpuLight {
-            v0: start.to_array(),
-            e1: (end - start).to_array(),
-            e2: [a.constant, a.linear, a.quadratic],
-            area: (end - start).length(),
-            kind: LIGHT_SEGMENT,
-            radiance: color_start.to_array(),
-            color_end: color_end.to_array(),
-            ..Default::default()
-        },
-        Light::Quad { corner, edge_a, edge_b, radiance: [c0, c1, c2, c3] } => {
-            GpuLight { color_end: c1.to_array(), color_far: c2.to_array(), color_side: c3.to_array(), ..area_light(LIGHT_QUAD, corner, edge_a, edge_b, c0) }
-        }
-        Light::Point { position, color, attenuation: a, spread } => GpuLight {
-            v0: position.to_array(),
-            e1: [a.constant, a.linear, a.quadratic],
-            area: spread,
-            kind: LIGHT_POINT,
-            radiance: color.to_array(),
-            ..Default::default()
-        },
-        Light::Spot { position, direction, color, attenuation: a, inner_cone, outer_cone } => {
-            let (scale, offset) = caustic_scene::spot_scale_offset(inner_cone, outer_cone);
-            GpuLight {
-                v0: position.to_array(),
-                e1: [a.constant, a.linear, a.quadratic],
-                e2: (direction.normalize() * scale).to_array(),
-                area: offset,
-                kind: LIGHT_SPOT,
-                radiance: color.to_array(),
-                ..Default::default()
-            }
-        }
-        Light::Directional { direction, color, spread } => {
-            GpuLight { v0: direction.normalize().to_array(), area: spread, kind: LIGHT_DIRECTIONAL, radiance: color.to_array(), ..Default::default() }
-        }
-    };
-    Some(GpuLight { flags: LIGHT_FLAG_CLASSIC, ..gpu })
-}
-
-/// Power of a light up to the common factor pi: area x luminance for area lights (of the
-/// mean corner colour for quads), 4 x
-/// luminance for a point light (flux 4 pi I) and for a spot light (an upper bound: the cone
-/// sends less), 4 x the mean luminance of its ends for a segment light, radius^2 x luminance for a directional light (the flux through a disk the
-/// size of the scene), radius^2 / 4 x the integral of luminance over the sphere for the
-/// environment (the flux of a uniform sky of the same mean through that disk).
-fn power(light: &GpuLight, scene_radius: f32) -> f32 {
-    let lum = luminance(Vec3::from(light.radiance));
-    match LightKind::of(light) {
-        LightKind::Point | LightKind::Spot => 4.0 * lum,
-        LightKind::Segment => 2.0 * (lum + luminance(Vec3::from(light.color_end))),
-        LightKind::Quad => {
-            let corners = [light.radiance, light.color_end, light.color_far, light.color_side].map(Vec3::from);
-            light.area * luminance(mean_color(&corners))
-        }
-        LightKind::Directional => scene_radius * scene_radius * lum,
-        LightKind::Environment => scene_radius * scene_radius * light.area / 4.0,
-        LightKind::Triangle | LightKind::Sphere | LightKind::Disk => light.area * lum,
-    }
-}
-
 /// Fills in each light's selection probability and CDF, a mixture of power-proportional
 /// and uniform selection ([`UNIFORM_SELECTION`]); lights without power are dropped.
 fn with_power_cdf(lights: Vec<GpuLight>, scene_radius: f32) -> (Vec<GpuLight>, f32) {
-    let lights: Vec<GpuLight> = lights.into_iter().filter(|l| power(l, scene_radius) > 0.0).collect();
-    let total: f64 = lights.iter().map(|l| f64::from(power(l, scene_radius))).sum();
+    let lights: Vec<GpuLight> = lights.into_iter().filter(|l| LightKind::power(l, scene_radius) > 0.0).collect();
+    let total: f64 = lights.iter().map(|l| f64::from(LightKind::power(l, scene_radius))).sum();
     let count = lights.len() as f64;
     let mut running = 0.0f64;
     let mut out: Vec<GpuLight> = lights
         .into_iter()
         .map(|mut l| {
-            let p = (1.0 - UNIFORM_SELECTION) * f64::from(power(&l, scene_radius)) / total + UNIFORM_SELECTION / count;
+            let p = (1.0 - UNIFORM_SELECTION) * f64::from(LightKind::power(&l, scene_radius)) / total + UNIFORM_SELECTION / count;
             running += p;
             l.cdf = running as f32;
             l.select_pdf = p as f32;

@@ -21,6 +21,10 @@ macro_rules! shader_file {
 static INTERFACE: LazyLock<ShaderFile> =
     LazyLock::new(|| ShaderFile { name: crate::interface::INTERFACE_FILE, source: crate::interface::INTERFACE_SOURCE.as_str() });
 
+/// The light kinds' generated dispatch and own files ([`crate::lights::wgsl_files`]), after
+/// the path tracer's files (WGSL's declarations may come in any order).
+static LIGHT_KINDS: LazyLock<Vec<ShaderFile>> = LazyLock::new(|| crate::lights::wgsl_files().collect());
+
 /// The files every program starts with: the generated constants, then [`COMMON`].
 fn common() -> impl Iterator<Item = &'static ShaderFile> {
     std::iter::once(&*INTERFACE).chain(COMMON.iter())
@@ -167,11 +171,11 @@ pub fn light_library() -> Vec<&'static ShaderFile> {
 
 /// The files of one program, in order.
 pub fn program_files(program: Program) -> Vec<&'static ShaderFile> {
-    let own: &[ShaderFile] = match program {
-        Program::PathTracer => &PATH_TRACER,
-        Program::RayBench => &RAY_BENCH,
+    let own: Vec<&'static ShaderFile> = match program {
+        Program::PathTracer => PATH_TRACER.iter().chain(LIGHT_KINDS.iter()).collect(),
+        Program::RayBench => RAY_BENCH.iter().collect(),
     };
-    common().chain(TRAVERSAL.iter()).chain(own.iter()).collect()
+    common().chain(TRAVERSAL.iter()).chain(own).collect()
 }
 
 /// The WGSL programs Caustic compiles.

@@ -14,7 +14,7 @@
 //! test it compiles, so each skipped one is saved in every bounce.
 
 use crate::gpu_types::GpuLight;
-use crate::light_kind::LightKind;
+use crate::lights::{Extent, LightKind};
 use crate::requirements::{REQUIRES_DIRECTIONAL_LIGHTS, REQUIRES_ENVIRONMENT_LIGHT, REQUIRES_PLANES};
 use caustic_bvh::{GpuBvh, SHAPE_BIT};
 use glam::{DVec3, Vec3};
@@ -61,30 +61,26 @@ impl ShadowHull {
 
     /// Whether `p` lies on the inner side of every face (within the tolerance).
     pub fn contains(&self, p: Vec3) -> bool {
-        let p = p.as_dvec3();
-        self.faces.iter().all(|f| f.normal.dot(p) - f.offset <= self.tolerance)
+        self.contains_point(p.as_dvec3())
     }
 
-    /// Whether the box `lo..hi` lies inside, every corner of it.
-    fn contains_box(&self, lo: Vec3, hi: Vec3) -> bool {
-        box_corners(lo, hi).all(|c| self.contains(c))
+    /// [`ShadowHull::contains`] of a point in f64.
+    fn contains_point(&self, p: DVec3) -> bool {
+        self.faces.iter().all(|f| f.normal.dot(p) - f.offset <= self.tolerance)
     }
 
     /// Whether shadow rays may skip the hull faces with `lights` lighting the scene and
     /// `requirements` ([`crate::requirements`]) naming its parts: no plane, no light far away,
-    /// every point, spot and segment light inside.
+    /// every light that is not scene geometry inside (its [`Extent`]'s corners).
     pub fn culls_shadow_rays(&self, lights: &[GpuLight], requirements: u32) -> bool {
         if self.faces.is_empty() || requirements & (REQUIRES_PLANES | REQUIRES_DIRECTIONAL_LIGHTS | REQUIRES_ENVIRONMENT_LIGHT) != 0 {
             return false;
         }
-        lights.iter().all(|light| match LightKind::of(light) {
-            // A spread point light samples a sphere of radius `area` around its centre.
-            LightKind::Point => self.contains_box(Vec3::from(light.v0) - light.area.max(0.0), Vec3::from(light.v0) + light.area.max(0.0)),
-            LightKind::Spot => self.contains(light.v0.into()),
-            LightKind::Segment => self.contains(light.v0.into()) && self.contains(Vec3::from(light.v0) + Vec3::from(light.e1)),
-            LightKind::Directional | LightKind::Environment => false,
+        lights.iter().all(|light| match LightKind::extent(light) {
+            Extent::Corners(corners) => corners.iter().all(|c| self.contains_point(*c)),
+            Extent::Distant => false,
             // Emitting surfaces are part of the scene, whose points the hull bounds.
-            LightKind::Triangle | LightKind::Quad | LightKind::Sphere | LightKind::Disk => true,
+            Extent::SceneCorners(_) | Extent::SceneSurface => true,
         })
     }
 }
@@ -120,7 +116,6 @@ fn supporting_plane(triangle: [Vec3; 3], points: &[DVec3], tolerance: f64) -> Op
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene_data::LIGHT_POINT;
 
     fn bvh_of(triangles: &[[Vec3; 3]]) -> GpuBvh {
         caustic_bvh::flatten(&caustic_bvh::build(triangles, &caustic_bvh::BuildOptions::default()), triangles)
@@ -159,7 +154,7 @@ mod tests {
     #[test]
     fn lights_outside_or_far_away_turn_the_culling_off() {
         let hull = ShadowHull::new(&bvh_of(&cube_with_inner_triangle()));
-        let point = |p: Vec3| GpuLight { v0: p.into(), kind: LIGHT_POINT, ..bytemuck::Zeroable::zeroed() };
+        let point = |p: Vec3| GpuLight { v0: p.into(), kind: LightKind::Point as u32, ..bytemuck::Zeroable::zeroed() };
         assert!(hull.culls_shadow_rays(&[point(Vec3::splat(0.5))], 0));
         let spread = GpuLight { area: 0.6, ..point(Vec3::splat(0.5)) };
         assert!(!hull.culls_shadow_rays(&[spread], 0), "a spread point light reaching out of the box");

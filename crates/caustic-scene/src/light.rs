@@ -1,5 +1,5 @@
-//! Lights that are not emissive geometry: points, spots, directions, parallelograms and
-//! segments, and emissive shapes declared as lights.
+//! Lights that are not emissive geometry: points, spots, directions, parallelograms,
+//! segments and tubes, and emissive shapes declared as lights.
 
 use glam::Vec3;
 
@@ -94,6 +94,20 @@ pub enum Light {
         /// Falloff with distance from the sampled point.
         attenuation: Attenuation,
     },
+    /// A tube light (the path tracer manual's fluorescent tube): the side of the cylinder of
+    /// radius `radius` around the segment from `start` to `end`, emitting `radiance` outwards
+    /// like a diffuse area light. It is a light, not geometry: rays pass through it, as they
+    /// pass through point and segment lights.
+    Tube {
+        /// Centre of one end.
+        start: Vec3,
+        /// Centre of the other end.
+        end: Vec3,
+        /// Radius of the cylinder.
+        radius: f32,
+        /// Emitted radiance.
+        radiance: Vec3,
+    },
     /// The emissive analytic sphere or disk `shape` (an index into [`crate::Scene::shapes`])
     /// declared as a light (the language's `sphereLight`, `diskLight`): the path tracer samples
     /// every emissive sphere and disk, the classic ray tracer only these.
@@ -112,6 +126,41 @@ impl Light {
         Some(r[0].lerp(r[1], s).lerp(r[3].lerp(r[2], s), t))
     }
 
+    /// The light in other units ([`crate::Units`]): its points through `point`, its lengths
+    /// and edges through `length` (componentwise for vectors) and its distance falloff through
+    /// `falloff`; directions and colours stay.
+    pub fn rescaled(self, point: impl Fn(Vec3) -> Vec3, length: impl Fn(f32) -> f32, falloff: impl Fn(Attenuation) -> Attenuation) -> Light {
+        let vector = |v: Vec3| Vec3::new(length(v.x), length(v.y), length(v.z));
+        match self {
+            Light::Point { position, color, attenuation, spread } => {
+                Light::Point { position: point(position), color, attenuation: falloff(attenuation), spread: length(spread) }
+            }
+            Light::Spot { position, direction, color, attenuation, inner_cone, outer_cone } => {
+                Light::Spot { position: point(position), direction, color, attenuation: falloff(attenuation), inner_cone, outer_cone }
+            }
+            Light::Quad { corner, edge_a, edge_b, radiance } => Light::Quad { corner: point(corner), edge_a: vector(edge_a), edge_b: vector(edge_b), radiance },
+            Light::Segment { start, end, color_start, color_end, attenuation } => {
+                Light::Segment { start: point(start), end: point(end), color_start, color_end, attenuation: falloff(attenuation) }
+            }
+            Light::Tube { start, end, radius, radiance } => Light::Tube { start: point(start), end: point(end), radius: length(radius), radiance },
+            Light::Directional { .. } | Light::Shape { .. } => self,
+        }
+    }
+
+    /// Points whose bounding box holds every point the light emits from (none for directional
+    /// lights and declared shapes, which the shapes' bounds cover).
+    pub fn bounding_points(&self) -> Vec<Vec3> {
+        match *self {
+            Light::Point { position, .. } | Light::Spot { position, .. } => vec![position],
+            Light::Quad { corner, edge_a, edge_b, .. } => vec![corner, corner + edge_a, corner + edge_b, corner + edge_a + edge_b],
+            Light::Segment { start, end, .. } => vec![start, end],
+            Light::Tube { start, end, radius, .. } => {
+                [start - Vec3::splat(radius), start + Vec3::splat(radius), end - Vec3::splat(radius), end + Vec3::splat(radius)].to_vec()
+            }
+            Light::Directional { .. } | Light::Shape { .. } => Vec::new(),
+        }
+    }
+
     /// Checks finiteness and non-negative colours, naming the light by its index.
     pub fn validate(&self, index: usize) -> Result<(), crate::SceneError> {
         let (kind, vectors, color) = match self {
@@ -122,6 +171,7 @@ impl Light {
                 ("quad light", vec![*corner, *edge_a, *edge_b, r[1], r[2], r[3]], r[0].min(r[1]).min(r[2]).min(r[3]))
             }
             Light::Segment { start, end, color_start, color_end, .. } => ("segment light", vec![*start, *end, *color_end], *color_start),
+            Light::Tube { start, end, radiance, .. } => ("tube light", vec![*start, *end], *radiance),
             Light::Shape { .. } => ("shape light", vec![], Vec3::ZERO),
         };
         let object = format!("{kind} {index}");
@@ -147,6 +197,11 @@ impl Light {
         if let Light::Segment { start, end, color_end, .. } = *self {
             if start == end || color_end.min_element() < 0.0 {
                 return Err(crate::SceneError::invalid(object, "needs two different ends and colours >= 0"));
+            }
+        }
+        if let Light::Tube { start, end, radius, .. } = *self {
+            if start == end || !(radius.is_finite() && radius > 0.0) {
+                return Err(crate::SceneError::invalid(object, format!("needs two different ends and a radius > 0, not {radius}")));
             }
         }
         if let Light::Point { attenuation: a, .. } | Light::Spot { attenuation: a, .. } | Light::Segment { attenuation: a, .. } = self {

@@ -153,22 +153,7 @@ impl Units {
             linear: (f64::from(a.linear) * self.scale) as f32,
             quadratic: (f64::from(a.quadratic) * self.scale * self.scale) as f32,
         };
-        let vector = |v: Vec3| (v.as_dvec3() / self.scale).as_vec3();
-        match light {
-            Light::Point { position, color, attenuation, spread } => {
-                Light::Point { position: self.point(position), color, attenuation: falloff(attenuation), spread: self.length(spread) }
-            }
-            Light::Spot { position, direction, color, attenuation, inner_cone, outer_cone } => {
-                Light::Spot { position: self.point(position), direction, color, attenuation: falloff(attenuation), inner_cone, outer_cone }
-            }
-            Light::Quad { corner, edge_a, edge_b, radiance } => {
-                Light::Quad { corner: self.point(corner), edge_a: vector(edge_a), edge_b: vector(edge_b), radiance }
-            }
-            Light::Segment { start, end, color_start, color_end, attenuation } => {
-                Light::Segment { start: self.point(start), end: self.point(end), color_start, color_end, attenuation: falloff(attenuation) }
-            }
-            Light::Directional { .. } | Light::Shape { .. } => light,
-        }
+        light.rescaled(|p| self.point(p), |l| self.length(l), falloff)
     }
 
     fn material(&self, m: &Material) -> Material {
@@ -195,15 +180,7 @@ fn content_bounds(scene: &Scene) -> Option<(DVec3, DVec3)> {
         add(hi);
     }
     for light in &scene.lights {
-        match *light {
-            Light::Point { position, .. } | Light::Spot { position, .. } => add(position),
-            Light::Quad { corner, edge_a, edge_b, .. } => [corner, corner + edge_a, corner + edge_b, corner + edge_a + edge_b].into_iter().for_each(&mut add),
-            Light::Segment { start, end, .. } => {
-                add(start);
-                add(end);
-            }
-            Light::Directional { .. } | Light::Shape { .. } => {}
-        }
+        light.bounding_points().into_iter().for_each(&mut add);
     }
     if scene.meshes.is_empty() && scene.instances.is_empty() && scene.shapes.iter().all(|s| s.world_bounds().is_none()) && scene.lights.is_empty() {
         // Only the camera and planes: the distance to what it looks at sets the size.

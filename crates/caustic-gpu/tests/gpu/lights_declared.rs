@@ -117,6 +117,9 @@ fn zero_size_lights_are_errors_with_their_place() {
         ("diskLight 0 1 0  0 -1 0  0  1 1 1", "> 0"),
         ("diskLight 0 1 0  0 0 0  0.5  1 1 1", "normal must not be zero"),
         ("scale 1 2 1\nsphereLight 0 1 0 0.5  1 1 1", "must stay a sphere"),
+        ("tubeLight 0 1 0  0 1 0  0.1  1 1 1", "zero length"),
+        ("tubeLight 0 1 0  1 1 0  0  1 1 1", "> 0"),
+        ("scale 1 2 1\ntubeLight 0 1 0  1 1 0  0.1  1 1 1", "must stay round"),
     ] {
         let text = format!("size 8 8\n{line}\n");
         let error = caustic_scene::lang::parse_str(&text, Path::new("bad.scene")).expect_err("a zero-size light is an error").to_string();

@@ -42,6 +42,7 @@ mod lights_quad_colors;
 mod lights_sample_counts;
 mod lights_selection;
 mod lights_shape_sampling;
+mod lights_tube;
 mod motion_blur;
 mod motion_gltf;
 mod pass_memory;

@@ -122,6 +122,7 @@ pub const COMMANDS: &[CommandInfo] = &[
         "one-sided parallelogram light a + s ab + t ac; four colours: at a, b = a + ab, c = a + ac, d = a + ab + ac, bilinear in between",
     ),
     c("segmentLight", "x0 y0 z0 x1 y1 z1 r0 g0 b0 r1 g1 b1", "segment light: point lights along it, colour interpolated from end 0 to end 1"),
+    c("tubeLight", "x0 y0 z0 x1 y1 z1 radius r g b", "tube light: the side of a cylinder around the segment, emitting radiance rgb outwards"),
     c("sphereLight", "x y z radius r g b", "emissive sphere declared as a light (radiance rgb)"),
     c("diskLight", "x y z nx ny nz radius r g b", "one-sided emissive disk facing n, declared as a light"),
     c("lightspread", "amount", "size of point lights / spread of directional lights for soft shadows"),

@@ -27,8 +27,9 @@ pub(super) struct OpenObject {
     pub(super) site: Site,
 }
 
-/// Commands that make lights or analytic shapes, which an object cannot hold.
-const NOT_IN_OBJECTS: &[&str] = &["sphere", "box", "plane", "disk", "directional", "point", "quadLight", "segmentLight", "sphereLight", "diskLight"];
+/// Commands that make analytic shapes, which an object cannot hold (nor lights:
+/// [`super::lights::MAKES_LIGHT`]).
+const NOT_IN_OBJECTS: &[&str] = &["sphere", "box", "plane", "disk"];
 
 impl Interpreter {
     /// Executes `object`, `endObject` and `instance`; returns whether `a` is one of them.
@@ -38,7 +39,7 @@ impl Interpreter {
             "object" => self.begin_object(a, at)?,
             "endObject" => self.end_object(a)?,
             "instance" => self.instance(a, at)?,
-            name if NOT_IN_OBJECTS.contains(&name) => {
+            name if NOT_IN_OBJECTS.contains(&name) || super::lights::MAKES_LIGHT.contains(&name) => {
                 if let Some(open) = self.world.defining.last() {
                     return a.fail(format!("object '{}' can hold only triangles: put '{name}' outside object ... endObject", open.name));
                 }
@@ -229,6 +230,10 @@ mod tests {
         assert!(unmatched.contains("1:1: endObject: endObject without a matching object"), "{unmatched}");
         let shape = parse("object a\nsphere 0 0 0 1\n").unwrap_err();
         assert!(shape.contains("2:1: sphere: object 'a' can hold only triangles"), "{shape}");
+        for light in ["point 0 1 0 1 1 1", "tubeLight 0 1 0  1 1 0  0.1  1 1 1", "sphereLight 0 1 0 0.5 1 1 1"] {
+            let error = parse(&format!("object a\n{light}\n")).unwrap_err();
+            assert!(error.contains("object 'a' can hold only triangles"), "{light}: {error}");
+        }
     }
 
     #[test]

@@ -1,5 +1,5 @@
-//! Lights: point, directional and quad lights under the current transform, the attenuation
-//! state of later point lights, and the soft-shadow spread.
+//! Lights: point, directional, quad, segment and tube lights under the current transform,
+//! the attenuation state of later point lights, and the soft-shadow spread.
 
 use super::Interpreter;
 use super::args::{Args, Res};
@@ -8,9 +8,12 @@ use super::state::Site;
 use crate::{Attenuation, Light, Shape};
 use glam::{DMat4, Vec3};
 
+/// The commands that make a light, which an object cannot hold.
+pub(super) const MAKES_LIGHT: &[&str] = &["directional", "point", "quadLight", "segmentLight", "tubeLight", "sphereLight", "diskLight"];
+
 impl Interpreter {
     /// Executes the light commands (`point`, `directional`, `quadLight`, `segmentLight`,
-    /// `sphereLight`, `diskLight`, `attenuation`, `lightspread`, `arealightsamples`); a light
+    /// `tubeLight`, `sphereLight`, `diskLight`, `attenuation`, `lightspread`, `arealightsamples`); a light
     /// declared after `arealightsamples n` (n > 0) gets its own sample count.
     /// Returns whether `a` is one of them.
     pub(super) fn light_command(&mut self, a: &Args, at: Location<'_>) -> Res<bool> {
@@ -97,6 +100,30 @@ impl Interpreter {
                 w.scene.lights.push(Light::Segment { start, end, color_start, color_end, attenuation: w.attenuation });
                 w.unused_attenuation = None;
             }
+            "tubeLight" => {
+                // tubeLight x0 y0 z0 x1 y1 z1 radius r g b: the side of a cylinder emitting
+                // radiance rgb; a uniform scale of the current transform scales the radius.
+                a.expect(&[10])?;
+                let (p0, p1) = (w.current.transform_point3(a.dvec3_f32(0)?), w.current.transform_point3(a.dvec3_f32(3)?));
+                let radius = a.f32_in(6, |r| r > 0.0 && r.is_finite(), "> 0 (a light needs an area)")?;
+                let radiance = a.color(7)?;
+                let m = glam::DMat3::from_mat4(w.current);
+                let scale = m.x_axis.length();
+                let even = |u: glam::DVec3, v: glam::DVec3| {
+                    u.dot(v).abs() <= 1e-4 * u.length_squared() && (u.length_squared() / v.length_squared() - 1.0).abs() <= 1e-4
+                };
+                if !(even(m.x_axis, m.y_axis) && even(m.y_axis, m.z_axis) && even(m.x_axis, m.z_axis)) {
+                    return a.fail("a tube light must stay round: the current transform scales unevenly");
+                }
+                let (start, end, radius) = (w.place(p0), w.place(p1), (f64::from(radius) * scale) as f32);
+                if !(start.is_finite() && end.is_finite() && radius.is_finite() && radius > 0.0) {
+                    return a.fail("the tube is not finite (or has no radius) after the current transform");
+                }
+                if start == end {
+                    return a.fail_at(3, "the tube has zero length: its ends must differ");
+                }
+                w.scene.lights.push(Light::Tube { start, end, radius, radiance });
+            }
             "sphereLight" | "diskLight" => self.shape_light(a)?,
             "lightspread" => {
                 a.expect(&[1])?;
@@ -151,5 +178,21 @@ impl Interpreter {
         w.scene.shapes.push(Shape { material, ..shape });
         w.scene.lights.push(Light::Shape { shape: w.scene.shapes.len() - 1 });
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::Light;
+    use glam::Vec3;
+    use std::path::Path;
+
+    #[test]
+    fn a_tube_light_takes_the_current_transform_and_its_uniform_scale() {
+        let text = "translate 1 0 0\nscale 2 2 2\ntubeLight 0 0 0  1 0 0  0.25  1 2 3\n";
+        let (scene, _) = crate::lang::parse_str(text, Path::new("tube.scene")).expect("parses");
+        let tube = Light::Tube { start: Vec3::new(1.0, 0.0, 0.0), end: Vec3::new(3.0, 0.0, 0.0), radius: 0.5, radiance: Vec3::new(1.0, 2.0, 3.0) };
+        assert_eq!(scene.lights, vec![tube]);
+        scene.validate().expect("valid");
     }
 }
