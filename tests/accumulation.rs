@@ -8,8 +8,8 @@
 //! fixed: about 15 s).
 
 use crate::scenes;
-use caustic_gpu::gpu_types::AccumTexel;
 use caustic_gpu::{GpuContext, GpuScene, PathTracer, RenderSettings};
+use caustic_kernels::gpu_types::AccumTexel;
 use caustic_scene::{Environment, Scene};
 use glam::Vec3;
 use std::time::Instant;

@@ -9,7 +9,7 @@
 // lane walk's (bvh/traverse_wide.wgsl), tie rules included (tests/traversal_twin.rs and
 // tests/bench.rs compare them with the CPU twin and brute force). Needs the device's subgroup
 // operations and at least 8 lanes per subgroup (GpuContext::packet_walk_supported); appended
-// to the ray bench by caustic_gpu::shaders::ray_bench_source.
+// to the ray bench by caustic_kernels::shaders::ray_bench_source.
 
 // The node and triangle buffers again (the same buffers as bindings 1 and 2), as words.
 @group(0) @binding(10) var<storage, read> packet_node_words: array<u32>;

@@ -27,14 +27,14 @@ struct TraversalCost {
 override BVH_LEVELS: bool = false;
 var<private> hit_level: u32;
 
-// The generated traversal of small scenes (crates/caustic-gpu/src/specialize.rs) skips the
+// The generated traversal of small scenes (crates/caustic-kernels/src/specialize.rs) skips the
 // faces of the scene's convex hull in shadow rays when this is on: set while no light lies
-// outside the hull (crates/caustic-gpu/src/shadow_hull.rs); other traversals ignore it.
+// outside the hull (crates/caustic-kernels/src/shadow_hull.rs); other traversals ignore it.
 override SHADOW_HULL_CULL: bool = false;
 
 // The generated traversal clips shadow rays to the scene's convex occluders instead of testing
 // their triangles when this is on: set while no light lies inside one
-// (crates/caustic-gpu/src/convex_occluder.rs); other traversals ignore it.
+// (crates/caustic-kernels/src/convex_occluder.rs); other traversals ignore it.
 override SHADOW_CONVEX_OCCLUDERS: bool = false;
 
 // Set while a shadow ray runs to the camera (integrator/connect.wgsl, connect_camera): the
@@ -47,7 +47,7 @@ override SHADOW_CONVEX_OCCLUDERS: bool = false;
 var<private> shadow_to_camera: bool;
 
 // The generated traversal skips, in shadow rays, the triangles in whose plane every light lies
-// when this is on: set while the lights stay there (crates/caustic-gpu/src/light_plane.rs);
+// when this is on: set while the lights stay there (crates/caustic-kernels/src/light_plane.rs);
 // other traversals ignore it.
 override SHADOW_LIGHT_PLANES: bool = false;
 

@@ -1,6 +1,6 @@
 // Stack-based traversal of the two-wide BVH, nearest child first. The CPU twin is
 // crates/caustic-bvh/src/traverse.rs. Scenes small enough to bake replace this file with a
-// generated `trace` that tests every primitive in turn (crates/caustic-gpu/src/specialize.rs).
+// generated `trace` that tests every primitive in turn (crates/caustic-kernels/src/specialize.rs).
 // Moving primitives (bvh/motion.wgsl) meet the ray carried to their shutter-open frame.
 
 @group(0) @binding(1) var<storage, read> bvh_nodes: array<BvhNode>;

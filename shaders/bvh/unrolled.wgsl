@@ -1,9 +1,9 @@
-// Helpers of the small-scene traversal that crates/caustic-gpu/src/specialize.rs generates in
+// Helpers of the small-scene traversal that crates/caustic-kernels/src/specialize.rs generates in
 // place of bvh/traverse.wgsl: its `trace` calls test_triangle with each triangle's corners as
 // constants and test_shape for each bounded shape, in the BVH's gathered order; shadow rays
 // clip themselves to the scene's convex occluders with clip_to_plane instead of testing
-// their triangles (crates/caustic-gpu/src/convex_occluder.rs), and closest-hit rays find the
-// first surface of convex solids with clip_chord (crates/caustic-gpu/src/closest_solid.rs).
+// their triangles (crates/caustic-kernels/src/convex_occluder.rs), and closest-hit rays find the
+// first surface of convex solids with clip_chord (crates/caustic-kernels/src/closest_solid.rs).
 
 // `hit`, or the triangle v0 v1 v2 if the ray meets it closer, or at the same distance and wins
 // the tie (bvh/leaf.wgsl `wins_tie`).
@@ -66,7 +66,7 @@ fn occluder_hit(hit: Hit, span: vec2<f32>, id: u32, slot: u32) -> Hit {
     return hit;
 }
 
-// A ray's chord through a convex solid (crates/caustic-gpu/src/closest_solid.rs): where it
+// A ray's chord through a convex solid (crates/caustic-kernels/src/closest_solid.rs): where it
 // enters and leaves, and the gathered slot of the triangle there (NO_HIT on an open rim).
 struct Chord {
     t_in: f32,
@@ -79,7 +79,7 @@ fn begin_chord() -> Chord {
     return Chord(-3.4e38, 3.4e38, NO_HIT, NO_HIT);
 }
 
-// caustic_gpu::closest_solid::ON_PLANE_BOUND: the relative rounding of the plane distance
+// caustic_kernels::closest_solid::ON_PLANE_BOUND: the relative rounding of the plane distance
 // within which the origin counts as on the plane.
 const ON_PLANE_BOUND: f32 = 9.536743e-7;
 

@@ -1,8 +1,8 @@
-// The classic ray tracer's feature switches (caustic_gpu::features, docs/FEATURES.md). They
+// The classic ray tracer's feature switches (caustic_kernels::features, docs/FEATURES.md). They
 // are pipeline override constants: a kernel is compiled for one feature set, so the code of
 // a disabled feature is removed by the compiler instead of being skipped at run time.
 
-// Bits of CLASSIC_FEATURES (caustic_gpu::features::FEATURE_BITS).
+// Bits of CLASSIC_FEATURES (caustic_kernels::features::FEATURE_BITS).
 const FEATURE_SHADOWS: u32 = 1u;
 const FEATURE_SOFT_SHADOWS: u32 = 2u;
 const FEATURE_LIGHT_TRANSPARENCY: u32 = 4u;

@@ -1,6 +1,6 @@
 // What a classic surface passes on: the reflected and refracted weights (Snell's law,
 // Fresnel by FRESNEL_MODE, total internal reflection). The CPU twin is
-// caustic_gpu::classic_reference::split_at.
+// caustic_kernels::classic_reference::split_at.
 
 struct ClassicSplit {
     // Weight of the mirror direction.

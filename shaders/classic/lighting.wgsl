@@ -1,7 +1,7 @@
 // Direct light at a classic surface: each light sampled classic_samples_of(light) times
 // (area and spread lights, with soft shadows on) or once at a fixed point, lit by the
 // CLASSIC_SHADING model, and seen through transparent occluders, whose tints multiply (light
-// transparency). The CPU twin is caustic_gpu::classic_reference.
+// transparency). The CPU twin is caustic_kernels::classic_reference.
 
 // Most surfaces a shadow ray passes through before it counts as blocked.
 const MAX_SHADOW_SURFACES: u32 = 8u;

@@ -4,7 +4,7 @@
 // of Mitchell-Netravali and Lanczos) negative; the film divides the weighted sum by the sum
 // of weights. The pdf is piecewise constant over 64 equal bins of [-radius, radius] whose
 // masses are the exact integrals of |f| (PixelSampling.filter_cdf, built by the CPU twin
-// caustic_gpu::filter). Filter profiles as pbrt-v4 defines them, x in pixels:
+// caustic_kernels::filter). Filter profiles as pbrt-v4 defines them, x in pixels:
 // box 1; tent 1 - |x| / r; Gaussian exp(-x^2 / 2s^2) - exp(-r^2 / 2s^2) with s = r / 3;
 // Mitchell-Netravali (B = C = 1/3) of 2x / r; Lanczos sinc(x) sinc(x / r).
 

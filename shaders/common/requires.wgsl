@@ -1,5 +1,5 @@
 // What the scene requires of the kernels: one bit per optional part of the program, set by
-// caustic-gpu's requirements.rs from the scene and the kernel's purpose. Lavapipe (Mesa 22.3)
+// caustic-kernels' requirements.rs from the scene and the kernel's purpose. Lavapipe (Mesa 22.3)
 // runs every branch of a shader whether or not a lane takes it, so code a scene cannot reach
 // still costs its full time unless an override constant removes it: each part below is
 // guarded by `scene_needs`, which folds to a constant when the pipeline is created. The default

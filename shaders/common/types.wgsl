@@ -1,5 +1,5 @@
 // Structs shared with the CPU. Each is mirrored byte for byte by a `#[repr(C)]` bytemuck
-// struct in crates/caustic-gpu/src/gpu_types.rs (BvhNode and BvhTriangle in
+// struct in crates/caustic-kernels/src/gpu_types.rs (BvhNode and BvhTriangle in
 // crates/caustic-bvh/src/layout.rs); a unit test checks the sizes.
 
 // Per-pass constants: camera, image, tile, sample index, integrator settings.
@@ -302,7 +302,7 @@ struct Light {
 }
 
 // Light kinds (LIGHT_TRIANGLE ... LIGHT_SEGMENT) and LIGHT_FLAG_CLASSIC (the classic ray tracer
-// lights with it): generated/interface.wgsl, from caustic_gpu::interface.
+// lights with it): generated/interface.wgsl, from caustic_kernels::interface.
 
 // Running sum of one pixel's samples with Kahan compensation; w counts samples.
 struct AccumTexel {
@@ -371,4 +371,4 @@ struct InspectRecord {
 const PI: f32 = 3.14159265358979;
 const INV_PI: f32 = 0.318309886183791;
 // Triangle flags (FLAG_*), material flags (MATERIAL_*), alpha modes (ALPHA_*), NO_HIT and SHAPE_BIT (the flag of a hit's
-// primitive id marking an analytic shape): generated/interface.wgsl, from caustic_gpu::interface.
+// primitive id marking an analytic shape): generated/interface.wgsl, from caustic_kernels::interface.

@@ -3,7 +3,7 @@
 // map by its luminance. The map's texture has one column more than the map: texel (x, y)
 // holds the radiance in rgb and the row's conditional CDF at its right edge in alpha; the
 // last column's alpha holds the marginal CDF at each row's end (luminance x sin(theta),
-// caustic_gpu::environment_sampling, this file's CPU twin). Below the map's rows, ceil(rows /
+// caustic_kernels::environment_sampling, this file's CPU twin). Below the map's rows, ceil(rows /
 // 4) more hold the CDFs' guide tables, four rows' a texel row (channel y % 4 for row y).
 
 fn environment_radiance(direction: vec3<f32>) -> vec3<f32> {
@@ -54,7 +54,7 @@ fn environment_guide(size: vec2<u32>, row: u32, k: u32) -> u32 {
 
 // Index in 0..count of the first CDF entry above u, along a row (`row` = the row, x varies)
 // or down the marginal column (`row` = 0xffffffff, y varies): a binary search between the
-// guides of u's bucket's neighbours (caustic_gpu::environment_sampling::guided_search), which
+// guides of u's bucket's neighbours (caustic_kernels::environment_sampling::guided_search), which
 // finds what a search of the whole CDF finds.
 fn environment_search(size: vec2<u32>, row: u32, count: u32, u: f32) -> u32 {
     let k = min(u32(u * f32(count)), count - 1u);

@@ -9,7 +9,7 @@
 
 @group(0) @binding(10) var<storage, read_write> inspection: InspectRecord;
 
-// NO_PIXEL, INSPECT_MAX_BOUNCES and INSPECT_MAX_CONNECTIONS: generated/interface.wgsl, from caustic_gpu::interface.
+// NO_PIXEL, INSPECT_MAX_BOUNCES and INSPECT_MAX_CONNECTIONS: generated/interface.wgsl, from caustic_kernels::interface.
 // InspectBounce.flags
 const INSPECT_SURFACE: u32 = 1u;
 const INSPECT_FRONT_FACE: u32 = 2u;

@@ -14,7 +14,7 @@
 // visible point, weighted by 1 / the probability of the non-delta lobes, or the delta lobe's
 // sample, so the delta part is neither lost nor counted twice.
 
-// A pixel's progressive statistics (caustic_gpu::gpu_types::SppmPixel).
+// A pixel's progressive statistics (caustic_kernels::gpu_types::SppmPixel).
 struct SppmPixel {
     // Flux gathered, rescaled to the current radius.
     tau: vec3<f32>,

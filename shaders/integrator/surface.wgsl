@@ -89,7 +89,7 @@ fn surface_interaction_open(ray: Ray, hit: Hit) -> SurfaceInteraction {
 // main axes"): cells of one world unit at the object's world point p (shutter-open frame), numbered by
 // truncation towards zero, so the two cells either side of each main axis plane are one band
 // twice as wide; odd cells have CHECKER_DARK of the albedo (classic base colour and the
-// path tracer's diffuse lobe). CPU twin: caustic_gpu::gpu_types::checker_odd.
+// path tracer's diffuse lobe). CPU twin: caustic_kernels::gpu_types::checker_odd.
 
 fn checkered(m: Material, p: vec3<f32>) -> Material {
     if !scene_needs(REQUIRES_SEED_MATERIALS) || (m.flags & MATERIAL_CHECKERS) == 0u {
@@ -107,7 +107,7 @@ fn checkered(m: Material, p: vec3<f32>) -> Material {
 
 // The seed's `flat` material ("cartoony shader with lighting and shadows"): direct light's
 // cosine through a two-step ramp, 1 from cos 1/2 up, 1/2 below down to grazing, 0 behind. CPU
-// twin: caustic_gpu::gpu_types::toon_ramp.
+// twin: caustic_kernels::gpu_types::toon_ramp.
 fn toon_ramp(cos_theta: f32) -> f32 {
     if cos_theta >= 0.5 {
         return 1.0;

@@ -4,7 +4,7 @@
 // (classic/lighting.wgsl), then a reflected ray (split into frame.classic_gloss_samples
 // directions on a glossy surface) and a refracted one (classic/interface.wgsl; split into
 // frame.classic_frost_samples directions through a frosted one) are pushed
-// with their weights, up to max_depth bounces. The CPU twin is caustic_gpu::classic_reference.
+// with their weights, up to max_depth bounces. The CPU twin is caustic_kernels::classic_reference.
 
 // Pending rays at most; a branch that finds the stack full is dropped.
 const CLASSIC_STACK: u32 = 16u;

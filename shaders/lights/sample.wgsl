@@ -160,7 +160,7 @@ fn spot_cone(light: Light, wi: vec3<f32>) -> f32 {
 }
 
 // Share of light samples drawn uniformly over the lights rather than by power (the CPU twin
-// is caustic_gpu::scene_data::UNIFORM_SELECTION): a small light that outshines the rest
+// is caustic_kernels::scene_data::UNIFORM_SELECTION): a small light that outshines the rest
 // near it keeps a selection probability of at least this / light count (no fireflies).
 const UNIFORM_SELECTION: f32 = 0.5;
 

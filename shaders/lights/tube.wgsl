@@ -1,8 +1,8 @@
-// Tube lights (caustic_gpu::lights::tube, whose sample and emit are the CPU twins): the side of
+// Tube lights (caustic_kernels::lights::tube, whose sample and emit are the CPU twins): the side of
 // the cylinder of radius light.e2.x around the segment from light.v0 to light.v0 + light.e1,
 // emitting light.radiance outwards like a diffuse area light of area light.area. Not geometry:
 // paths only sample it, so bidirectional path tracing weighs it as a delta light. Dispatched
-// by generated/lights.wgsl (caustic_gpu::lights).
+// by generated/lights.wgsl (caustic_kernels::lights).
 
 // A point of a tube's side and its outward normal.
 struct TubePoint {

@@ -1,5 +1,5 @@
 //! The numbers a material hands the path tracer's BSDF: the weight and parameters of each
-//! lobe of [`crate::bsdf::Bsdf`]. `caustic_gpu::gpu_types::GpuMaterial` carries the same
+//! lobe of [`crate::bsdf::Bsdf`]. `caustic_kernels::gpu_types::GpuMaterial` carries the same
 //! fields to `shaders/bsdf/bsdf.wgsl`; the constructors here are how every material model of
 //! the scene language and glTF becomes lobes (`docs/MATERIALS.md`).
 

@@ -193,8 +193,8 @@ pub struct RenderArgs {
     pub sampler: SamplerArg,
     /// Pixel reconstruction filter (docs/SAMPLING.md): box (the default), tent, gaussian,
     /// mitchell or lanczos, optionally :RADIUS in pixels.
-    #[arg(long, default_value = "box", value_name = "NAME[:RADIUS]", value_parser = caustic_gpu::filter::PixelFilter::parse)]
-    pub filter: caustic_gpu::filter::PixelFilter,
+    #[arg(long, default_value = "box", value_name = "NAME[:RADIUS]", value_parser = caustic_kernels::filter::PixelFilter::parse)]
+    pub filter: caustic_kernels::filter::PixelFilter,
     /// How the path tracer is cut into dispatches (docs/PERFORMANCE.md): megakernel (each path
     /// to its end in one kernel, the default) or wavefront (per bounce, extend / shade /
     /// connect over queues of live paths). The image does not depend on it.
@@ -257,7 +257,7 @@ pub struct SceneOverrides {
     /// (off|schlick|exact), texture-filter (material|nearest|bilinear|trilinear),
     /// light-samples and gloss-samples (1-256). Unset features follow the scene
     /// (docs/FEATURES.md).
-    #[arg(long = "feature", value_name = "NAME=VALUE", value_parser = caustic_gpu::features::parse_feature)]
+    #[arg(long = "feature", value_name = "NAME=VALUE", value_parser = caustic_kernels::features::parse_feature)]
     pub features: Vec<(usize, u16)>,
     /// Meshes placed many times: `keep` them once, placed by instances; `flatten` every
     /// placement into the world (the same image, more memory, walked faster); `auto` flattens
@@ -290,8 +290,8 @@ impl SceneOverrides {
     }
 
     /// The `--feature` switches, in order (a later one wins).
-    pub fn classic_features(&self) -> caustic_gpu::features::ClassicFeatures {
-        let mut features = caustic_gpu::features::ClassicFeatures::default();
+    pub fn classic_features(&self) -> caustic_kernels::features::ClassicFeatures {
+        let mut features = caustic_kernels::features::ClassicFeatures::default();
         for &(index, value) in &self.features {
             features.choose(index, value);
         }

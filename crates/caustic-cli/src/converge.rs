@@ -64,8 +64,8 @@ pub struct ConvergeArgs {
     pub sampler: crate::args::SamplerArg,
     /// Pixel reconstruction filter: box (the default), tent, gaussian, mitchell or lanczos,
     /// optionally :RADIUS in pixels.
-    #[arg(long, default_value = "box", value_name = "NAME[:RADIUS]", value_parser = caustic_gpu::filter::PixelFilter::parse)]
-    pub filter: caustic_gpu::filter::PixelFilter,
+    #[arg(long, default_value = "box", value_name = "NAME[:RADIUS]", value_parser = caustic_kernels::filter::PixelFilter::parse)]
+    pub filter: caustic_kernels::filter::PixelFilter,
     /// Scene settings that replace the scene's.
     #[command(flatten)]
     pub overrides: SceneOverrides,

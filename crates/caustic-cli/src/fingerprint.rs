@@ -2,7 +2,7 @@
 //! changes the image, so that parts of different renders never merge.
 
 use caustic_gpu::RenderSettings;
-use caustic_gpu::shaders::Program;
+use caustic_kernels::shaders::Program;
 use caustic_scene::{Environment, EnvironmentMap, Mesh, Scene};
 use std::fmt::Write as _;
 

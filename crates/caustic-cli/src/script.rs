@@ -56,7 +56,7 @@ pub struct HostOptions<'a> {
     /// The sample generator of every render (`--sampler`).
     pub sampler: crate::args::SamplerArg,
     /// The pixel reconstruction filter of every render (`--filter`).
-    pub filter: caustic_gpu::filter::PixelFilter,
+    pub filter: caustic_kernels::filter::PixelFilter,
 }
 
 impl<'a> HostOptions<'a> {
@@ -71,7 +71,7 @@ impl<'a> HostOptions<'a> {
             json: device.json,
             bloom: None,
             sampler: crate::args::SamplerArg::Fixed(caustic_gpu::Sampler::Sobol),
-            filter: caustic_gpu::filter::PixelFilter::default(),
+            filter: caustic_kernels::filter::PixelFilter::default(),
         }
     }
 }

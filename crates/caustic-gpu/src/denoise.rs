@@ -521,8 +521,8 @@ mod tests {
 
     #[test]
     fn the_parameters_match_the_wgsl_struct() {
-        let host = crate::interface::host_layout!(DenoiseParams { width, height, step, _pad, sigma_normal, sigma_depth, sigma_luminance, _pad2 });
-        assert_eq!(crate::interface::wgsl_struct_layout(DENOISE.source, "DenoiseParams"), host);
+        let host = caustic_kernels::host_layout!(DenoiseParams { width, height, step, _pad, sigma_normal, sigma_depth, sigma_luminance, _pad2 });
+        assert_eq!(caustic_kernels::interface::wgsl_struct_layout(DENOISE.source, "DenoiseParams"), host);
     }
 
     #[test]

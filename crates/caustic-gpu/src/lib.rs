@@ -1,5 +1,9 @@
 //! Caustic's GPU renderer: device selection, scene upload and the WGSL kernels.
 //!
+//! What needs no device (the data layout, the scene analysis that specialises kernels, the
+//! light registry, the WGSL programs and their generation, CPU twins) is the crate
+//! `caustic-kernels`; this crate runs it on a device.
+//!
 //! [`GpuContext`] picks a Vulkan adapter and opens a device with the adapter's real limits.
 //! [`GpuScene`] builds the BVH and uploads the scene as storage buffers whose structs are
 //! declared once in [`gpu_types`] and mirrored in `shaders/common/types.wgsl`.
@@ -8,33 +12,19 @@
 //! ([`inspector`]) and [`debug_image`] turns the debug views into pictures.
 
 pub mod aov;
-pub mod bake;
 mod bench;
 pub mod bindings;
 pub mod bloom;
-pub mod classic;
-pub mod classic_reference;
-pub mod closest_solid;
-mod constant_branches;
 mod context;
-pub mod convex_occluder;
-pub mod convex_solid;
 pub mod debug_image;
 pub mod denoise;
-pub mod environment_sampling;
 mod error;
-pub mod features;
 mod film;
-pub mod filter;
-pub mod gpu_types;
 pub mod inspector;
-pub mod interface;
 pub mod kernel;
 #[cfg(feature = "kernel-test")]
 pub mod kernel_test;
-pub mod light_plane;
 pub mod light_tracer;
-pub mod lights;
 pub mod memory;
 pub mod motion;
 pub mod pages;
@@ -44,14 +34,13 @@ mod prepared_scene;
 pub mod program_module;
 mod readback;
 mod render_settings;
-pub mod requirements;
 mod scene_buffers;
-mod scene_data;
-pub mod shaders;
-pub mod shadow_hull;
-pub mod specialize;
 pub mod sppm;
 pub mod wavefront;
+
+use caustic_kernels::{
+    bake, classic, convex_occluder, environment_sampling, features, filter, gpu_types, light_plane, requirements, scene_data, shaders, shadow_hull, specialize,
+};
 
 pub use aov::{Aov, AovImages, render_aovs};
 pub use bench::{BenchResult, ExternalRay, RayBench, RayKind, TracedRay, Walk, is_coherent};

@@ -17,6 +17,7 @@ use crate::render_settings::RenderSettings;
 use crate::requirements::{REQUIRES_DIRECTIONAL_LIGHTS, REQUIRES_ENVIRONMENT_LIGHT, REQUIRES_MEDIA};
 use crate::{GpuContext, GpuError, GpuScene};
 use caustic_image::Image;
+pub use caustic_kernels::interface::{BDPT_CAMERA_PATHS, BDPT_MAX_DEPTH, STRATEGY_MAX_DEPTH};
 use caustic_scene::{Projection, Scene};
 use std::cell::Cell;
 
@@ -26,22 +27,6 @@ pub const ENTRY_POINT: &str = "render_light_trace";
 /// Bidirectional path tracing's entry point (`integrator/bdpt.wgsl`), whose t = 1 strategy
 /// splats as the light tracer does.
 pub const BDPT_ENTRY_POINT: &str = "render_bdpt";
-
-/// Most scattering vertices bidirectional path tracing's paths have (`integrator/bdpt.wgsl`
-/// keeps the light subpath's vertices in private arrays of this many): a deeper `--max-depth`,
-/// or none, renders paths up to this depth.
-pub const BDPT_MAX_DEPTH: u32 = 14;
-
-/// Camera subpaths that share one light subpath in bidirectional path tracing: the film's
-/// pixels k K .. k K + K - 1 join their samples' camera subpaths to the light subpath of pixel
-/// k K's sample (`integrator/bdpt.wgsl`), so one light subpath is traced (and splatted) for
-/// every K camera subpaths. On the Cornell box the light subpath, its kept vertices and its
-/// connections to the camera were about 40% of a sample's time; the joins and the camera
-/// subpath stay one per sample, and the t = 1 strategy's weight counts 1 / K light subpaths
-/// per camera subpath (Georgiev et al.'s light path count), so the image stays unbiased. K = 4
-/// did better than 2 on the four scenes measured (docs/BIDIRECTIONAL.md, "Light subpaths
-/// shared").
-pub const BDPT_CAMERA_PATHS: u32 = 4;
 
 /// Light subpaths a bidirectional dispatch of `pixels` pixels from film pixel `start` traces
 /// and splats: one per group of [`BDPT_CAMERA_PATHS`] pixels whose first pixel lies in the
@@ -57,9 +42,6 @@ pub fn bdpt_light_paths(start: u32, pixels: u32) -> u32 {
 pub fn bdpt_invocations(pixels: u32) -> u32 {
     pixels.div_ceil(BDPT_CAMERA_PATHS) + 1
 }
-
-/// Deepest strategies the `bdpt-strategies` debug view shows apart (bounces s + t - 2).
-pub const STRATEGY_MAX_DEPTH: u32 = 4;
 
 /// Strategies of at most [`STRATEGY_MAX_DEPTH`] bounces: k + 2 of depth k (s = 0 ..= k + 1).
 pub const STRATEGIES: u32 = (STRATEGY_MAX_DEPTH + 1) * (STRATEGY_MAX_DEPTH + 4) / 2;

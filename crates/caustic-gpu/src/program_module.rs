@@ -11,6 +11,8 @@
 
 use std::borrow::Cow;
 
+pub use caustic_kernels::constant_branches::entry_point_module;
+
 /// A program's WGSL, parsed; or its text, where it does not parse, for wgpu to report the
 /// error as it reports any other.
 pub struct ProgramModule {
@@ -57,21 +59,6 @@ impl EntryModule {
     }
 }
 
-/// `program` with `entry_point` its only entry point, its constants anonymous, and everything
-/// that entry point does not reach with the override values `constants` removed. A missing
-/// entry point leaves a module without one, which the pipeline's creation reports.
-pub fn entry_point_module(program: &naga::Module, entry_point: &str, constants: &[(&str, f64)]) -> naga::Module {
-    let mut module = program.clone();
-    module.entry_points.retain(|e| e.name == entry_point);
-    for (_, constant) in module.constants.iter_mut() {
-        constant.name = None;
-    }
-    naga::compact::compact(&mut module, naga::compact::KeepUnused::No);
-    crate::constant_branches::fold(&mut module, constants);
-    naga::compact::compact(&mut module, naga::compact::KeepUnused::No);
-    module
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -95,7 +82,7 @@ mod tests {
     fn inlined_size(module: &naga::Module, entry_point: &str) -> usize {
         fn size(module: &naga::Module, function: &naga::Function) -> usize {
             let mut callees = Vec::new();
-            crate::constant_branches::for_each_call(&mut function.body.clone(), &mut |callee| callees.push(*callee));
+            caustic_kernels::constant_branches::for_each_call(&mut function.body.clone(), &mut |callee| callees.push(*callee));
             function.expressions.len() + callees.iter().map(|&c| size(module, &module.functions[c])).sum::<usize>()
         }
         size(module, &module.entry_points.iter().find(|e| e.name == entry_point).expect("the entry point").function)

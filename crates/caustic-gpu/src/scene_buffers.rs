@@ -19,24 +19,7 @@ use wgpu::util::DeviceExt;
 /// Deepest BVH the kernels' fixed traversal stack is guaranteed to handle.
 pub const MAX_BVH_DEPTH: usize = 64;
 
-/// How the BVH's nodes are laid out in [`GpuScene::nodes`]; the gathered triangles are the
-/// same in both. The kernels walk the tree with the matching file: `bvh/traverse.wgsl` or
-/// `bvh/traverse_wide.wgsl` (docs/PERFORMANCE.md compares them).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum NodeLayout {
-    /// [`caustic_bvh::GpuNode`]: two children's boxes per 64-byte node.
-    Binary,
-    /// [`caustic_bvh::GpuWideNode`]: four children's boxes, quantised to bytes, per 64-byte
-    /// node ([`GpuBvh::to_wide`]). A tree that has no such form (a box too large to
-    /// quantise, or too deep for the wide walk's stack) is uploaded [`NodeLayout::Binary`].
-    /// The default: 1.2-1.7x the binary layout's rays per second on lavapipe.
-    #[default]
-    Wide,
-    /// [`caustic_bvh::GpuWideExactNode`]: four children's boxes as `f32` per 112-byte node
-    /// ([`GpuBvh::to_wide_exact`]), to measure what the quantisation gains; a tree too deep
-    /// for the wide walk's stack is uploaded [`NodeLayout::Binary`].
-    WideExact,
-}
+pub use caustic_kernels::NodeLayout;
 
 /// A scene on the device: BVH nodes and gathered triangles, per-triangle shading data,
 /// materials, the light list with its power CDF, and the environment texture.

@@ -16,6 +16,7 @@ use crate::gpu_types::{Frame, PROJECTION_PERSPECTIVE, SppmPixel};
 use crate::readback::read_buffer;
 use crate::render_settings::{PhotonSettings, RenderSettings};
 use crate::{GpuContext, GpuError, GpuScene};
+pub use caustic_kernels::interface::photon_map::{BUCKETS, CAPACITY, COUNT, HEADER_WORDS, PHOTON_SEED, PHOTON_WORDS, RADIUS};
 use caustic_scene::Scene;
 use glam::Vec3;
 
@@ -24,23 +25,6 @@ pub const ENTRY_POINT: &str = "render_sppm";
 
 /// The photon pass's entry point.
 pub const PHOTON_ENTRY_POINT: &str = "render_sppm_photons";
-
-/// Header word: photons stored so far this iteration (may exceed the capacity).
-pub const COUNT: u32 = 0;
-/// Header word: photon records the map holds.
-pub const CAPACITY: u32 = 1;
-/// Header word: buckets of the hash grid (a power of two).
-pub const BUCKETS: u32 = 2;
-/// Header words `RADIUS` and `RADIUS + 1`: the largest gather radius (f32 bits) for even and
-/// odd iterations; the grid's cells are twice it.
-pub const RADIUS: u32 = 3;
-/// Words before the buckets' heads.
-pub const HEADER_WORDS: u32 = 5;
-/// Words per stored photon: position, throughput, direction (octahedral, two snorm16),
-/// bounces, next record of its bucket.
-pub const PHOTON_WORDS: u32 = 9;
-/// Decorrelates the photon paths' random numbers from the camera paths' of the same index.
-pub const PHOTON_SEED: u32 = 0x2c1b_3c6d;
 
 /// Photons stored per photon path the map is first sized for (paths store one per bounce
 /// after the first at a non-delta surface); a pass that stores more grows it.

@@ -33,7 +33,7 @@ pub(crate) struct Controls {
     pub spp_target: u32,
     pub seed: u32,
     /// The feature switches (`--feature`, then the panel's Features section).
-    pub features: caustic_gpu::features::ClassicFeatures,
+    pub features: caustic_kernels::features::ClassicFeatures,
     pub exposure: f32,
     pub tone_map: ToneMap,
     /// Render resolution = the scene's divided by this.

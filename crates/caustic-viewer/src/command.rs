@@ -22,7 +22,7 @@ pub struct Reproduction {
     /// Seed.
     pub seed: u32,
     /// The classic ray tracer's `--feature` switches.
-    pub features: caustic_gpu::features::ClassicFeatures,
+    pub features: caustic_kernels::features::ClassicFeatures,
     /// Integrator.
     pub integrator: Integrator,
     /// The camera as shown.

@@ -4,7 +4,7 @@
 // one 8-bit step.
 
 // One pixel's running sum with Kahan compensation; sum.w is the sum of the samples' filter
-// weights, the sample count with the box filter (caustic_gpu::gpu_types::AccumTexel).
+// weights, the sample count with the box filter (caustic_kernels::gpu_types::AccumTexel).
 struct AccumTexel {
     sum: vec4<f32>,
     compensation: vec4<f32>,

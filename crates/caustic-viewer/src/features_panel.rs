@@ -1,11 +1,11 @@
 //! The panel's "Features" section: one control per entry of the feature table
-//! ([`caustic_gpu::features::FEATURES`], the table `caustic render --feature` reads), so the
+//! ([`caustic_kernels::features::FEATURES`], the table `caustic render --feature` reads), so the
 //! window offers exactly the switches the command line does: a checkbox per toggle, a box per
 //! choice, a number per sample count. [`FeaturePanel`] is the state behind the controls (no UI),
 //! which turns into the [`ClassicFeatures`] a render is compiled with and into `--feature`
 //! arguments.
 
-use caustic_gpu::features::{ClassicFeatures, FEATURES, FeatureInfo, FeatureKind, MAX_SAMPLES, parse_feature};
+use caustic_kernels::features::{ClassicFeatures, FEATURES, FeatureInfo, FeatureKind, MAX_SAMPLES, parse_feature};
 use egui::{ComboBox, DragValue, Ui};
 
 /// One feature's control.
@@ -175,7 +175,7 @@ mod tests {
 
     #[test]
     fn the_scene_defaults_follow_the_scene_bits() {
-        let shadows = caustic_gpu::features::FEATURE_SHADOWS;
+        let shadows = caustic_kernels::features::FEATURE_SHADOWS;
         let with = FeaturePanel::new(&ClassicFeatures::default(), shadows);
         let without = FeaturePanel::new(&ClassicFeatures::default(), 0);
         let shadow_control = |p: &FeaturePanel| p.controls.iter().find(|c| c.info().name == "shadows").unwrap().value();

@@ -56,7 +56,7 @@ pub struct ViewerOptions {
     /// Seed.
     pub seed: u32,
     /// The classic ray tracer's `--feature` switches.
-    pub features: caustic_gpu::features::ClassicFeatures,
+    pub features: caustic_kernels::features::ClassicFeatures,
     /// Exposure in stops.
     pub exposure: f32,
     /// Tone map.

@@ -10,7 +10,7 @@ use caustic_bsdf::ashikhmin::AshikhminShirley;
 use caustic_bsdf::catalog::{ASHIKHMIN_EXPONENTS, TEST_ANGLES, outgoing};
 use caustic_bsdf::chi_square::{ChiSquareTest, corrected_level};
 use caustic_gpu::kernel_test::KernelTest;
-use caustic_gpu::shaders::bsdf_library;
+use caustic_kernels::shaders::bsdf_library;
 use glam::{Vec2, Vec3};
 
 /// `TestInput` below.

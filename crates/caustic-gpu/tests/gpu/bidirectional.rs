@@ -204,7 +204,7 @@ fn scenes_the_light_tracer_cannot_render_are_refused_by_name() {
     };
     let lit = format!("{ROOM}quadLight -0.5 2.5 -0.5  0 0 1  1 0 0  5 5 5\n");
     let gaussian = RenderSettings {
-        filter: caustic_gpu::filter::PixelFilter { kind: caustic_gpu::filter::FilterKind::Gaussian, radius: 1.5 },
+        filter: caustic_kernels::filter::PixelFilter { kind: caustic_kernels::filter::FilterKind::Gaussian, radius: 1.5 },
         ..RenderSettings::default()
     };
     refused(&lit, gaussian, "box filter");

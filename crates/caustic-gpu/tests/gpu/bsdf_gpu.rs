@@ -11,10 +11,10 @@ use caustic_bsdf::bsdf::Sampling;
 use caustic_bsdf::catalog::{Case, TEST_ANGLES, outgoing, reference_cases};
 use caustic_bsdf::chi_square::{ChiSquareTest, corrected_level};
 use caustic_bsdf::params::BsdfParams;
-use caustic_gpu::gpu_types::GpuMaterial;
 use caustic_gpu::kernel_test::KernelTest;
 use caustic_gpu::material_with_bsdf;
-use caustic_gpu::shaders::bsdf_library;
+use caustic_kernels::gpu_types::GpuMaterial;
+use caustic_kernels::shaders::bsdf_library;
 use glam::{Vec2, Vec3};
 
 /// One BSDF query: `TestInput` in the WGSL below.
@@ -400,7 +400,7 @@ fn test_kernel(index: u32) -> TestOutput {
 fn device_triangle_test_matches_its_twin() {
     use caustic_bvh::{Ray, intersect_triangle_facing};
     let ctx = device();
-    let kernel = KernelTest::new(&ctx, &caustic_gpu::shaders::common_library(), TRIANGLE_KERNEL).expect("triangle kernel compiles");
+    let kernel = KernelTest::new(&ctx, &caustic_kernels::shaders::common_library(), TRIANGLE_KERNEL).expect("triangle kernel compiles");
     let mut rng = Pcg(23);
     let inputs: Vec<[[f32; 4]; 5]> = (0..65_536)
         .map(|_| {
@@ -440,7 +440,7 @@ fn device_triangle_test_matches_its_twin() {
 #[test]
 fn device_triangle_test_misses_edge_on_slivers_and_hits_through_vertices() {
     let ctx = device();
-    let kernel = KernelTest::new(&ctx, &caustic_gpu::shaders::common_library(), TRIANGLE_KERNEL).expect("triangle kernel compiles");
+    let kernel = KernelTest::new(&ctx, &caustic_kernels::shaders::common_library(), TRIANGLE_KERNEL).expect("triangle kernel compiles");
     let row = |v: Vec3| [v.x, v.y, v.z, 0.0];
     let sliver = [Vec3::new(1.5, -0.5, -0.5), Vec3::new(2.5, -0.5, -0.5), Vec3::new(2.0, -0.5, -0.4999999)];
     let mut inputs = vec![[

@@ -7,10 +7,10 @@
 use crate::support::{Pcg, device};
 use bytemuck::{Pod, Zeroable};
 use caustic_bsdf::params::BsdfParams;
-use caustic_gpu::gpu_types::GpuMaterial;
 use caustic_gpu::kernel_test::KernelTest;
 use caustic_gpu::material_with_bsdf;
-use caustic_gpu::shaders::bsdf_library;
+use caustic_kernels::gpu_types::GpuMaterial;
+use caustic_kernels::shaders::bsdf_library;
 use glam::Vec3;
 
 /// One query: `TestInput` below.

@@ -5,9 +5,9 @@
 //! switches themselves.
 
 use crate::support::device;
-use caustic_gpu::classic_reference::{ClassicReference, classic_fresnel, pixel_centre_ray, spawn_origin};
-use caustic_gpu::features::{ClassicFeatures, FEATURES};
 use caustic_gpu::{GpuContext, GpuScene, PathTracer, RenderSettings};
+use caustic_kernels::classic_reference::{ClassicReference, classic_fresnel, pixel_centre_ray, spawn_origin};
+use caustic_kernels::features::{ClassicFeatures, FEATURES};
 use caustic_scene::{
     Attenuation, Camera, ColorSpace, Environment, EnvironmentMap, Integrator, Light, Material, Mesh, Scene, ShadingModel, Shape, Texture, TextureFilter,
     TextureSlot,
@@ -402,33 +402,33 @@ fn feature_switches_parse_and_default_to_what_the_scene_uses() {
         assert!(err.contains(bad));
     }
     let scene = glass_scene();
-    let uses = caustic_gpu::classic::scene_features(&scene);
+    let uses = caustic_kernels::classic::scene_features(&scene);
     let defaults = ClassicFeatures::default().constants(uses);
     println!("glass scene uses features {uses:#x}; defaults {defaults:?}");
-    assert_eq!(defaults.mask & caustic_gpu::features::FEATURE_REFRACTION, caustic_gpu::features::FEATURE_REFRACTION);
-    assert_eq!(defaults.mask & caustic_gpu::features::FEATURE_GLOSSY, 0, "no gloss in the scene: compiled out");
+    assert_eq!(defaults.mask & caustic_kernels::features::FEATURE_REFRACTION, caustic_kernels::features::FEATURE_REFRACTION);
+    assert_eq!(defaults.mask & caustic_kernels::features::FEATURE_GLOSSY, 0, "no gloss in the scene: compiled out");
     let forced = features(&["glossy=on", "refraction=off"]).constants(uses);
-    assert_eq!(forced.mask & caustic_gpu::features::FEATURE_GLOSSY, caustic_gpu::features::FEATURE_GLOSSY);
-    assert_eq!(forced.mask & caustic_gpu::features::FEATURE_REFRACTION, 0);
+    assert_eq!(forced.mask & caustic_kernels::features::FEATURE_GLOSSY, caustic_kernels::features::FEATURE_GLOSSY);
+    assert_eq!(forced.mask & caustic_kernels::features::FEATURE_REFRACTION, 0);
     // A moving instance switches motion blur on, as a moving mesh does.
     let mut moving = glass_scene();
-    assert_eq!(caustic_gpu::classic::scene_features(&moving) & caustic_gpu::features::FEATURE_MOTION_BLUR, 0);
+    assert_eq!(caustic_kernels::classic::scene_features(&moving) & caustic_kernels::features::FEATURE_MOTION_BLUR, 0);
     moving.prototypes.push(moving.meshes[0].clone());
     let motion = caustic_scene::Motion { translation: glam::Vec3::X, axis: glam::Vec3::Y, angle: 0.0, pivot: glam::Vec3::ZERO };
     let instance = caustic_scene::Instance { name: "moving".into(), prototype: 0, object_to_world: glam::Mat4::IDENTITY, motion: Some(motion), material: None };
     moving.instances.push(instance);
-    let uses = caustic_gpu::classic::scene_features(&moving);
-    assert_eq!(uses & caustic_gpu::features::FEATURE_MOTION_BLUR, caustic_gpu::features::FEATURE_MOTION_BLUR);
+    let uses = caustic_kernels::classic::scene_features(&moving);
+    assert_eq!(uses & caustic_kernels::features::FEATURE_MOTION_BLUR, caustic_kernels::features::FEATURE_MOTION_BLUR);
 }
 
 #[test]
 fn docs_list_every_feature() {
-    let table = caustic_gpu::features::markdown_table();
+    let table = caustic_kernels::features::markdown_table();
     let docs = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/FEATURES.md")).expect("docs/FEATURES.md");
     if !docs.contains(&table) {
         println!("docs/FEATURES.md should hold this table:\n{table}");
     }
-    assert!(docs.contains(&table), "docs/FEATURES.md shows the feature table of caustic_gpu::features");
+    assert!(docs.contains(&table), "docs/FEATURES.md shows the feature table of caustic_kernels::features");
 }
 
 /// A square facing the camera, textured with a magnified 2 x 2 checker read with `filter`, lit

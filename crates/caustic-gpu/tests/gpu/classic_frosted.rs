@@ -8,8 +8,8 @@
 //! faces' lobes add, the entry one widened by Snell's law.
 
 use crate::support::device;
-use caustic_gpu::features::ClassicFeatures;
 use caustic_gpu::{GpuContext, GpuScene, PathTracer, RenderSettings};
+use caustic_kernels::features::ClassicFeatures;
 use caustic_scene::{Camera, Environment, EnvironmentMap, Integrator, Material, Scene, ShadingModel, Shape};
 use glam::{Mat4, Vec3};
 

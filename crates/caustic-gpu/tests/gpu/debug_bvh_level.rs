@@ -4,10 +4,10 @@
 
 use crate::support::{device, shared_path};
 use caustic_bvh::{BuildOptions, Ray, build_with_shapes, flatten_with_shapes};
-use caustic_gpu::classic_reference::pixel_centre_ray;
 use caustic_gpu::debug_image::debug_picture;
-use caustic_gpu::filter::{FilterKind, PixelFilter};
 use caustic_gpu::{DebugView, GpuScene, NodeLayout, PathTracer, RenderSettings, SceneData};
+use caustic_kernels::classic_reference::pixel_centre_ray;
+use caustic_kernels::filter::{FilterKind, PixelFilter};
 use caustic_scene::{Scene, SceneSource, load_scene};
 use std::path::Path;
 

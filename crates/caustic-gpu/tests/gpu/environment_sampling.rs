@@ -1,10 +1,10 @@
-//! The environment map's importance sampler (`caustic_gpu::environment_sampling`, the CPU twin
+//! The environment map's importance sampler (`caustic_kernels::environment_sampling`, the CPU twin
 //! of `shaders/integrator/environment.wgsl`): its samples follow its pdf (chi-square over the
 //! sphere), the pdf integrates to 1 and is proportional to the largest luminance the bilinear
 //! lookup mixes in each texel, and a black map has no light to sample.
 
 use caustic_bsdf::chi_square::{ChiSquareTest, corrected_level};
-use caustic_gpu::environment_sampling::{EnvironmentDistribution, direction_to_uv, uv_to_direction};
+use caustic_kernels::environment_sampling::{EnvironmentDistribution, direction_to_uv, uv_to_direction};
 use caustic_scene::EnvironmentMap;
 use glam::{Vec2, Vec3};
 

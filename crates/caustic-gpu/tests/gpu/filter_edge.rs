@@ -5,8 +5,8 @@
 //! radius 0.5 gives each pixel its exact coverage.
 
 use crate::support::device;
-use caustic_gpu::filter::{FilterKind, PixelFilter};
 use caustic_gpu::{GpuContext, GpuScene, PathTracer, RenderSettings};
+use caustic_kernels::filter::{FilterKind, PixelFilter};
 use caustic_scene::{Camera, Environment, Material, Mesh, Scene};
 use glam::Vec3;
 

@@ -6,10 +6,10 @@
 
 use crate::support::device;
 use caustic_bsdf::chi_square::{ChiSquareTest, corrected_level};
-use caustic_gpu::filter::{FILTER_BINS, FilterKind, PixelFilter, sample_filter_1d};
-use caustic_gpu::gpu_types::PixelSampling;
 use caustic_gpu::kernel_test::KernelTest;
-use caustic_gpu::shaders::common_library;
+use caustic_kernels::filter::{FILTER_BINS, FilterKind, PixelFilter, sample_filter_1d};
+use caustic_kernels::gpu_types::PixelSampling;
+use caustic_kernels::shaders::common_library;
 
 const KERNEL: &str = "
 alias TestInput = PixelSampling;

@@ -10,10 +10,10 @@ use crate::support::{device, shared_path};
 use bytemuck::{Pod, Zeroable};
 use caustic_bsdf::bsdf::{Bsdf, Sampling};
 use caustic_bsdf::params::BsdfParams;
-use caustic_gpu::gpu_types::GpuMaterial;
 use caustic_gpu::kernel_test::KernelTest;
 use caustic_gpu::{GpuScene, PathTracer, RenderSettings, material_with_bsdf};
 use caustic_image::Image;
+use caustic_kernels::gpu_types::GpuMaterial;
 use caustic_scene::{
     AlphaMode, Camera, ColorSpace, Environment, Light, Material, Mesh, RenderPass, Scene, SceneSource, Texture, TextureFilter, TextureSlot, load_scene,
     normal_mapped, srgb_to_linear,
@@ -131,7 +131,7 @@ fn material_input(base: Vec3, metallic: f32, roughness: f32, specular: f32, tint
 fn metallic_roughness_lobes_match_the_cpu_twin() {
     let ctx = device();
     let kernel = "alias TestInput = Material;\nalias TestOutput = Material;\nfn test_kernel(i: u32) -> Material {\n    return metallic_roughness_lobes(test_inputs[i], test_inputs[i].metallic, test_inputs[i].roughness);\n}\n";
-    let test = KernelTest::new(&ctx, &caustic_gpu::shaders::material_library(), kernel).expect("kernel");
+    let test = KernelTest::new(&ctx, &caustic_kernels::shaders::material_library(), kernel).expect("kernel");
     let mut inputs = Vec::new();
     for (k, metallic) in [0.0, 0.3, 1.0].into_iter().enumerate() {
         for roughness in [0.0, 0.5, 1.0] {
@@ -183,7 +183,7 @@ struct NormalInput {
 fn normal_mapping_matches_the_cpu_twin() {
     let ctx = device();
     let kernel = "struct TestInput { normal: vec3<f32>, scale: f32, tangent: vec4<f32>, texel: vec3<f32>, _pad: f32 }\nalias TestOutput = vec4<f32>;\nfn test_kernel(i: u32) -> vec4<f32> {\n    let x = test_inputs[i];\n    return vec4<f32>(normal_mapped(x.normal, x.tangent.xyz, select(1.0, -1.0, x.tangent.w < 0.0), x.texel, x.scale), 0.0);\n}\n";
-    let test = KernelTest::new(&ctx, &caustic_gpu::shaders::material_library(), kernel).expect("kernel");
+    let test = KernelTest::new(&ctx, &caustic_kernels::shaders::material_library(), kernel).expect("kernel");
     let mut inputs = Vec::new();
     for i in 0..64 {
         let a = i as f32 * 0.7;
@@ -622,11 +622,11 @@ fn scene_data_carries_textures_tangents_alpha_and_absorption() {
     assert_eq!((first.extension as usize, second.extension), (4, 0), "extensions follow the 4 triangles");
     assert_eq!(extension.flags, 0b100, "corner 2 of triangle [0, 1, 2] has handedness -1");
     assert_eq!((extension.n0, extension.uv1), ([1.0, 0.0, 0.0], [0.5, 0.25]));
-    assert_eq!(first.flags & caustic_gpu::gpu_types::FLAG_ALPHA_TESTED, caustic_gpu::gpu_types::FLAG_ALPHA_TESTED);
-    assert_eq!(second.flags & caustic_gpu::gpu_types::FLAG_ALPHA_TESTED, 0);
+    assert_eq!(first.flags & caustic_kernels::gpu_types::FLAG_ALPHA_TESTED, caustic_kernels::gpu_types::FLAG_ALPHA_TESTED);
+    assert_eq!(second.flags & caustic_kernels::gpu_types::FLAG_ALPHA_TESTED, 0);
     let (m, t) = (data.materials[0], data.materials[1]);
     assert_eq!((m.normal_map.texture, m.normal_map.bits >> 7, m.emissive_map.bits >> 7, m.metallic_roughness_map.texture), (1, 0, 1, 0));
-    assert_eq!((m.alpha_mode, m.alpha_cutoff), (caustic_gpu::gpu_types::ALPHA_MASK, 0.3));
+    assert_eq!((m.alpha_mode, m.alpha_cutoff), (caustic_kernels::gpu_types::ALPHA_MASK, 0.3));
     let want = Vec3::new(2f32.ln(), 4f32.ln(), 0.0) / 2.0;
     println!("absorption {:?} (expected {want}), thin-walled {:?}", m.absorption, t.absorption);
     assert!((Vec3::from(m.absorption) - want).abs().max_element() < 1e-6 && t.absorption == [0.0; 3]);

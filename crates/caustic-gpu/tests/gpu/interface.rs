@@ -5,9 +5,9 @@
 
 use bytemuck::{Pod, Zeroable};
 use caustic_gpu::bindings::{Access, INTEGRATOR_BINDINGS};
-use caustic_gpu::gpu_types::{AccumTexel, Frame, GpuLight, GpuMaterial, InspectBounce, InspectConnection, InspectRecord, SppmPixel, TriangleShading};
-use caustic_gpu::shaders::Program;
 use caustic_gpu::wavefront::{WavefrontControl, WavefrontPath, WavefrontShadow};
+use caustic_kernels::gpu_types::{AccumTexel, Frame, GpuLight, GpuMaterial, InspectBounce, InspectConnection, InspectRecord, SppmPixel, TriangleShading};
+use caustic_kernels::shaders::Program;
 
 /// A Rust struct's size and its fields' (name, offset, size).
 type RustLayout = (usize, Vec<(&'static str, usize, usize)>);

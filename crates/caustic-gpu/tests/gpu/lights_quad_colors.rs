@@ -5,8 +5,8 @@
 //! (integrated numerically over the quad) and the radiance seen looking at the light.
 
 use crate::support::device;
-use caustic_gpu::classic_reference::pixel_centre_ray;
 use caustic_gpu::{GpuScene, PathTracer, RenderSettings};
+use caustic_kernels::classic_reference::pixel_centre_ray;
 use caustic_scene::{Camera, Integrator, Light, Material, Scene, Shape};
 use glam::{Mat4, Vec3};
 use std::f32::consts::PI;

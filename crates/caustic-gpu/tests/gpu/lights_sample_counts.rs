@@ -6,9 +6,9 @@
 //! overrides both counts, and the two halves then match.
 
 use crate::support::device;
-use caustic_gpu::features::ClassicFeatures;
-use caustic_gpu::filter::{FilterKind, PixelFilter};
 use caustic_gpu::{GpuScene, PathTracer, RenderSettings, Sampler};
+use caustic_kernels::features::ClassicFeatures;
+use caustic_kernels::filter::{FilterKind, PixelFilter};
 use caustic_scene::{Camera, Integrator, Light, Material, Scene, Shape};
 use glam::{Mat4, Vec3};
 

@@ -7,7 +7,7 @@
 use crate::support::device;
 use bytemuck::{Pod, Zeroable};
 use caustic_gpu::kernel_test::KernelTest;
-use caustic_gpu::shaders::light_library;
+use caustic_kernels::shaders::light_library;
 use glam::{Vec2, Vec3};
 
 /// One query: a light (sphere: centre, radius in a.x; disk: centre, semi-axes a, b), the

@@ -1,5 +1,5 @@
 //! Tube lights (`shaders/lights/tube.wgsl`, the kind the light registry's note adds): the
-//! device's next-event and emission samples equal their CPU twins in `caustic_gpu::lights::tube`
+//! device's next-event and emission samples equal their CPU twins in `caustic_kernels::lights::tube`
 //! (each checked there against quadrature and the flux); the floor below a tube is lit as
 //! quadrature over the tube's side says, in the classic tracer and the path tracer; the light
 //! tracer, bidirectional path tracing and photon mapping agree with the path tracer.
@@ -8,8 +8,8 @@ use crate::bidirectional::{ROOM, agrees, parse};
 use crate::support::device;
 use bytemuck::{Pod, Zeroable};
 use caustic_gpu::kernel_test::KernelTest;
-use caustic_gpu::lights::tube;
 use caustic_gpu::{GpuScene, PathTracer, RenderSettings};
+use caustic_kernels::lights::tube;
 use caustic_scene::Integrator;
 use glam::{Vec2, Vec3};
 use std::f32::consts::PI;
@@ -91,7 +91,7 @@ fn test_kernel(index: u32) -> TestOutput {
 
 /// The declaration of WGSL struct `name` in the path tracer's program.
 fn program_struct(name: &str) -> String {
-    let source = caustic_gpu::shaders::Program::PathTracer.source();
+    let source = caustic_kernels::shaders::Program::PathTracer.source();
     let start = source.find(&format!("struct {name} {{")).unwrap_or_else(|| panic!("no struct {name}"));
     let end = start + source[start..].find("\n}\n").expect("the struct's end") + 3;
     source[start..end].to_string()
@@ -104,7 +104,7 @@ fn close(a: Vec3, b: Vec3, scale: f32) -> bool {
 #[test]
 fn tube_samples_on_the_device_match_the_cpu_twin() {
     let ctx = device();
-    let library: Vec<_> = caustic_gpu::shaders::common_library().into_iter().chain(std::iter::once(&tube::CODE.file)).collect();
+    let library: Vec<_> = caustic_kernels::shaders::common_library().into_iter().chain(std::iter::once(&tube::CODE.file)).collect();
     let source = format!("{}{}{KERNEL}", program_struct("LightSample"), program_struct("EmissionSample"));
     let kernel = KernelTest::new(&ctx, &library, &source).expect("kernel compiles");
     let light = tube::pack(Vec3::new(-1.0, 1.0, 0.0), Vec3::new(1.0, 1.5, 0.2), 0.15, Vec3::new(3.0, 2.0, 1.0));

@@ -9,8 +9,8 @@
 
 use crate::support::device;
 use caustic_bvh::{GpuShape, Ray, ShapeInput, ShapeKind, intersect_shape};
-use caustic_gpu::features::ClassicFeatures;
 use caustic_gpu::{GpuScene, PathTracer, RenderSettings};
+use caustic_kernels::features::ClassicFeatures;
 use caustic_scene::Scene;
 use glam::Vec3;
 use std::path::Path;

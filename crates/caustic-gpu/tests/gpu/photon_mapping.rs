@@ -227,7 +227,7 @@ fn scenes_photon_mapping_cannot_render_are_refused_by_name() {
         assert!(error.contains("photon mapping") && error.contains(expected), "{error}");
     };
     let gaussian = RenderSettings {
-        filter: caustic_gpu::filter::PixelFilter { kind: caustic_gpu::filter::FilterKind::Gaussian, radius: 1.5 },
+        filter: caustic_kernels::filter::PixelFilter { kind: caustic_kernels::filter::FilterKind::Gaussian, radius: 1.5 },
         ..RenderSettings::default()
     };
     refused(&parse(&lit), gaussian, "box filter");

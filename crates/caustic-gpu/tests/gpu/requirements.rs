@@ -1,5 +1,5 @@
 //! Kernels compiled with only the parts a scene requires (`SCENE_REQUIRES`,
-//! caustic_gpu::requirements) render what the general kernel renders: for scenes that each
+//! caustic_kernels::requirements) render what the general kernel renders: for scenes that each
 //! need a different set of parts (shapes and planes with point and directional lights, quad
 //! lights with corner colours, vertex normals, a textured and normal-mapped glTF model under an
 //! environment map), the specialised image differs from the general one by less than 1e-2 of
@@ -7,10 +7,10 @@
 //! requirement bits of each scene are checked first, so no scene passes by needing everything.
 
 use crate::support::{device, shared_path};
-use caustic_gpu::requirements::*;
 use caustic_gpu::{DataPath, GpuContext, GpuScene, PathTracer, RenderSettings};
 use caustic_image::Image;
 use caustic_image::metrics::{RELMSE_EPSILON, relative_mse};
+use caustic_kernels::requirements::*;
 use caustic_scene::{Environment, EnvironmentMap, Integrator, Scene, SceneSource, load_scene};
 use std::path::{Path, PathBuf};
 

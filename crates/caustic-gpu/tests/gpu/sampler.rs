@@ -5,7 +5,7 @@
 
 use crate::support::device;
 use caustic_gpu::kernel_test::KernelTest;
-use caustic_gpu::shaders::bsdf_library;
+use caustic_kernels::shaders::bsdf_library;
 
 const SOBOL_KERNEL: &str = "
 struct TestInput {

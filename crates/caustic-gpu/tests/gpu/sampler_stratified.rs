@@ -8,7 +8,7 @@
 use crate::support::device;
 use caustic_gpu::GpuContext;
 use caustic_gpu::kernel_test::KernelTest;
-use caustic_gpu::shaders::bsdf_library;
+use caustic_kernels::shaders::bsdf_library;
 
 const KERNEL: &str = "
 struct TestInput {

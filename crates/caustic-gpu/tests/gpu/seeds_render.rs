@@ -5,9 +5,9 @@
 //! seed's `material checkers` and `material flat` in both integrators.
 
 use crate::support::device;
-use caustic_gpu::classic_reference::pixel_centre_ray;
-use caustic_gpu::filter::PixelFilter;
 use caustic_gpu::{GpuContext, GpuScene, PathTracer, RenderSettings};
+use caustic_kernels::classic_reference::pixel_centre_ray;
+use caustic_kernels::filter::PixelFilter;
 use caustic_scene::lang::Interpreter;
 use caustic_scene::{Camera, Environment, Integrator, NextEvent, Scene};
 use glam::Vec3;

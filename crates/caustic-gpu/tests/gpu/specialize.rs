@@ -1,10 +1,10 @@
 //! The scene-specialised kernel (primitives compiled in, no BVH walk) renders what the general
 //! kernel renders: the same random numbers give the same paths, so the images differ only
 //! where two primitives tie for the closest hit, or where a shadow ray grazes an edge of a box
-//! it clips itself to (`caustic_gpu::convex_occluder`) instead of testing its triangles, or
+//! it clips itself to (`caustic_kernels::convex_occluder`) instead of testing its triangles, or
 //! where a closest-hit ray meets an edge of a solid it clips itself to
-//! (`caustic_gpu::closest_solid`) and is given the neighbouring triangle. Shadow rays skip
-//! the light's own triangles (`caustic_gpu::light_plane`), which cannot stop them.
+//! (`caustic_kernels::closest_solid`) and is given the neighbouring triangle. Shadow rays skip
+//! the light's own triangles (`caustic_kernels::light_plane`), which cannot stop them.
 
 use crate::support::device;
 use caustic_gpu::{DataPath, GpuScene, PathTracer, RenderSettings};
@@ -54,8 +54,8 @@ fn specialised_and_general_kernels_render_the_same_image() {
 fn the_specialised_program_validates() {
     let mut scene = caustic_scene::cornell_box();
     scene.resolution = (4, 4);
-    let data = caustic_gpu::specialize::unrolled_traversal(&cornell_bvh(&scene), &[]).expect("small scene").wgsl;
-    let source = caustic_gpu::shaders::Program::PathTracer.source_replacing(caustic_gpu::specialize::TRAVERSAL_FILE, &data);
+    let data = caustic_kernels::specialize::unrolled_traversal(&cornell_bvh(&scene), &[]).expect("small scene").wgsl;
+    let source = caustic_kernels::shaders::Program::PathTracer.source_replacing(caustic_kernels::specialize::TRAVERSAL_FILE, &data);
     let module = naga::front::wgsl::parse_str(&source).unwrap_or_else(|e| panic!("{}", e.emit_to_string(&source)));
     let mut validator = naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::all());
     validator.validate(&module).unwrap_or_else(|e| panic!("{}", e.emit_to_string(&source)));

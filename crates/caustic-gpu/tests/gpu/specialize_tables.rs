@@ -1,15 +1,15 @@
 //! Small scenes' shading entries, materials and lights compiled into the kernel as constants
-//! (`caustic_gpu::bake`) render what the kernel reading them from storage buffers renders, at
+//! (`caustic_kernels::bake`) render what the kernel reading them from storage buffers renders, at
 //! equal seeds: the Cornell box (emissive quad light, diffuse walls) and the textured glTF
 //! `BoxTextured` under a white sky (texture coordinates from the shading entries), and after a
 //! material edit (the tracer falls back to the tables in the buffers and shows the edit); and
 //! a mesh that walks the BVH, whose materials and lights alone are baked.
 
 use crate::support::{device, shared_path};
-use caustic_gpu::bake::BakedTables;
 use caustic_gpu::{DataPath, GpuContext, GpuScene, PathTracer, RenderSettings};
 use caustic_image::Image;
 use caustic_image::metrics::{RELMSE_EPSILON, relative_mse};
+use caustic_kernels::bake::BakedTables;
 use caustic_scene::{Environment, Scene, SceneSource, load_scene};
 use glam::Vec3;
 
@@ -67,7 +67,7 @@ fn a_mesh_bakes_its_materials_and_lights_alone() {
     let gpu = GpuScene::upload(&ctx, &scene).expect("upload");
     assert!(gpu.traversal.is_none(), "the dragon walks the BVH");
     let tables = gpu.tables.clone().expect("a few materials and lights are baked");
-    let source = tables.apply(&caustic_gpu::shaders::Program::PathTracer.source());
+    let source = tables.apply(&caustic_kernels::shaders::Program::PathTracer.source());
     assert!(source.contains("baked_materials(") && source.contains("baked_lights("), "materials and lights read from constants");
     assert!(!source.contains("baked_shading("), "the mesh's shading entries stay in their buffer");
     let (baked, buffers) = (render(&ctx, &scene, &gpu, DataPath::Auto), render(&ctx, &scene, &gpu, DataPath::Buffers));
@@ -112,16 +112,16 @@ fn an_edited_material_falls_back_to_the_buffers() {
 
 #[test]
 fn oversized_tables_stay_in_buffers() {
-    let lights = vec![caustic_gpu::gpu_types::GpuLight::default(); caustic_gpu::bake::BAKE_MAX_ENTRIES];
+    let lights = vec![caustic_kernels::gpu_types::GpuLight::default(); caustic_kernels::bake::BAKE_MAX_ENTRIES];
     assert!(BakedTables::new(&[], &[], &lights).is_some());
-    let lights = vec![caustic_gpu::gpu_types::GpuLight::default(); caustic_gpu::bake::BAKE_MAX_ENTRIES + 1];
+    let lights = vec![caustic_kernels::gpu_types::GpuLight::default(); caustic_kernels::bake::BAKE_MAX_ENTRIES + 1];
     assert!(BakedTables::new(&[], &[], &lights).is_none());
     // A mesh's materials and lights share a word budget (compile time grows with them).
-    let material_words = std::mem::size_of::<caustic_gpu::gpu_types::GpuMaterial>() / 4;
-    let fitting = caustic_gpu::bake::BAKE_MESH_MAX_WORDS / material_words;
-    let materials = vec![caustic_gpu::gpu_types::GpuMaterial::default(); fitting];
+    let material_words = std::mem::size_of::<caustic_kernels::gpu_types::GpuMaterial>() / 4;
+    let fitting = caustic_kernels::bake::BAKE_MESH_MAX_WORDS / material_words;
+    let materials = vec![caustic_kernels::gpu_types::GpuMaterial::default(); fitting];
     assert!(BakedTables::materials_and_lights(&materials, &[]).is_some(), "{fitting} materials of {material_words} words fit");
-    let materials = vec![caustic_gpu::gpu_types::GpuMaterial::default(); fitting + 1];
+    let materials = vec![caustic_kernels::gpu_types::GpuMaterial::default(); fitting + 1];
     assert!(BakedTables::materials_and_lights(&materials, &[]).is_none());
 }
 
@@ -131,7 +131,7 @@ fn the_baked_program_validates() {
     scene.resolution = (4, 4);
     let data = caustic_gpu::SceneData::new(&scene);
     let tables = BakedTables::new(&data.shading, &data.materials, &data.lights).expect("small scene");
-    let source = tables.apply(&caustic_gpu::shaders::Program::PathTracer.source());
+    let source = tables.apply(&caustic_kernels::shaders::Program::PathTracer.source());
     for buffer in ["shading[", "materials[", "lights["] {
         let left = source.match_indices(buffer).filter(|(at, _)| !source[..*at].ends_with(|c: char| c.is_alphanumeric() || c == '_' || c == '.')).count();
         assert_eq!(left, 0, "{buffer} still read from its buffer");

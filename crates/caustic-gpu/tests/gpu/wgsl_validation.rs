@@ -1,7 +1,7 @@
 //! Every WGSL program parses and validates with naga. Needs no device. (The host structs are
 //! checked against their WGSL mirrors in `interface.rs`.)
 
-use caustic_gpu::shaders::Program;
+use caustic_kernels::shaders::Program;
 
 fn parse(program: Program) -> naga::Module {
     let source = program.source();
@@ -29,9 +29,9 @@ fn every_program_validates() {
 #[test]
 fn every_program_validates_with_the_wide_walk() {
     for (layout, words_64) in [(caustic_gpu::NodeLayout::Wide, false), (caustic_gpu::NodeLayout::Wide, true), (caustic_gpu::NodeLayout::WideExact, false)] {
-        let walk = caustic_gpu::shaders::wide_walk(layout, words_64).expect("a wide walk");
+        let walk = caustic_kernels::shaders::wide_walk(layout, words_64).expect("a wide walk");
         for program in Program::ALL {
-            let module = validate(program.label(), &program.source_replacing(caustic_gpu::specialize::TRAVERSAL_FILE, &walk));
+            let module = validate(program.label(), &program.source_replacing(caustic_kernels::specialize::TRAVERSAL_FILE, &walk));
             let trace = module.functions.iter().any(|(_, f)| f.name.as_deref() == Some("order_wide_children"));
             println!("{} with the {layout:?} walk (64-bit loads: {words_64}): {} functions valid", program.label(), module.functions.len());
             assert!(trace, "the wide walk replaced the binary one");
@@ -56,8 +56,8 @@ fn every_program_validates_with_paged_arrays() {
         let node = if layout == caustic_gpu::NodeLayout::WideExact { 112 } else { 64 };
         let planned = Paging::plan([extent(node, if words_64 { 32 } else { node }), extent(48, 48), extent(80, 80), extent(4, 4)], 30_000).expect("plan");
         for (program, paging) in Program::ALL.into_iter().flat_map(|p| [PageBinding::Buffers, PageBinding::Arrays].map(|b| (p, planned.bound_as(b)))) {
-            let source = match caustic_gpu::shaders::wide_walk(layout, words_64) {
-                Some(walk) => program.source_replacing(caustic_gpu::specialize::TRAVERSAL_FILE, &walk),
+            let source = match caustic_kernels::shaders::wide_walk(layout, words_64) {
+                Some(walk) => program.source_replacing(caustic_kernels::specialize::TRAVERSAL_FILE, &walk),
                 None => program.source(),
             };
             let paged = paging.apply(&source);
@@ -83,7 +83,7 @@ fn every_program_validates_with_paged_arrays() {
 /// caustic_gpu::RayBench compiles it for devices with subgroups.
 #[test]
 fn the_ray_bench_validates_with_the_packet_walk() {
-    let source = caustic_gpu::shaders::ray_bench_source(caustic_gpu::NodeLayout::Wide, true, true);
+    let source = caustic_kernels::shaders::ray_bench_source(caustic_gpu::NodeLayout::Wide, true, true);
     let module = validate("ray bench with the packet walk", &source);
     assert!(module.entry_points.iter().any(|e| e.name == "trace_rays_packet"), "the packet entry point is there");
 }

@@ -2,9 +2,9 @@
 //! viewer's state (the panel model and the progressive render the window drives) gives the
 //! image a headless render with that `--feature` argument gives.
 
-use caustic_gpu::features::ClassicFeatures;
 use caustic_gpu::{GpuContext, GpuScene, PathTracer, RenderSettings};
 use caustic_image::Image;
+use caustic_kernels::features::ClassicFeatures;
 use caustic_scene::{Integrator, Scene, SceneSource, load_scene};
 use caustic_viewer::features_panel::FeaturePanel;
 use caustic_viewer::{Progressive, Uploads};

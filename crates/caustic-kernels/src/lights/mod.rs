@@ -314,7 +314,7 @@ pub const DISPATCH_FILE: &str = "generated/lights.wgsl";
 /// of scenes without them fold it away and keep their SPIR-V.
 pub fn wgsl_dispatch() -> String {
     let registered: Vec<(LightKind, &KindCode)> = LightKind::ALL.iter().filter_map(|&k| k.code().map(|c| (k, c))).collect();
-    let mut text = String::from("// Generated from caustic_gpu::lights: the light kinds with their own WGSL file.\n");
+    let mut text = String::from("// Generated from caustic_kernels::lights: the light kinds with their own WGSL file.\n");
     let mut bits = 0;
     for (kind, code) in &registered {
         text.push_str(&format!("const {}: u32 = {:#x}u;\n", code.requirement_name, kind.requirement()));
@@ -432,12 +432,12 @@ mod tests {
         let without = f64::from(crate::requirements::REQUIRES_ALL & !KIND_REQUIREMENTS);
         for entry in &program.entry_points {
             for requires in [0.0, without] {
-                let module = crate::program_module::entry_point_module(&program, &entry.name, &[("SCENE_REQUIRES", requires)]);
+                let module = crate::constant_branches::entry_point_module(&program, &entry.name, &[("SCENE_REQUIRES", requires)]);
                 let kept: Vec<_> = module.functions.iter().filter_map(|(_, f)| f.name.clone()).filter(|name| registered.contains(name)).collect();
                 assert!(kept.is_empty(), "{} with SCENE_REQUIRES {requires:#?} keeps {kept:?}", entry.name);
             }
         }
-        let with_tubes = crate::program_module::entry_point_module(&program, "render_sample", &[("SCENE_REQUIRES", f64::from(tube::REQUIRES_TUBE_LIGHTS))]);
+        let with_tubes = crate::constant_branches::entry_point_module(&program, "render_sample", &[("SCENE_REQUIRES", f64::from(tube::REQUIRES_TUBE_LIGHTS))]);
         let names: Vec<_> = with_tubes.functions.iter().filter_map(|(_, f)| f.name.clone()).collect();
         assert!(names.iter().any(|n| n == tube::CODE.sample), "a tube scene's kernel lacks {}: {names:?}", tube::CODE.sample);
         println!(

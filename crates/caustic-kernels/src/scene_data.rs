@@ -113,7 +113,7 @@ impl SceneData {
 }
 
 /// The materials the kernels read: the scene's, then one emitter per quad light.
-pub(crate) fn device_materials(scene: &Scene) -> Vec<GpuMaterial> {
+pub fn device_materials(scene: &Scene) -> Vec<GpuMaterial> {
     let quad_emitters = scene.lights.iter().filter_map(|light| match *light {
         Light::Quad { radiance, .. } => Some(GpuMaterial { emission: mean_color(&radiance).to_array(), ..Default::default() }),
         _ => None,
@@ -124,7 +124,7 @@ pub(crate) fn device_materials(scene: &Scene) -> Vec<GpuMaterial> {
 /// The kernels' `LOBE_MASK` ([`crate::specialize::lobe_mask`]) for the scene's materials,
 /// including the lobes a metallic-roughness texel can switch on (a texel's metallic ranges
 /// from 0 to the factor, and the lobes are rebuilt per hit).
-pub(crate) fn lobe_mask(scene: &Scene) -> u32 {
+pub fn lobe_mask(scene: &Scene) -> u32 {
     let textured = scene.materials.iter().filter(|m| m.metallic_roughness_texture.is_some());
     let unmetalled = textured.map(|m| gpu_material(&caustic_scene::Material { metallic: 0.0, ..m.clone() }));
     let materials: Vec<GpuMaterial> = device_materials(scene).into_iter().chain(unmetalled).collect();
@@ -133,7 +133,7 @@ pub(crate) fn lobe_mask(scene: &Scene) -> u32 {
 
 /// The light list with its power CDF (emissive triangles, then the scene's lights) and the
 /// lights' total power.
-pub(crate) fn device_lights(scene: &Scene) -> (Vec<GpuLight>, f32) {
+pub fn device_lights(scene: &Scene) -> (Vec<GpuLight>, f32) {
     let radius = scene.bounds().map_or(1.0, |(lo, hi)| (hi - lo).length() * 0.5).max(1e-3);
     let textured = textured_emitters(scene);
     let lights: Vec<GpuLight> = scene
@@ -331,7 +331,7 @@ fn texture_ref(slot: TextureSlot) -> GpuTextureRef {
 /// four words per texture (first texel's word, width, height, flags: bit 0 sRGB, bits 8-15
 /// the number of mip levels), then every texture's mip chain ([`Texture::mip_chain`]), level
 /// after level, RGBA8 texels one little-endian word each.
-pub(crate) fn pack_textures(textures: &[Texture]) -> Vec<u32> {
+pub fn pack_textures(textures: &[Texture]) -> Vec<u32> {
     let chains: Vec<Vec<Texture>> = textures.iter().map(Texture::mip_chain).collect();
     let texel_count: usize = chains.iter().flatten().map(|level| level.texels.len()).sum();
     let mut words = Vec::with_capacity(4 * textures.len() + texel_count);

@@ -47,8 +47,8 @@ pub struct Frame {
     pub shape_count: u32,
     /// Scene triangles; shape `i`'s shading entry is at `triangle_count + i`.
     pub triangle_count: u32,
-    /// Debug view shown by `render_debug` ([`crate::DebugView`] as a number; 0 = none), or
-    /// the AOV `render_aov` accumulates ([`crate::Aov`] as a number).
+    /// Debug view shown by `render_debug` (`caustic_gpu::DebugView` as a number; 0 = none), or
+    /// the AOV `render_aov` accumulates ([`crate::aov::Aov`] as a number).
     pub debug_view: u32,
     /// The pixel (row-major index) whose path the inspector records; [`NO_PIXEL`] = none.
     pub inspect_pixel: u32,
@@ -412,7 +412,7 @@ pub struct SppmPixel {
 pub const INSPECT_MAX_BOUNCES: usize = 64;
 
 /// One ray of an inspected path (`InspectBounce` in WGSL); decoded by
-/// [`crate::inspector::PathRecord`].
+/// `caustic_gpu::inspector::PathRecord`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
 pub struct InspectBounce {
@@ -493,7 +493,7 @@ pub struct InspectRecord {
 pub const INSPECT_MAX_CONNECTIONS: usize = 64;
 
 /// One connection strategy of an inspected bidirectional sample (`InspectConnection` in
-/// WGSL); decoded by [`crate::inspector::ConnectionRecord`].
+/// WGSL); decoded by `caustic_gpu::inspector::ConnectionRecord`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
 pub struct InspectConnection {

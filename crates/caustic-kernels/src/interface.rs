@@ -16,6 +16,45 @@ use crate::lights::LightKind;
 use crate::scene_data::LIGHT_FLAG_CLASSIC;
 use std::sync::LazyLock;
 
+/// Most scattering vertices bidirectional path tracing's paths have (`integrator/bdpt.wgsl`
+/// keeps the light subpath's vertices in private arrays of this many): a deeper `--max-depth`,
+/// or none, renders paths up to this depth.
+pub const BDPT_MAX_DEPTH: u32 = 14;
+
+/// Camera subpaths that share one light subpath in bidirectional path tracing: the film's
+/// pixels k K .. k K + K - 1 join their samples' camera subpaths to the light subpath of pixel
+/// k K's sample (`integrator/bdpt.wgsl`), so one light subpath is traced (and splatted) for
+/// every K camera subpaths. On the Cornell box the light subpath, its kept vertices and its
+/// connections to the camera were about 40% of a sample's time; the joins and the camera
+/// subpath stay one per sample, and the t = 1 strategy's weight counts 1 / K light subpaths
+/// per camera subpath (Georgiev et al.'s light path count), so the image stays unbiased. K = 4
+/// did better than 2 on the four scenes measured (docs/BIDIRECTIONAL.md, "Light subpaths
+/// shared").
+pub const BDPT_CAMERA_PATHS: u32 = 4;
+
+/// Deepest strategies the `bdpt-strategies` debug view shows apart (bounces s + t - 2).
+pub const STRATEGY_MAX_DEPTH: u32 = 4;
+
+/// The layout of the photon map buffer (`caustic_gpu::sppm`, `shaders/integrator/photons.wgsl`).
+pub mod photon_map {
+    /// Header word: photons stored so far this iteration (may exceed the capacity).
+    pub const COUNT: u32 = 0;
+    /// Header word: photon records the map holds.
+    pub const CAPACITY: u32 = 1;
+    /// Header word: buckets of the hash grid (a power of two).
+    pub const BUCKETS: u32 = 2;
+    /// Header words `RADIUS` and `RADIUS + 1`: the largest gather radius (f32 bits) for even and
+    /// odd iterations; the grid's cells are twice it.
+    pub const RADIUS: u32 = 3;
+    /// Words before the buckets' heads.
+    pub const HEADER_WORDS: u32 = 5;
+    /// Words per stored photon: position, throughput, direction (octahedral, two snorm16),
+    /// bounces, next record of its bucket.
+    pub const PHOTON_WORDS: u32 = 9;
+    /// Decorrelates the photon paths' random numbers from the camera paths' of the same index.
+    pub const PHOTON_SEED: u32 = 0x2c1b_3c6d;
+}
+
 /// Every shared `u32` constant by its name on both sides (the light kinds come from
 /// [`LightKind::ALL`]).
 pub const SHARED_CONSTANTS: &[(&str, u32)] = &[
@@ -38,16 +77,16 @@ pub const SHARED_CONSTANTS: &[(&str, u32)] = &[
     ("MATERIAL_FLAT", MATERIAL_FLAT),
     ("PROJECTION_PERSPECTIVE", PROJECTION_PERSPECTIVE),
     ("PROJECTION_ORTHOGRAPHIC", PROJECTION_ORTHOGRAPHIC),
-    ("BDPT_MAX_DEPTH", crate::light_tracer::BDPT_MAX_DEPTH),
-    ("BDPT_CAMERA_PATHS", crate::light_tracer::BDPT_CAMERA_PATHS),
-    ("STRATEGY_MAX_DEPTH", crate::light_tracer::STRATEGY_MAX_DEPTH),
-    ("PHOTON_HEADER_WORDS", crate::sppm::HEADER_WORDS),
-    ("PHOTON_COUNT", crate::sppm::COUNT),
-    ("PHOTON_CAPACITY", crate::sppm::CAPACITY),
-    ("PHOTON_BUCKETS", crate::sppm::BUCKETS),
-    ("PHOTON_RADIUS", crate::sppm::RADIUS),
-    ("PHOTON_WORDS", crate::sppm::PHOTON_WORDS),
-    ("PHOTON_SEED", crate::sppm::PHOTON_SEED),
+    ("BDPT_MAX_DEPTH", BDPT_MAX_DEPTH),
+    ("BDPT_CAMERA_PATHS", BDPT_CAMERA_PATHS),
+    ("STRATEGY_MAX_DEPTH", STRATEGY_MAX_DEPTH),
+    ("PHOTON_HEADER_WORDS", photon_map::HEADER_WORDS),
+    ("PHOTON_COUNT", photon_map::COUNT),
+    ("PHOTON_CAPACITY", photon_map::CAPACITY),
+    ("PHOTON_BUCKETS", photon_map::BUCKETS),
+    ("PHOTON_RADIUS", photon_map::RADIUS),
+    ("PHOTON_WORDS", photon_map::PHOTON_WORDS),
+    ("PHOTON_SEED", photon_map::PHOTON_SEED),
 ];
 
 /// Every shared `f32` constant by its name on both sides.
@@ -58,7 +97,7 @@ pub const INTERFACE_FILE: &str = "generated/interface.wgsl";
 
 /// The WGSL declarations of [`SHARED_CONSTANTS`].
 pub fn wgsl_constants() -> String {
-    let mut text = String::from("// Generated from caustic_gpu::interface and caustic_gpu::lights: edit the Rust side.\n");
+    let mut text = String::from("// Generated from caustic_kernels::interface and caustic_kernels::lights: edit the Rust side.\n");
     for kind in LightKind::ALL {
         text.push_str(&format!("const {}: u32 = {}u;\n", kind.wgsl_name(), kind as u32));
     }
@@ -79,9 +118,10 @@ pub fn wgsl_constants() -> String {
 pub(crate) static INTERFACE_SOURCE: LazyLock<String> = LazyLock::new(wgsl_constants);
 
 /// The members of WGSL struct `name` in `source` as (name, offset, size), padding (`_`
-/// names) left out, and the struct's size: for checking a host mirror by naga reflection.
-#[cfg(test)]
-pub(crate) fn wgsl_struct_layout(source: &str, name: &str) -> (usize, Vec<(String, usize, usize)>) {
+/// names) left out, and the struct's size: for checking a host mirror by naga reflection
+/// (with the `test-support` feature).
+#[cfg(feature = "test-support")]
+pub fn wgsl_struct_layout(source: &str, name: &str) -> (usize, Vec<(String, usize, usize)>) {
     let module = naga::front::wgsl::parse_str(source).unwrap_or_else(|e| panic!("{}", e.emit_to_string(source)));
     let (_, ty) = module.types.iter().find(|(_, t)| t.name.as_deref() == Some(name)).unwrap_or_else(|| panic!("no WGSL struct {name}"));
     let naga::TypeInner::Struct { members, span } = &ty.inner else { panic!("{name} is not a struct") };
@@ -93,8 +133,10 @@ pub(crate) fn wgsl_struct_layout(source: &str, name: &str) -> (usize, Vec<(Strin
     (*span as usize, fields)
 }
 
-/// The layout of `$t` with the fields listed, as [`wgsl_struct_layout`] gives a WGSL struct's.
-#[cfg(test)]
+/// The layout of `$t` with the fields listed, as [`wgsl_struct_layout`] gives a WGSL struct's
+/// (with the `test-support` feature; the caller depends on `bytemuck`).
+#[cfg(feature = "test-support")]
+#[macro_export]
 macro_rules! host_layout {
     ($t:ty { $($field:ident),* $(,)? }) => {{
         let zero: $t = bytemuck::Zeroable::zeroed();
@@ -102,8 +144,6 @@ macro_rules! host_layout {
         (size_of::<$t>(), fields.into_iter().filter(|(name, ..)| !name.starts_with('_')).collect::<Vec<_>>())
     }};
 }
-#[cfg(test)]
-pub(crate) use host_layout;
 
 #[cfg(test)]
 mod tests {

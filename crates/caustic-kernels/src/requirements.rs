@@ -38,7 +38,7 @@ pub const REQUIRES_SHAPE_LIGHTS: u32 = 0x200;
 pub const REQUIRES_ENVIRONMENT_LIGHT: u32 = 0x400;
 /// An environment map rather than a constant colour.
 pub const REQUIRES_ENVIRONMENT_MAP: u32 = 0x800;
-/// The pixel inspector's hooks: only the kernel [`crate::PathTracer::inspect`] runs.
+/// The pixel inspector's hooks: only the kernel `caustic_gpu::PathTracer::inspect` runs.
 pub const REQUIRES_INSPECTOR: u32 = 0x1000;
 /// The seed's `checkers` and `flat` materials (material flags tested at every hit).
 pub const REQUIRES_SEED_MATERIALS: u32 = 0x2000;
@@ -75,10 +75,10 @@ pub const REQUIRES_ALL: u32 = {
     bits
 };
 
-/// The bits that follow from the geometry, which [`crate::GpuScene::update_materials`] keeps.
+/// The bits that follow from the geometry, which `caustic_gpu::GpuScene::update_materials` keeps.
 pub const GEOMETRY_REQUIREMENTS: u32 = REQUIRES_SHAPES | REQUIRES_PLANES | REQUIRES_VERTEX_NORMALS | REQUIRES_QUAD_LIGHTS | REQUIRES_INSTANCES;
 
-/// Every part `data` needs under `environment`: what [`crate::GpuScene::upload`] compiles.
+/// Every part `data` needs under `environment`: what `caustic_gpu::GpuScene::upload` compiles.
 pub fn scene_requirements(data: &SceneData, environment: &Environment) -> u32 {
     geometry_requirements(data) | shading_requirements(&data.materials, &data.lights, environment)
 }

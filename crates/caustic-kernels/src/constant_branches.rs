@@ -37,6 +37,21 @@ enum Value {
     I32(i32),
 }
 
+/// `program` with `entry_point` its only entry point, its constants anonymous, and everything
+/// that entry point does not reach with the override values `constants` removed. A missing
+/// entry point leaves a module without one, which the pipeline's creation reports.
+pub fn entry_point_module(program: &naga::Module, entry_point: &str, constants: &[(&str, f64)]) -> naga::Module {
+    let mut module = program.clone();
+    module.entry_points.retain(|e| e.name == entry_point);
+    for (_, constant) in module.constants.iter_mut() {
+        constant.name = None;
+    }
+    naga::compact::compact(&mut module, naga::compact::KeepUnused::No);
+    fold(&mut module, constants);
+    naga::compact::compact(&mut module, naga::compact::KeepUnused::No);
+    module
+}
+
 /// Removes from every function of `module` the sides of `if` and `switch` statements that
 /// `constants` (override name and value, as wgpu takes them; overrides not named keep their
 /// defaults) decide, and the statements after a taken side that ends in a jump. A call with
@@ -176,7 +191,7 @@ fn callees_first(functions: Arena<Function>, entry_points: &mut [naga::EntryPoin
 }
 
 /// Calls `f` with the callee of every call in `block` and the blocks within it.
-pub(crate) fn for_each_call(block: &mut Block, f: &mut dyn FnMut(&mut Handle<Function>)) {
+pub fn for_each_call(block: &mut Block, f: &mut dyn FnMut(&mut Handle<Function>)) {
     for statement in block.iter_mut() {
         match statement {
             Statement::Call { function, .. } => f(function),

@@ -54,34 +54,53 @@ const TRAVERSAL: [ShaderFile; 7] = [
 /// file) replaces `bvh/traverse.wgsl` for scenes uploaded in one ([`wide_walk`]).
 pub const WIDE_TRAVERSAL: ShaderFile = shader_file!("bvh/traverse_wide.wgsl");
 
-/// `bvh/wide_quantised.wgsl`: decoding the nodes of [`crate::NodeLayout::Wide`] (the array
+/// `bvh/wide_quantised.wgsl`: decoding the nodes of [`NodeLayout::Wide`] (the array
 /// itself is in `bvh/wide_nodes.wgsl` or `bvh/wide_nodes_64.wgsl`).
 pub const WIDE_QUANTISED: ShaderFile = shader_file!("bvh/wide_quantised.wgsl");
 
-/// `bvh/wide_exact.wgsl`: the nodes of [`crate::NodeLayout::WideExact`].
+/// `bvh/wide_exact.wgsl`: the nodes of [`NodeLayout::WideExact`].
 pub const WIDE_EXACT: ShaderFile = shader_file!("bvh/wide_exact.wgsl");
 
-/// `bvh/wide_nodes.wgsl` and `bvh/wide_nodes_64.wgsl`: the [`crate::NodeLayout::Wide`]
+/// `bvh/wide_nodes.wgsl` and `bvh/wide_nodes_64.wgsl`: the [`NodeLayout::Wide`]
 /// node array with 32-bit and with 64-bit loads.
 const WIDE_NODES: ShaderFile = shader_file!("bvh/wide_nodes.wgsl");
 const WIDE_NODES_64: ShaderFile = shader_file!("bvh/wide_nodes_64.wgsl");
 
+/// How the BVH's nodes are laid out on the device (`caustic_gpu::GpuScene::nodes`); the
+/// gathered triangles are the same in all. The kernels walk the tree with the matching file: `bvh/traverse.wgsl` or
+/// `bvh/traverse_wide.wgsl` (docs/PERFORMANCE.md compares them).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum NodeLayout {
+    /// [`caustic_bvh::GpuNode`]: two children's boxes per 64-byte node.
+    Binary,
+    /// [`caustic_bvh::GpuWideNode`]: four children's boxes, quantised to bytes, per 64-byte
+    /// node ([`caustic_bvh::GpuBvh::to_wide`]). A tree that has no such form (a box too large to
+    /// quantise, or too deep for the wide walk's stack) is uploaded [`NodeLayout::Binary`].
+    /// The default: 1.2-1.7x the binary layout's rays per second on lavapipe.
+    #[default]
+    Wide,
+    /// [`caustic_bvh::GpuWideExactNode`]: four children's boxes as `f32` per 112-byte node
+    /// ([`caustic_bvh::GpuBvh::to_wide_exact`]), to measure what the quantisation gains; a tree too deep
+    /// for the wide walk's stack is uploaded [`NodeLayout::Binary`].
+    WideExact,
+}
+
 /// The text replacing `bvh/traverse.wgsl` for a scene uploaded in a wide `layout`: the
 /// layout's node files, then the walk; `None` for the binary layout. With `words_64` the
 /// quantised nodes are read with 64-bit loads (the device needs `SHADER_INT64`).
-pub fn wide_walk(layout: crate::NodeLayout, words_64: bool) -> Option<String> {
+pub fn wide_walk(layout: NodeLayout, words_64: bool) -> Option<String> {
     let files: Vec<&ShaderFile> = match layout {
-        crate::NodeLayout::Binary => return None,
-        crate::NodeLayout::Wide => vec![if words_64 { &WIDE_NODES_64 } else { &WIDE_NODES }, &WIDE_QUANTISED, &WIDE_TRAVERSAL],
-        crate::NodeLayout::WideExact => vec![&WIDE_EXACT, &WIDE_TRAVERSAL],
+        NodeLayout::Binary => return None,
+        NodeLayout::Wide => vec![if words_64 { &WIDE_NODES_64 } else { &WIDE_NODES }, &WIDE_QUANTISED, &WIDE_TRAVERSAL],
+        NodeLayout::WideExact => vec![&WIDE_EXACT, &WIDE_TRAVERSAL],
     };
     Some(files.iter().map(|f| format!("// ---- shaders/{} ----\n{}\n", f.name, f.source)).collect())
 }
 
 /// The ray bench's source for a scene uploaded in `layout`: its walk in place of
 /// `bvh/traverse.wgsl` (with `words_64`, see [`wide_walk`]), and with `packet_walk` the packet
-/// walk of [`PACKET_WALK`] appended (the caller checks that it applies: RayBench does).
-pub fn ray_bench_source(layout: crate::NodeLayout, words_64: bool, packet_walk: bool) -> String {
+/// walk of `bench/packet.wgsl` appended (the caller checks that it applies: RayBench does).
+pub fn ray_bench_source(layout: NodeLayout, words_64: bool, packet_walk: bool) -> String {
     let mut source = match wide_walk(layout, words_64) {
         Some(walk) => Program::RayBench.source_replacing(crate::specialize::TRAVERSAL_FILE, &walk),
         None => Program::RayBench.source(),
@@ -139,10 +158,10 @@ const RAY_BENCH: [ShaderFile; 2] = [shader_file!("bench/rays.wgsl"), shader_file
 /// [`Program::RayBench`] (with the quantised wide walk) where the device has subgroups.
 const PACKET_WALK: ShaderFile = shader_file!("bench/packet.wgsl");
 
-/// `post/bloom.wgsl`: the bloom post-process ([`crate::bloom`]), a program on its own.
+/// `post/bloom.wgsl`: the bloom post-process (`caustic_gpu::bloom`), a program on its own.
 pub const BLOOM: ShaderFile = shader_file!("post/bloom.wgsl");
 
-/// `post/denoise.wgsl`: the denoiser's a-trous pass ([`crate::denoise`]), a program on its own.
+/// `post/denoise.wgsl`: the denoiser's a-trous pass (`caustic_gpu::denoise`), a program on its own.
 pub const DENOISE: ShaderFile = shader_file!("post/denoise.wgsl");
 
 /// The files every program shares (types, random numbers, sampling warps, rays, ray-triangle
@@ -209,11 +228,6 @@ impl Program {
                 format!("// ---- shaders/{} ----\n{text}\n", f.name)
             })
             .collect()
-    }
-
-    /// Compiles the program into a shader module.
-    pub fn module(self, device: &wgpu::Device) -> wgpu::ShaderModule {
-        device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some(self.label()), source: wgpu::ShaderSource::Wgsl(self.source().into()) })
     }
 
     /// Debug label.
