@@ -195,4 +195,13 @@ mod tests {
         assert_eq!(scene.lights, vec![tube]);
         scene.validate().expect("valid");
     }
+
+    #[test]
+    fn the_tube_light_example_scene_parses() {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/scenes/features/tube_lights.scene");
+        let text = std::fs::read_to_string(&path).expect("the example is there");
+        let (scene, _) = crate::lang::parse_str(&text, &path).expect("the example parses");
+        scene.validate().expect("valid");
+        assert_eq!(scene.lights.iter().filter(|l| matches!(l, Light::Tube { .. })).count(), 2);
+    }
 }
