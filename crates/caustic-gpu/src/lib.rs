@@ -31,7 +31,7 @@ pub mod pages;
 mod path_tracer;
 pub mod pipeline_cache;
 mod prepared_scene;
-pub mod program_module;
+mod program_module;
 mod readback;
 mod render_settings;
 mod scene_buffers;
