@@ -68,7 +68,9 @@ pub enum Extent {
 }
 
 /// A kind's own device code: its WGSL file and the functions of it the generated dispatch
-/// ([`wgsl_dispatch`]) calls.
+/// ([`wgsl_dispatch`]) calls. The hooks cover lights that paths only sample (not
+/// [`LightKind::hittable`]); a kind paths can hit would need hooks for the emitter densities
+/// of a hit too (a test says so).
 pub struct KindCode {
     /// The file (under `shaders/`).
     pub file: ShaderFile,
@@ -393,6 +395,9 @@ mod tests {
         }
         let dispatch = wgsl_dispatch();
         for kind in LightKind::ALL.into_iter().filter(|k| k.code().is_some()) {
+            // The hooks cover lights paths only sample: a kind paths can hit would need the
+            // emitter densities of `emitter_light_pdf` and `emitter_origin_pdf` as hooks too.
+            assert!(!kind.hittable(), "{kind:?} has its own code but paths can hit it: add the emitter-density hooks first");
             assert!(dispatch.contains(&format!("kind == {}", kind.wgsl_name())), "{kind:?} in the generated dispatch:\n{dispatch}");
         }
         println!("is_delta_light names the {} written-out unhittable kinds; the generated dispatch the registered ones", body.matches("light.kind ==").count());
