@@ -11,6 +11,7 @@
 use super::KindCode;
 use crate::gpu_types::GpuLight;
 use crate::shaders::ShaderFile;
+use caustic_bsdf::Frame;
 use glam::{Vec2, Vec3};
 use std::f32::consts::PI;
 
@@ -82,23 +83,15 @@ pub fn sample(light: &GpuLight, p: Vec3, u: Vec2) -> Option<(Vec3, f32, Vec3)> {
 /// `tube_emission_direction_pdf` gives whatever the normal), carrying
 /// `L max(cos, 0) area 4 pi`: the ray's origin, direction and throughput.
 pub fn emit(light: &GpuLight, u_point: Vec2, u_direction: Vec2) -> (Vec3, Vec3, Vec3) {
-    let axis = Vec3::from(light.e1).normalize();
-    let (t, b) = frame_from_normal(axis);
-    let q = tube_point(light, t, b, u_point.x, 2.0 * PI * u_point.y);
+    // The frame of `frame_from_normal` (`shaders/common/sampling.wgsl`).
+    let frame = Frame::from_normal(Vec3::from(light.e1).normalize());
+    let q = tube_point(light, frame.s, frame.t, u_point.x, 2.0 * PI * u_point.y);
     let z = 1.0 - 2.0 * u_direction.x;
     let s = (1.0 - z * z).max(0.0).sqrt();
     let phi = 2.0 * PI * u_direction.y;
     let direction = Vec3::new(s * phi.cos(), s * phi.sin(), z);
     let cos_light = q.normal.dot(direction);
     (q.point, direction, Vec3::from(light.radiance) * (cos_light.max(0.0) * light.area * 4.0 * PI))
-}
-
-/// The tangents of `frame_from_normal` (`shaders/common/sampling.wgsl`, Duff et al.).
-fn frame_from_normal(n: Vec3) -> (Vec3, Vec3) {
-    let s = if n.z >= 0.0 { 1.0 } else { -1.0 };
-    let a = -1.0 / (s + n.z);
-    let b = n.x * n.y * a;
-    (Vec3::new(1.0 + s * n.x * n.x * a, s * b, -s * n.x), Vec3::new(b, s + n.y * n.y * a, -n.y))
 }
 
 #[cfg(test)]
@@ -113,14 +106,13 @@ mod tests {
     /// Irradiance at `p` (normal `n`) from the tube by quadrature over its whole side: every
     /// element facing p, L cos_p cos_light / d^2 dA (a convex side: facing p is seen by p).
     fn irradiance(light: &GpuLight, p: Vec3, n: Vec3) -> f64 {
-        let axis = Vec3::from(light.e1);
-        let (t, b) = frame_from_normal(axis.normalize());
+        let frame = Frame::from_normal(Vec3::from(light.e1).normalize());
         let (steps_along, steps_around) = (400, 400);
         let element = f64::from(light.area) / f64::from(steps_along * steps_around);
         let mut sum = 0.0;
         for i in 0..steps_along {
             for j in 0..steps_around {
-                let q = tube_point(light, t, b, (i as f32 + 0.5) / steps_along as f32, 2.0 * PI * (j as f32 + 0.5) / steps_around as f32);
+                let q = tube_point(light, frame.s, frame.t, (i as f32 + 0.5) / steps_along as f32, 2.0 * PI * (j as f32 + 0.5) / steps_around as f32);
                 let to = q.point - p;
                 let d2 = f64::from(to.length_squared());
                 let w = to.normalize();
