@@ -29,7 +29,7 @@ struct LightVertex {
 var<private> light_vertices: array<LightVertex, BDPT_VERTICES>;
 
 // A light vertex's surface as the joins read it: its geometry here, its BSDF in
-// light_lobes, one slot of bsdf/keep.wgsl at a time and only the slots the scene uses. A
+// light_lobes, one slot of generated/lobe_parameters.wgsl (caustic_kernels::lobes) at a time and only the slots the scene uses. A
 // whole SurfaceInteraction (its Material is about a hundred words) copied into and out of a
 // dynamically indexed private array cost 30% of BDPT's time on the Cornell box
 // (docs/PERFORMANCE.md, "BDPT's light vertices").
@@ -58,7 +58,8 @@ fn restore_lobe(i: u32, m: Material, slot: u32) -> Material {
 }
 
 // Keeps si as light vertex i's surface (the slot a literal in each call, so the scene's
-// unused slots fold away as in bsdf/bsdf.wgsl).
+// unused slots fold away as in bsdf/bsdf.wgsl). Each lobe slot is written out here and in
+// kept_light_surface; caustic_kernels::lobes::WRITTEN_OUT checks the lists against the registry.
 fn keep_light_surface(i: u32, si: SurfaceInteraction) {
     light_surfaces[i] = LightSurface(si.p, u32(si.front_face), si.ng, si.material.ior, si.ns);
     keep_lobe(i, si.material, 0u);

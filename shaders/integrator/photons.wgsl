@@ -101,17 +101,6 @@ fn load_photon(index: u32, grid: PhotonGrid) -> Photon {
     return Photon(p, wi, beta, atomicLoad(&photon_map[base + 7u]), atomicLoad(&photon_map[base + 8u]));
 }
 
-// Whether a lobe of slot `slot` is a delta lobe for material m (eta: the dielectric's
-// relative index), which no photon can be gathered through.
-fn delta_lobe(m: Material, eta: f32, slot: u32) -> bool {
-    switch slot {
-        case 3u: { return m.specular_alpha < ALPHA_SMOOTH; }
-        case 4u: { return m.mirror_alpha < ALPHA_SMOOTH; }
-        case 5u: { return dielectric_is_smooth(m.dielectric_alpha, eta); }
-        default: { return false; }
-    }
-}
-
 fn smooth_selection(m: Material, eta: f32, wo: vec3<f32>, slot: u32) -> f32 {
     if !lobe_in_scene(slot) || delta_lobe(m, eta, slot) {
         return 0.0;
@@ -120,7 +109,8 @@ fn smooth_selection(m: Material, eta: f32, wo: vec3<f32>, slot: u32) -> f32 {
 }
 
 // The probability that sample_bsdf chooses a non-delta lobe (choose_lobe's intervals, whose
-// sum is `total`: total_selection(m, wo)).
+// sum is `total`: total_selection(m, wo)). Each lobe slot is written out (checked against the
+// registry: caustic_kernels::lobes::WRITTEN_OUT); delta_lobe is generated from it.
 fn smooth_probability(m: Material, eta: f32, wo: vec3<f32>, total: f32) -> f32 {
     if total <= 0.0 {
         return 0.0;

@@ -2,9 +2,10 @@
 //! with probability proportional to its estimated albedo (one-sample MIS over the lobes).
 //! Twin of `shaders/bsdf/bsdf.wgsl` (`eval_bsdf`, `pdf_bsdf`, `sample_bsdf`), slot for slot.
 
-use crate::ashikhmin::{AnisotropicPhong, AshikhminShirley};
+use crate::ashikhmin::AnisotropicPhong;
 use crate::conductor::Conductor;
 use crate::lambert::Lambert;
+use crate::lobes::{LOBE_SLOTS, LobeKind};
 use crate::params::BsdfParams;
 use crate::phong::PhongLobe;
 use crate::rough_dielectric::RoughDielectric;
@@ -28,14 +29,7 @@ pub enum Sampling {
 /// The largest f32 below 1 (as `0.99999994` in WGSL), where a rescaled `u_lobe` is clamped.
 const ONE_MINUS_EPSILON: f32 = 1.0 - f32::EPSILON / 2.0;
 
-/// Number of lobe slots (diffuse, translucent, Phong, GGX specular, mirror, dielectric,
-/// anisotropic Phong).
-pub const LOBE_SLOTS: usize = 7;
-
-/// The anisotropic Phong slot.
-const ANISOTROPIC_SLOT: usize = 6;
-
-/// One lobe of a [`Bsdf`].
+/// One lobe's model in a [`Bsdf`] (which model each slot holds: [`LobeKind::lobe`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Lobe {
     /// Diffuse reflection.
@@ -86,18 +80,7 @@ impl Bsdf {
     /// The BSDF of `params` seen from the side where the far side has relative index `eta`
     /// (`ior` from outside, `1 / ior` from inside).
     pub fn new(params: BsdfParams, eta: f32) -> Bsdf {
-        let lobes = [
-            Lobe::Lambert(Lambert { albedo: Vec3::ONE }),
-            Lobe::Translucent(DiffuseTransmission { albedo: Vec3::ONE }),
-            Lobe::Phong(PhongLobe { albedo: Vec3::ONE, exponent: params.phong_exponent }),
-            Lobe::Conductor(Conductor { alpha: params.specular_alpha, f0: params.specular_f0 }),
-            Lobe::Conductor(Conductor { alpha: params.mirror_alpha, f0: Vec3::ONE }),
-            Lobe::Dielectric(RoughDielectric { alpha: params.dielectric_alpha, eta }),
-            Lobe::Anisotropic(AnisotropicPhong {
-                specular: AshikhminShirley { rs: params.anisotropic_rs, nu: params.anisotropic_nu, nv: params.anisotropic_nv },
-                rd: params.anisotropic_rd,
-            }),
-        ];
+        let lobes = LobeKind::ALL.map(|kind| kind.lobe(&params, eta));
         Bsdf { params, lobes }
     }
 
@@ -115,22 +98,20 @@ impl Bsdf {
 
     /// Each slot's weight for outgoing direction `wo` (the coat's Fresnel term depends on it).
     pub fn weights(&self, wo: Vec3) -> [Vec3; LOBE_SLOTS] {
-        let p = &self.params;
-        let (coated, mirror, anisotropic) = (p.diffuse * self.coat_transmission(wo.z), Vec3::splat(p.mirror), Vec3::splat(p.anisotropic));
-        [coated, p.translucent, p.phong, Vec3::splat(p.specular_weight), mirror, p.dielectric, anisotropic]
+        LobeKind::ALL.map(|kind| if kind.is_coated() { kind.weight(&self.params) * self.coat_transmission(wo.z) } else { kind.weight(&self.params) })
     }
 
-    /// Probability of sampling each slot: its weight's luminance, times the Schlick
-    /// reflectance at `wo` for the GGX specular lobe and the estimated albedo
-    /// ([`AnisotropicPhong::albedo_estimate`]) for the anisotropic one; normalised (all 0 for
-    /// a black surface).
+    /// Probability of sampling each slot: its weight's luminance, times its kind's
+    /// [`LobeKind::selection_factor`] at `wo` (the Schlick reflectance for the GGX specular
+    /// lobe, the estimated albedo [`AnisotropicPhong::albedo_estimate`] for the anisotropic
+    /// one); normalised (all 0 for a black surface).
     pub fn selection(&self, wo: Vec3) -> [f32; LOBE_SLOTS] {
         let w = self.weights(wo);
         let mut s = w.map(luminance);
-        s[3] *= luminance(fresnel_schlick(self.params.specular_f0, wo.z));
-        if let Lobe::Anisotropic(a) = &self.lobes[ANISOTROPIC_SLOT] {
-            let (specular, diffuse) = a.albedo_estimate(wo.z);
-            s[ANISOTROPIC_SLOT] *= specular + diffuse;
+        for kind in LobeKind::ALL {
+            if let Some(factor) = kind.selection_factor(&self.params, wo.z) {
+                s[kind.slot()] *= factor;
+            }
         }
         let total: f32 = s.iter().sum();
         if total > 0.0 { s.map(|x| x / total) } else { [0.0; LOBE_SLOTS] }
@@ -139,7 +120,9 @@ impl Bsdf {
     /// BSDF times |cos theta_i|, summed over the lobes.
     pub fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
         let mut w = self.weights(wo);
-        w[0] *= self.coat_transmission(wi.z);
+        for kind in LobeKind::ALL.into_iter().filter(|kind| kind.is_coated()) {
+            w[kind.slot()] *= self.coat_transmission(wi.z);
+        }
         self.lobes.iter().zip(w).filter(|(_, w)| *w != Vec3::ZERO).map(|(l, w)| w * l.bxdf().eval(wo, wi)).sum()
     }
 

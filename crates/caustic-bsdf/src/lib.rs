@@ -7,8 +7,9 @@
 //! [`Bxdf::sample`]. Directions point away from the surface. Transmissive models take the
 //! relative index of refraction `eta` of the far side over the `wo` side.
 //!
-//! [`bsdf::Bsdf`] mixes weighted lobes the way `shaders/bsdf/bsdf.wgsl` does, built from
-//! [`params::BsdfParams`] (the material numbers the GPU reads); [`chi_square`] tests that a
+//! [`bsdf::Bsdf`] mixes weighted lobes the way `shaders/bsdf/bsdf.wgsl` does, one per
+//! [`lobes::LobeKind`] (the lobe registry), built from [`params::BsdfParams`] (the material
+//! numbers the GPU reads); [`chi_square`] tests that a
 //! sampler draws what its pdf says.
 
 pub mod ashikhmin;
@@ -19,6 +20,7 @@ pub mod conductor;
 pub mod dielectric;
 mod frame;
 pub mod lambert;
+pub mod lobes;
 pub mod microfacet;
 pub mod params;
 pub mod phong;

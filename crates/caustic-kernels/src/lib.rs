@@ -2,8 +2,8 @@
 //! is tested without a GPU.
 //!
 //! - The data the kernels read: [`gpu_types`] (the `#[repr(C)]` mirrors of
-//!   `shaders/common/types.wgsl`), [`SceneData`] (a scene assembled for upload) and the light
-//!   registry [`lights`].
+//!   `shaders/common/types.wgsl`), [`SceneData`] (a scene assembled for upload), the light
+//!   registry [`lights`] and the device side of the lobe registry [`lobes`].
 //! - The scene analysis that specialises kernels: [`requirements`] (the parts a scene uses),
 //!   [`features`] and [`classic`] (the classic tracer's switches), the shadow-ray culls
 //!   ([`shadow_hull`], [`convex_solid`], [`convex_occluder`], [`closest_solid`],
@@ -13,7 +13,7 @@
 //! - CPU twins of device code: [`environment_sampling`], [`filter`], [`classic_reference`],
 //!   [`bloom`], [`lights::tube`].
 //!
-//! `caustic-gpu` runs these on a device and re-exports the modules under its own name.
+//! `caustic-gpu` runs these on a device; the CLI, the viewer and the tests name this crate.
 
 pub mod aov;
 pub mod bake;
@@ -31,6 +31,7 @@ pub mod gpu_types;
 pub mod interface;
 pub mod light_plane;
 pub mod lights;
+pub mod lobes;
 pub mod requirements;
 pub mod scene_data;
 pub mod shaders;

@@ -11,19 +11,44 @@ pub struct ShaderFile {
     pub source: &'static str,
 }
 
+/// A [`ShaderFile`] of `shaders/`, embedded.
 macro_rules! shader_file {
     ($name:literal) => {
-        ShaderFile { name: $name, source: include_str!(concat!("../../../shaders/", $name)) }
+        $crate::shaders::ShaderFile { name: $name, source: include_str!(concat!("../../../shaders/", $name)) }
     };
 }
+pub(crate) use shader_file;
 
 /// The generated `generated/interface.wgsl` ([`crate::interface::wgsl_constants`]).
 static INTERFACE: LazyLock<ShaderFile> =
     LazyLock::new(|| ShaderFile { name: crate::interface::INTERFACE_FILE, source: crate::interface::INTERFACE_SOURCE.as_str() });
 
 /// The light kinds' generated dispatch and own files ([`crate::lights::wgsl_files`]), after
-/// the path tracer's files (WGSL's declarations may come in any order).
-static LIGHT_KINDS: LazyLock<Vec<ShaderFile>> = LazyLock::new(|| crate::lights::wgsl_files().collect());
+/// the path tracer's files (WGSL's declarations may come in any order), then the lobes'
+/// `delta_lobe` ([`crate::lobes::wgsl_delta_lobe`]): naga declares a function where its first
+/// user pulls it in, so at the end it keeps the place it had in `integrator/photons.wgsl`.
+static APPENDED: LazyLock<Vec<ShaderFile>> = LazyLock::new(|| {
+    static DELTA: LazyLock<String> = LazyLock::new(crate::lobes::wgsl_delta_lobe);
+    crate::lights::wgsl_files().chain(std::iter::once(ShaderFile { name: crate::lobes::DELTA_FILE, source: DELTA.as_str() })).collect()
+});
+
+/// The BSDF's files: `bsdf/common.wgsl`, the lobes' models ([`crate::lobes::MODEL_FILES`]), the
+/// slot mask, the dispatch generated from the lobe registry ([`crate::lobes::wgsl_dispatch`]),
+/// the mixture that calls it, and the generated packing of kept lobes
+/// ([`crate::lobes::wgsl_parameters`]). In this order each function is declared where the
+/// hand-written `bsdf/bsdf.wgsl` and `bsdf/keep.wgsl` had it, so the kernels' SPIR-V did not
+/// change when the dispatch became generated.
+static BSDF: LazyLock<Vec<ShaderFile>> = LazyLock::new(|| {
+    static DISPATCH: LazyLock<String> = LazyLock::new(crate::lobes::wgsl_dispatch);
+    static PARAMETERS: LazyLock<String> = LazyLock::new(crate::lobes::wgsl_parameters);
+    let mut files = vec![shader_file!("bsdf/common.wgsl")];
+    files.extend(crate::lobes::MODEL_FILES);
+    files.push(shader_file!("bsdf/slots.wgsl"));
+    files.push(ShaderFile { name: crate::lobes::DISPATCH_FILE, source: DISPATCH.as_str() });
+    files.push(shader_file!("bsdf/bsdf.wgsl"));
+    files.push(ShaderFile { name: crate::lobes::PARAMETERS_FILE, source: PARAMETERS.as_str() });
+    files
+});
 
 /// The files every program starts with: the generated constants, then [`COMMON`].
 fn common() -> impl Iterator<Item = &'static ShaderFile> {
@@ -111,7 +136,8 @@ pub fn ray_bench_source(layout: NodeLayout, words_64: bool, packet_walk: bool) -
     source
 }
 
-const PATH_TRACER: [ShaderFile; 38] = [
+/// The path tracer's files before the BSDF's ([`BSDF`]).
+const BEFORE_BSDF: [ShaderFile; 8] = [
     shader_file!("integrator/bindings.wgsl"),
     shader_file!("integrator/camera.wgsl"),
     shader_file!("integrator/environment.wgsl"),
@@ -120,15 +146,10 @@ const PATH_TRACER: [ShaderFile; 38] = [
     shader_file!("integrator/alpha.wgsl"),
     shader_file!("integrator/surface.wgsl"),
     shader_file!("integrator/film.wgsl"),
-    shader_file!("bsdf/common.wgsl"),
-    shader_file!("bsdf/lambert.wgsl"),
-    shader_file!("bsdf/phong.wgsl"),
-    shader_file!("bsdf/ashikhmin.wgsl"),
-    shader_file!("bsdf/microfacet.wgsl"),
-    shader_file!("bsdf/ggx.wgsl"),
-    shader_file!("bsdf/dielectric.wgsl"),
-    shader_file!("bsdf/bsdf.wgsl"),
-    shader_file!("bsdf/keep.wgsl"),
+];
+
+/// The path tracer's files after the BSDF's.
+const AFTER_BSDF: [ShaderFile; 21] = [
     shader_file!("lights/shapes.wgsl"),
     shader_file!("lights/sample.wgsl"),
     shader_file!("lights/emit.wgsl"),
@@ -171,27 +192,33 @@ pub fn common_library() -> Vec<&'static ShaderFile> {
     common().collect()
 }
 
-/// [`common_library`] and the BSDFs (`shaders/bsdf`), for kernel tests.
+/// [`common_library`] and the BSDFs (`shaders/bsdf` and what the lobe registry generates), for
+/// kernel tests.
 pub fn bsdf_library() -> Vec<&'static ShaderFile> {
-    common().chain(PATH_TRACER.iter().filter(|f| f.name.starts_with("bsdf/"))).collect()
+    common().chain(BSDF.iter()).collect()
+}
+
+/// The path tracer's own files, in order.
+fn path_tracer() -> impl Iterator<Item = &'static ShaderFile> {
+    BEFORE_BSDF.iter().chain(BSDF.iter()).chain(AFTER_BSDF.iter()).chain(APPENDED.iter())
 }
 
 /// [`common_library`] and `integrator/material.wgsl` (glTF textures to lobes and normals),
 /// for kernel tests.
 pub fn material_library() -> Vec<&'static ShaderFile> {
-    common().chain(PATH_TRACER.iter().filter(|f| f.name == "integrator/material.wgsl")).collect()
+    common().chain(path_tracer().filter(|f| f.name == "integrator/material.wgsl")).collect()
 }
 
 /// [`common_library`] and `lights/shapes.wgsl` (sampling spheres and disks as lights), for
 /// kernel tests.
 pub fn light_library() -> Vec<&'static ShaderFile> {
-    common().chain(PATH_TRACER.iter().filter(|f| f.name == "lights/shapes.wgsl")).collect()
+    common().chain(path_tracer().filter(|f| f.name == "lights/shapes.wgsl")).collect()
 }
 
 /// The files of one program, in order.
 pub fn program_files(program: Program) -> Vec<&'static ShaderFile> {
     let own: Vec<&'static ShaderFile> = match program {
-        Program::PathTracer => PATH_TRACER.iter().chain(LIGHT_KINDS.iter()).collect(),
+        Program::PathTracer => path_tracer().collect(),
         Program::RayBench => RAY_BENCH.iter().collect(),
     };
     common().chain(TRAVERSAL.iter()).chain(own).collect()

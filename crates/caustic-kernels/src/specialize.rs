@@ -119,16 +119,14 @@ pub fn unrolled_traversal(bvh: &GpuBvh, lights: &[GpuLight]) -> Option<UnrolledT
     Some(UnrolledTraversal { wgsl, hull, occluders, closest_solids, light_planes })
 }
 
-/// The BSDF lobe slots (`shaders/bsdf/bsdf.wgsl`) any of `materials` uses, one bit per slot
-/// (0 diffuse, 1 diffuse transmission, 2 modified Phong, 3 GGX specular, 4 glossy mirror,
-/// 5 dielectric, 6 anisotropic Phong): the kernels' `LOBE_MASK` override, so a scene of diffuse surfaces runs no
-/// code of the other lobes. At least the diffuse bit, so an empty scene compiles as before.
+/// The BSDF lobe slots any of `materials` uses, one bit per slot
+/// ([`caustic_bsdf::lobes::LobeKind::slot`], used as [`crate::lobes::in_use`] says): the
+/// kernels' `LOBE_MASK` override, so a scene of diffuse surfaces runs no code of the other
+/// lobes. At least the diffuse bit, so an empty scene compiles as before.
 pub fn lobe_mask(materials: &[crate::gpu_types::GpuMaterial]) -> u32 {
-    let used = |w: [f32; 3]| w.iter().any(|&c| c != 0.0);
-    materials.iter().fold(1, |mask, m| {
-        let slots =
-            [used(m.diffuse), used(m.translucent), used(m.phong), m.specular_weight != 0.0, m.mirror != 0.0, used(m.dielectric), m.anisotropic_weight != 0.0];
-        (0..slots.len()).filter(|&slot| slots[slot]).fold(mask, |mask, slot| mask | 1 << slot)
+    use caustic_bsdf::lobes::LobeKind;
+    materials.iter().fold(1 << LobeKind::Diffuse.slot(), |mask, m| {
+        LobeKind::ALL.into_iter().filter(|&kind| crate::lobes::in_use(kind, m)).fold(mask, |mask, kind| mask | 1 << kind.slot())
     })
 }
 

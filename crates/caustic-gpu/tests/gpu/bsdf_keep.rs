@@ -1,4 +1,4 @@
-//! `shaders/bsdf/keep.wgsl`: a material kept slot by slot (bidirectional path tracing's light
+//! `generated/lobe_parameters.wgsl` (`caustic_kernels::lobes::wgsl_parameters`): a material kept slot by slot (bidirectional path tracing's light
 //! vertices store only the lobe slots the scene uses) evaluates, samples and frames exactly
 //! as the whole material, for materials with every slot in use and every other field set to
 //! something else; and leaving out any one slot changes the BSDF, so the comparison would

@@ -1,0 +1,490 @@
+//! The device side of the lobe registry ([`caustic_bsdf::lobes::LobeKind`]): per kind, in
+//! exhaustive matches with no catch-all arm, the WGSL its slot runs ([`code`]: weight, choice
+//! factor, eval, pdf, sample, when the sampling strategy replaces its sampler, when it is a
+//! delta lobe, the material fields a kept surface stores) and whether a material uses it
+//! ([`in_use`], the kernels' `LOBE_MASK`).
+//!
+//! The BSDF's dispatch is generated from these rows: the per-slot switches, the unrolled sums
+//! over the slots and the shading frame ([`wgsl_dispatch`], `generated/lobes.wgsl`), and the
+//! packing of a slot's parameters for BDPT's light vertices ([`wgsl_parameters`],
+//! `generated/lobe_parameters.wgsl`). The hand-written `shaders/bsdf/slots.wgsl` (the mask) and
+//! `shaders/bsdf/bsdf.wgsl` (one slot's step of each sum, the choice, `sample_bsdf`) name no
+//! slot. The generated text declares the functions in the order the hand-written file had them,
+//! so every kernel's SPIR-V stayed as it was (docs/ARCHITECTURE.md, "Registries").
+//!
+//! Adding a lobe: a variant and its rows in `caustic_bsdf::lobes`, its CPU model in
+//! `caustic-bsdf`, its WGSL file (listed in [`MODEL_FILES`]) and its rows here; its parameters
+//! are fields of `BsdfParams` and of the material (`gpu_types`, `common/types.wgsl`, checked
+//! against each other by naga reflection).
+
+use crate::gpu_types::GpuMaterial;
+use crate::shaders::ShaderFile;
+use caustic_bsdf::lobes::{LOBE_SLOTS, LobeKind};
+use std::fmt::Write;
+
+/// Where [`wgsl_dispatch`]'s text appears in the program.
+pub const DISPATCH_FILE: &str = "generated/lobes.wgsl";
+
+/// Where [`wgsl_parameters`]'s text appears in the program.
+pub const PARAMETERS_FILE: &str = "generated/lobe_parameters.wgsl";
+
+/// Where [`wgsl_delta_lobe`]'s text appears in the program.
+pub const DELTA_FILE: &str = "generated/delta_lobe.wgsl";
+
+/// The lobes' WGSL files (`shaders/bsdf/`), in the program's order: each model's functions
+/// before the dispatch that calls them.
+pub const MODEL_FILES: [ShaderFile; 6] = [
+    crate::shaders::shader_file!("bsdf/lambert.wgsl"),
+    crate::shaders::shader_file!("bsdf/phong.wgsl"),
+    crate::shaders::shader_file!("bsdf/ashikhmin.wgsl"),
+    crate::shaders::shader_file!("bsdf/microfacet.wgsl"),
+    crate::shaders::shader_file!("bsdf/ggx.wgsl"),
+    crate::shaders::shader_file!("bsdf/dielectric.wgsl"),
+];
+
+/// The kind whose code a switch's `default:` arm holds (WGSL requires one; every slot the
+/// switch does not list is this kind). The dielectric held it in the hand-written switches, so
+/// the generated ones keep it there and the kernels' SPIR-V is unchanged.
+pub const DEFAULT_ARM: LobeKind = LobeKind::Dielectric;
+
+/// When a property of a kind's lobe holds for a material.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Condition {
+    /// For every material.
+    Always,
+    /// Where this WGSL condition on `m` (and `eta`) holds.
+    When(&'static str),
+    /// For no material.
+    Never,
+}
+
+/// The frame a kind's lobe is evaluated in where it is not any frame about the normal.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct OwnFrame {
+    /// WGSL condition on material `m` under which the kind's frame is used.
+    pub when: &'static str,
+    /// WGSL `Frame3` expression of `m` and shading normal `n`.
+    pub frame: &'static str,
+}
+
+/// One kind's device code. Expressions read the WGSL names of `bsdf.wgsl`'s functions: `m`
+/// (the `Material`), `eta` (the dielectric's relative index), `wo`, `wi` (local directions),
+/// `u_lobe` and `u` (random numbers).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LobeCode {
+    /// The WGSL file of its model (one of [`MODEL_FILES`]).
+    pub file: &'static str,
+    /// Its weight (`vec3<f32>`), before the coat for a coated kind
+    /// ([`LobeKind::is_coated`]).
+    pub weight: &'static str,
+    /// Statements multiplying `s`, its choice probability, by what the weight's luminance
+    /// misjudges of its albedo ([`LobeKind::selection_factor`]).
+    pub selection: Option<&'static str>,
+    /// BSDF times cosine, `vec3<f32>`.
+    pub eval: &'static str,
+    /// Density of its own sampler, `f32`.
+    pub pdf: &'static str,
+    /// Its own sampler, `BsdfSample`.
+    pub sample: &'static str,
+    /// When the BSDF's sampling strategy (`SAMPLING_HEMISPHERE`, `SAMPLING_COSINE`; CSE168's
+    /// `importancesampling`) replaces its own sampler: always for a non-delta reflection lobe,
+    /// where it is rough for one that is a delta lobe when smooth, never for transmission
+    /// (the hemisphere strategies would miss it).
+    pub replaced: Condition,
+    /// When it is a delta lobe (which no photon is gathered through).
+    pub delta: Condition,
+    /// The frame it needs, if not any frame about the normal.
+    pub frame: Option<OwnFrame>,
+    /// The material fields it reads, with their widths in floats, in the order a kept
+    /// surface packs them (a field never straddles two `vec4`s).
+    pub parameters: &'static [(&'static str, usize)],
+}
+
+/// The device code of `kind`.
+pub const fn code(kind: LobeKind) -> LobeCode {
+    match kind {
+        LobeKind::Diffuse => LobeCode {
+            file: "bsdf/lambert.wgsl",
+            weight: "m.diffuse",
+            selection: None,
+            eval: "vec3<f32>(lambert_eval(wo, wi))",
+            pdf: "lambert_pdf(wo, wi)",
+            sample: "lambert_sample(wo, u)",
+            replaced: Condition::Always,
+            delta: Condition::Never,
+            frame: None,
+            parameters: &[("diffuse", 3), ("coat_f0", 1), ("coat_weight", 1)],
+        },
+        LobeKind::Translucent => LobeCode {
+            file: "bsdf/lambert.wgsl",
+            weight: "m.translucent",
+            selection: None,
+            eval: "vec3<f32>(diffuse_transmission_eval(wo, wi))",
+            pdf: "diffuse_transmission_pdf(wo, wi)",
+            sample: "diffuse_transmission_sample(wo, u)",
+            replaced: Condition::Never,
+            delta: Condition::Never,
+            frame: None,
+            parameters: &[("translucent", 3)],
+        },
+        LobeKind::Phong => LobeCode {
+            file: "bsdf/phong.wgsl",
+            weight: "m.phong",
+            selection: None,
+            eval: "vec3<f32>(phong_eval(wo, wi, m.phong_exponent))",
+            pdf: "phong_pdf(wo, wi, m.phong_exponent)",
+            sample: "phong_sample(wo, u, m.phong_exponent)",
+            replaced: Condition::Always,
+            delta: Condition::Never,
+            frame: None,
+            parameters: &[("phong", 3), ("phong_exponent", 1)],
+        },
+        LobeKind::Specular => LobeCode {
+            file: "bsdf/ggx.wgsl",
+            weight: "vec3<f32>(m.specular_weight)",
+            selection: Some("s *= rgb_luminance(fresnel_schlick(m.specular_f0, wo.z));"),
+            eval: "conductor_eval(m.specular_alpha, m.specular_f0, wo, wi)",
+            pdf: "conductor_pdf(m.specular_alpha, wo, wi)",
+            sample: "conductor_sample(m.specular_alpha, m.specular_f0, wo, u)",
+            replaced: Condition::When("m.specular_alpha >= ALPHA_SMOOTH"),
+            delta: Condition::When("m.specular_alpha < ALPHA_SMOOTH"),
+            frame: None,
+            parameters: &[("specular_f0", 3), ("specular_weight", 1), ("specular_alpha", 1)],
+        },
+        LobeKind::Mirror => LobeCode {
+            file: "bsdf/ggx.wgsl",
+            weight: "vec3<f32>(m.mirror)",
+            selection: None,
+            eval: "conductor_eval(m.mirror_alpha, vec3<f32>(1.0), wo, wi)",
+            pdf: "conductor_pdf(m.mirror_alpha, wo, wi)",
+            sample: "conductor_sample(m.mirror_alpha, vec3<f32>(1.0), wo, u)",
+            replaced: Condition::When("m.mirror_alpha >= ALPHA_SMOOTH"),
+            delta: Condition::When("m.mirror_alpha < ALPHA_SMOOTH"),
+            frame: None,
+            parameters: &[("mirror", 1), ("mirror_alpha", 1)],
+        },
+        LobeKind::Dielectric => LobeCode {
+            file: "bsdf/dielectric.wgsl",
+            weight: "m.dielectric",
+            selection: None,
+            eval: "vec3<f32>(dielectric_eval(m.dielectric_alpha, eta, wo, wi))",
+            pdf: "dielectric_pdf(m.dielectric_alpha, eta, wo, wi)",
+            sample: "dielectric_sample(m.dielectric_alpha, eta, wo, u_lobe, u)",
+            replaced: Condition::Never,
+            delta: Condition::When("dielectric_is_smooth(m.dielectric_alpha, eta)"),
+            frame: None,
+            parameters: &[("dielectric", 3), ("dielectric_alpha", 1)],
+        },
+        LobeKind::Anisotropic => LobeCode {
+            file: "bsdf/ashikhmin.wgsl",
+            weight: "vec3<f32>(m.anisotropic_weight)",
+            selection: Some("let a = anisotropic_albedo_estimate(m.anisotropic_rs, m.anisotropic_rd, wo.z);\ns *= a.x + a.y;"),
+            eval: "anisotropic_phong_eval(wo, wi, m.anisotropic_rs, m.anisotropic_rd, m.anisotropic_nu, m.anisotropic_nv)",
+            pdf: "anisotropic_phong_pdf(wo, wi, m.anisotropic_rs, m.anisotropic_rd, m.anisotropic_nu, m.anisotropic_nv)",
+            sample: "anisotropic_phong_sample(wo, u_lobe, u, m.anisotropic_rs, m.anisotropic_rd, m.anisotropic_nu, m.anisotropic_nv)",
+            replaced: Condition::Always,
+            delta: Condition::Never,
+            frame: Some(OwnFrame { when: "m.anisotropic_weight > 0.0", frame: "anisotropic_frame(n, m.anisotropic_axis)" }),
+            parameters: &[
+                ("anisotropic_rs", 3),
+                ("anisotropic_weight", 1),
+                ("anisotropic_rd", 3),
+                ("anisotropic_nu", 1),
+                ("anisotropic_axis", 3),
+                ("anisotropic_nv", 1),
+            ],
+        },
+    }
+}
+
+/// Whether material `m` uses `kind` (a weight not zero): the kind's bit of `LOBE_MASK`.
+pub fn in_use(kind: LobeKind, m: &GpuMaterial) -> bool {
+    let any = |w: [f32; 3]| w.iter().any(|&c| c != 0.0);
+    match kind {
+        LobeKind::Diffuse => any(m.diffuse),
+        LobeKind::Translucent => any(m.translucent),
+        LobeKind::Phong => any(m.phong),
+        LobeKind::Specular => m.specular_weight != 0.0,
+        LobeKind::Mirror => m.mirror != 0.0,
+        LobeKind::Dielectric => any(m.dielectric),
+        LobeKind::Anisotropic => m.anisotropic_weight != 0.0,
+    }
+}
+
+/// `kind`'s slot as a WGSL literal.
+fn slot(kind: LobeKind) -> String {
+    format!("{}u", kind.slot())
+}
+
+/// A `switch slot` returning `value(kind)` for each kind, [`DEFAULT_ARM`]'s in the default arm.
+fn value_switch(value: impl Fn(LobeKind) -> String) -> String {
+    let mut text = String::from("    switch slot {\n");
+    for kind in LobeKind::ALL.into_iter().filter(|&k| k != DEFAULT_ARM) {
+        let _ = writeln!(text, "        case {}: {{ return {}; }}", slot(kind), value(kind));
+    }
+    let _ = writeln!(text, "        default: {{ return {}; }}\n    }}", value(DEFAULT_ARM));
+    text
+}
+
+/// A `switch slot` returning whether `condition(kind)` holds: one arm for the kinds where it
+/// always does, one per kind with a WGSL condition, `false` in the default arm.
+fn condition_switch(condition: impl Fn(LobeCode) -> Condition) -> String {
+    let always: Vec<String> = LobeKind::ALL.into_iter().filter(|&k| condition(code(k)) == Condition::Always).map(slot).collect();
+    let mut text = String::from("    switch slot {\n");
+    if !always.is_empty() {
+        let _ = writeln!(text, "        case {}: {{ return true; }}", always.join(", "));
+    }
+    for kind in LobeKind::ALL {
+        if let Condition::When(holds) = condition(code(kind)) {
+            let _ = writeln!(text, "        case {}: {{ return {holds}; }}", slot(kind));
+        }
+    }
+    text.push_str("        default: { return false; }\n    }\n");
+    text
+}
+
+/// `step(slot)` for every slot, joined by `separator`: the unrolled sums (a literal slot in
+/// each call, so the folding keeps only the scene's lobes; docs/PERFORMANCE.md, "BSDF slots
+/// unrolled").
+pub fn unrolled(step: impl Fn(&str) -> String, separator: &str) -> String {
+    LobeKind::ALL.into_iter().map(|k| step(&slot(k))).collect::<Vec<_>>().join(separator)
+}
+
+/// `generated/lobes.wgsl`: the slot count, the shading frame, and the per-slot switches and
+/// unrolled sums of the path tracer's BSDF (`shaders/bsdf/bsdf.wgsl` holds what they call).
+pub fn wgsl_dispatch() -> String {
+    let mut t = String::from("// Generated from caustic_kernels::lobes (the lobe registry): the BSDF's per-slot dispatch.\n\n");
+    let _ = writeln!(t, "const LOBE_SLOTS: u32 = {LOBE_SLOTS}u;\n");
+    t.push_str("// The local shading frame of material m at shading normal n: the frame of the first lobe\n// that needs its own (anisotropic_frame orients the tangent by the material's axis), else\n// frame_from_normal (isotropic lobes accept any tangent).\n");
+    t.push_str("fn shading_frame(m: Material, n: vec3<f32>) -> Frame3 {\n");
+    for kind in LobeKind::ALL {
+        if let Some(own) = code(kind).frame {
+            let _ = writeln!(t, "    if lobe_in_scene({}) && {} {{\n        return {};\n    }}", slot(kind), own.when, own.frame);
+        }
+    }
+    t.push_str("    return frame_from_normal(n);\n}\n\n");
+
+    t.push_str("fn lobe_weight(m: Material, wo: vec3<f32>, slot: u32) -> vec3<f32> {\n");
+    t.push_str(&value_switch(|k| if k.is_coated() { format!("{} * coat_transmission(m, wo.z)", code(k).weight) } else { code(k).weight.to_string() }));
+    t.push_str("}\n\n// Unnormalised probability of sampling a slot.\nfn lobe_selection(m: Material, wo: vec3<f32>, slot: u32) -> f32 {\n");
+    t.push_str("    var s = rgb_luminance(lobe_weight(m, wo, slot));\n");
+    for kind in LobeKind::ALL {
+        if let Some(statements) = code(kind).selection {
+            let _ = writeln!(t, "    if slot == {} {{", slot(kind));
+            for line in statements.lines() {
+                let _ = writeln!(t, "        {line}");
+            }
+            t.push_str("    }\n");
+        }
+    }
+    t.push_str("    return s;\n}\n\n");
+
+    t.push_str("fn lobe_eval(m: Material, eta: f32, wo: vec3<f32>, wi: vec3<f32>, slot: u32) -> vec3<f32> {\n");
+    t.push_str(&value_switch(|k| code(k).eval.to_string()));
+    t.push_str("}\n\n// Whether `sampling` replaces the slot's own sampler (non-delta reflection lobes).\n");
+    t.push_str("fn lobe_replaced(m: Material, slot: u32, sampling: u32) -> bool {\n    if sampling == SAMPLING_BSDF {\n        return false;\n    }\n");
+    t.push_str(&condition_switch(|c| c.replaced));
+    t.push_str("}\n\n");
+
+    t.push_str("fn lobe_pdf(m: Material, eta: f32, wo: vec3<f32>, wi: vec3<f32>, slot: u32, sampling: u32) -> f32 {\n");
+    t.push_str("    if lobe_replaced(m, slot, sampling) {\n        if wo.z <= 0.0 || wi.z <= 0.0 {\n            return 0.0;\n        }\n");
+    t.push_str("        return select(0.5 * INV_PI, wi.z * INV_PI, sampling == SAMPLING_COSINE);\n    }\n");
+    t.push_str(&value_switch(|k| code(k).pdf.to_string()));
+    t.push_str("}\n\n");
+
+    t.push_str("fn lobe_sample(m: Material, eta: f32, wo: vec3<f32>, u_lobe: f32, u: vec2<f32>, slot: u32, sampling: u32) -> BsdfSample {\n");
+    t.push_str("    if lobe_replaced(m, slot, sampling) {\n");
+    t.push_str("        let wi = select(square_to_uniform_hemisphere(u), square_to_cosine_hemisphere(u), sampling == SAMPLING_COSINE);\n");
+    t.push_str("        return BsdfSample(wi, 1.0, vec3<f32>(0.0), 1.0, false);\n    }\n");
+    t.push_str(&value_switch(|k| code(k).sample.to_string()));
+    t.push_str("}\n\n");
+
+    t.push_str("// The sums and the choice run bsdf.wgsl's per-slot step once for each slot, the slot a\n// literal, rather than in a loop (docs/PERFORMANCE.md, \"BSDF slots unrolled\").\n\n");
+    let _ = writeln!(
+        t,
+        "fn total_selection(m: Material, wo: vec3<f32>) -> f32 {{\n    return {};\n}}\n",
+        unrolled(|s| format!("selection_in_scene(m, wo, {s})"), " + ")
+    );
+
+    t.push_str("// One slot's weighted lobe value (0 outside the scene's lobes).\n");
+    t.push_str("fn eval_slot(m: Material, eta: f32, wo: vec3<f32>, wi: vec3<f32>, slot: u32) -> vec3<f32> {\n");
+    t.push_str("    if !lobe_in_scene(slot) {\n        return vec3<f32>(0.0);\n    }\n    var w = lobe_weight(m, wo, slot);\n");
+    for kind in LobeKind::ALL.into_iter().filter(|k| k.is_coated()) {
+        let _ = writeln!(t, "    if slot == {} {{\n        w *= coat_transmission(m, wi.z);\n    }}", slot(kind));
+    }
+    t.push_str("    if all(w == vec3<f32>(0.0)) {\n        return vec3<f32>(0.0);\n    }\n    return w * lobe_eval(m, eta, wo, wi, slot);\n}\n\n");
+
+    let _ = writeln!(
+        t,
+        "// BSDF times |cos theta_i|, summed over the lobes.\nfn eval_bsdf(m: Material, eta: f32, wo: vec3<f32>, wi: vec3<f32>) -> vec3<f32> {{\n    return {};\n}}\n",
+        unrolled(|s| format!("eval_slot(m, eta, wo, wi, {s})"), " + ")
+    );
+    let _ = writeln!(
+        t,
+        "// Density with which sample_bsdf draws wi by a non-delta lobe under `sampling`.\nfn pdf_bsdf(m: Material, eta: f32, wo: vec3<f32>, wi: vec3<f32>, sampling: u32) -> f32 {{\n    let total = total_selection(m, wo);\n    if total <= 0.0 {{\n        return 0.0;\n    }}\n    return {};\n}}\n",
+        unrolled(|s| format!("pdf_slot(m, eta, wo, wi, sampling, total, {s})"), " + ")
+    );
+    let _ = writeln!(
+        t,
+        "fn choose_lobe(m: Material, wo: vec3<f32>, u_lobe: f32, total: f32) -> LobeChoice {{\n    var c = LobeChoice(0.0, LOBE_SLOTS, 0.0, 0.0, LOBE_SLOTS, 0.0);\n{}\n    if c.chosen == LOBE_SLOTS {{\n        c.chosen = c.last;\n        c.chosen_p = c.last_p;\n        c.u_rescaled = 0.99999994;\n    }}\n    return c;\n}}\n",
+        unrolled(|s| format!("    c = consider_slot(c, m, wo, u_lobe, total, {s});"), "\n")
+    );
+    let _ = writeln!(
+        t,
+        "fn sample_chosen(m: Material, eta: f32, wo: vec3<f32>, c: LobeChoice, u: vec2<f32>, sampling: u32) -> ChosenSample {{\n    var s = ChosenSample(no_sample(), vec3<f32>(0.0));\n{}\n    return s;\n}}",
+        unrolled(|s| format!("    s = sample_if_chosen(s, m, eta, wo, c, u, sampling, {s});"), "\n")
+    );
+    t
+}
+
+/// The `vec4`s of a slot's packed parameters: per field its vector, first component and width.
+fn packing(parameters: &[(&'static str, usize)]) -> Vec<(&'static str, usize, usize, usize)> {
+    let (mut vector, mut offset) = (0, 0);
+    let mut placed = Vec::new();
+    for &(field, width) in parameters {
+        if offset + width > 4 {
+            (vector, offset) = (vector + 1, 0);
+        }
+        placed.push((field, vector, offset, width));
+        offset += width;
+    }
+    placed
+}
+
+/// How many `vec4`s hold the widest kind's parameters.
+fn parameter_vectors() -> usize {
+    LobeKind::ALL.into_iter().map(|k| packing(code(k).parameters).last().map_or(0, |p| p.1 + 1)).max().unwrap_or(1)
+}
+
+/// The WGSL name of `LobeParameters`' `vector`th member.
+fn member(vector: usize) -> char {
+    (b'a' + vector as u8) as char
+}
+
+/// `generated/lobe_parameters.wgsl`: a slot's parameters packed into `vec4`s
+/// (`LobeParameters`, `lobe_parameters`) and set back into a material
+/// (`with_lobe_parameters`), from each kind's [`LobeCode::parameters`].
+pub fn wgsl_parameters() -> String {
+    let vectors = parameter_vectors();
+    let mut t = String::from("// Generated from caustic_kernels::lobes (the lobe registry). A material's BSDF kept for\n");
+    t.push_str("// later, slot by slot: each slot's parameters packed into vec4s, and set back into a material.\n");
+    t.push_str("// Code that stores surfaces in private arrays (integrator/bdpt.wgsl's light vertices) keeps\n// only the slots the scene uses instead of the whole Material, whose copy into and out of a\n");
+    t.push_str("// dynamically indexed array costs every word on lavapipe. with_lobe_parameters restores\n// exactly the fields eval_bsdf, pdf_bsdf, sample_bsdf and shading_frame read of that slot.\n\n");
+    t.push_str("struct LobeParameters {\n");
+    for v in 0..vectors {
+        let _ = writeln!(t, "    {}: vec4<f32>,", member(v));
+    }
+    t.push_str("}\n\nfn lobe_parameters(m: Material, slot: u32) -> LobeParameters {\n    let none = vec4<f32>(0.0);\n");
+    t.push_str(&value_switch(|k| {
+        let placed = packing(code(k).parameters);
+        let vector = |v: usize| {
+            let mut parts: Vec<String> = placed.iter().filter(|p| p.1 == v).map(|p| format!("m.{}", p.0)).collect();
+            if parts.is_empty() {
+                return "none".to_string();
+            }
+            let used: usize = placed.iter().filter(|p| p.1 == v).map(|p| p.3).sum();
+            parts.extend(std::iter::repeat_n("0.0".to_string(), 4 - used));
+            format!("vec4<f32>({})", parts.join(", "))
+        };
+        format!("LobeParameters({})", (0..vectors).map(vector).collect::<Vec<_>>().join(", "))
+    }));
+    t.push_str("}\n\nfn with_lobe_parameters(m: Material, slot: u32, p: LobeParameters) -> Material {\n    var r = m;\n    switch slot {\n");
+    let assignments = |kind: LobeKind, indent: &str| {
+        packing(code(kind).parameters)
+            .iter()
+            .map(|&(field, v, offset, width)| format!("{indent}r.{field} = p.{}.{};\n", member(v), &"xyzw"[offset..offset + width]))
+            .collect::<String>()
+    };
+    for kind in LobeKind::ALL.into_iter().filter(|&k| k != DEFAULT_ARM) {
+        let _ = write!(t, "        case {}: {{\n{}        }}\n", slot(kind), assignments(kind, "            "));
+    }
+    let _ = write!(t, "        default: {{\n{}        }}\n    }}\n    return r;\n}}\n", assignments(DEFAULT_ARM, "            "));
+    t
+}
+
+/// `delta_lobe` (`integrator/photons.wgsl` and `integrator/sppm.wgsl` call it): whether slot
+/// `slot` of material `m` is a delta lobe, from each kind's [`LobeCode::delta`].
+pub fn wgsl_delta_lobe() -> String {
+    let mut t = String::from("// Generated from caustic_kernels::lobes: whether a lobe of slot `slot` is a delta lobe for\n");
+    t.push_str("// material m (eta: the dielectric's relative index), which no photon can be gathered through.\n");
+    t.push_str("fn delta_lobe(m: Material, eta: f32, slot: u32) -> bool {\n");
+    t.push_str(&condition_switch(|c| c.delta));
+    t.push_str("}\n");
+    t
+}
+
+/// Per-slot steps written out by hand where a generated function would change the SPIR-V of
+/// the kernels that run them (naga declares a function where its first user is, and these
+/// sit amid hand-written code): the file, and the call whose last argument is the literal
+/// slot. A test checks each lists every slot once, in order; a new kind adds a line to each.
+pub const WRITTEN_OUT: [(&str, &str); 3] = [
+    ("integrator/bdpt.wgsl", "keep_lobe(i, si.material, "),
+    ("integrator/bdpt.wgsl", "si.material = restore_lobe(i, si.material, "),
+    ("integrator/photons.wgsl", "smooth_selection(m, eta, wo, "),
+];
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn written_out_steps_list_every_slot_in_order() {
+        let program = crate::shaders::program_files(crate::shaders::Program::PathTracer);
+        for (file, call) in WRITTEN_OUT {
+            let source = program.iter().find(|f| f.name == file).unwrap_or_else(|| panic!("{file} is not in the path tracer")).source;
+            let slots: Vec<&str> = source.split(call).skip(1).map(|rest| rest.split(')').next().unwrap()).collect();
+            let expected: Vec<String> = LobeKind::ALL.into_iter().map(slot).collect();
+            assert_eq!(slots, expected, "{file}: the steps `{call}..)` must list every lobe slot of caustic_bsdf::lobes::LobeKind once, in order");
+        }
+    }
+
+    /// docs/MATERIALS.md's table of slots names each kind at its slot with its WGSL file.
+    #[test]
+    fn the_materials_table_lists_every_slot() {
+        let doc = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/MATERIALS.md")).expect("docs/MATERIALS.md");
+        let rows: Vec<&str> = doc.lines().filter(|l| l.starts_with("| ") && l[2..].starts_with(|c: char| c.is_ascii_digit())).collect();
+        assert_eq!(rows.len(), LOBE_SLOTS, "docs/MATERIALS.md's table has a row per slot");
+        for (row, kind) in rows.iter().zip(LobeKind::ALL) {
+            assert!(row.starts_with(&format!("| {} |", kind.slot())), "row `{row}` should be slot {}", kind.slot());
+            assert!(row.contains(&format!("`{}`", code(kind).file)), "row of slot {} should name {}", kind.slot(), code(kind).file);
+        }
+    }
+
+    #[test]
+    fn every_kind_s_file_is_a_model_file() {
+        for kind in LobeKind::ALL {
+            assert!(MODEL_FILES.iter().any(|f| f.name == code(kind).file), "{}: {} is not in MODEL_FILES", kind.name(), code(kind).file);
+        }
+    }
+
+    /// A kept surface restores what the lobe code reads: every field a kind's WGSL names is in
+    /// its parameters, and its parameters fit `LobeParameters` without straddling a vec4.
+    #[test]
+    fn parameters_cover_what_each_kind_reads() {
+        for kind in LobeKind::ALL {
+            let c = code(kind);
+            let condition = |c: Condition| if let Condition::When(holds) = c { holds } else { "" };
+            let text = [c.weight, c.selection.unwrap_or(""), c.eval, c.pdf, c.sample, condition(c.delta), condition(c.replaced)].join(" ")
+                + &c.frame.map(|f| format!("{} {}", f.when, f.frame)).unwrap_or_default();
+            let read: Vec<&str> = text.split("m.").skip(1).map(|rest| rest.split(|ch: char| !(ch.is_alphanumeric() || ch == '_')).next().unwrap()).collect();
+            for field in &read {
+                assert!(c.parameters.iter().any(|(p, _)| p == field), "{} reads m.{field} but does not keep it", kind.name());
+            }
+            for (field, v, offset, width) in packing(c.parameters) {
+                assert!(offset + width <= 4 && v < 3, "{}: {field} does not fit", kind.name());
+            }
+        }
+    }
+
+    #[test]
+    fn every_switch_lists_each_slot_once() {
+        let dispatch = wgsl_dispatch();
+        for function in ["lobe_weight", "lobe_eval", "lobe_pdf", "lobe_sample"] {
+            let body = dispatch.split(&format!("fn {function}(")).nth(1).unwrap().split("\n}\n").next().unwrap();
+            let cases: Vec<&str> = body.lines().filter(|l| l.trim_start().starts_with("case ")).collect();
+            assert_eq!(cases.len(), LOBE_SLOTS - 1, "{function}: {cases:?}");
+            assert_eq!(body.matches("default:").count(), 1, "{function}");
+        }
+        assert_eq!(dispatch.matches("selection_in_scene(m, wo, ").count(), LOBE_SLOTS);
+    }
+}
