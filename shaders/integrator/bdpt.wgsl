@@ -57,18 +57,12 @@ fn restore_lobe(i: u32, m: Material, slot: u32) -> Material {
     return m;
 }
 
-// Keeps si as light vertex i's surface (the slot a literal in each call, so the scene's
-// unused slots fold away as in bsdf/bsdf.wgsl). Each lobe slot is written out here and in
-// kept_light_surface; caustic_kernels::lobes::WRITTEN_OUT checks the lists against the registry.
+// Keeps si as light vertex i's surface, and its material slot by slot (keep_lobes, generated
+// from the lobe registry, calls keep_lobe with each slot a literal, so the scene's unused slots
+// fold away as in bsdf/bsdf.wgsl).
 fn keep_light_surface(i: u32, si: SurfaceInteraction) {
     light_surfaces[i] = LightSurface(si.p, u32(si.front_face), si.ng, si.material.ior, si.ns);
-    keep_lobe(i, si.material, 0u);
-    keep_lobe(i, si.material, 1u);
-    keep_lobe(i, si.material, 2u);
-    keep_lobe(i, si.material, 3u);
-    keep_lobe(i, si.material, 4u);
-    keep_lobe(i, si.material, 5u);
-    keep_lobe(i, si.material, 6u);
+    keep_lobes(i, si.material);
 }
 
 // Light vertex i's surface, with the material fields its BSDF reads (the others zero).
@@ -80,13 +74,7 @@ fn kept_light_surface(i: u32) -> SurfaceInteraction {
     si.ng = kept.ng;
     si.ns = kept.ns;
     si.material.ior = kept.ior;
-    si.material = restore_lobe(i, si.material, 0u);
-    si.material = restore_lobe(i, si.material, 1u);
-    si.material = restore_lobe(i, si.material, 2u);
-    si.material = restore_lobe(i, si.material, 3u);
-    si.material = restore_lobe(i, si.material, 4u);
-    si.material = restore_lobe(i, si.material, 5u);
-    si.material = restore_lobe(i, si.material, 6u);
+    si.material = restore_lobes(i, si.material);
     return si;
 }
 

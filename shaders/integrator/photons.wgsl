@@ -109,15 +109,13 @@ fn smooth_selection(m: Material, eta: f32, wo: vec3<f32>, slot: u32) -> f32 {
 }
 
 // The probability that sample_bsdf chooses a non-delta lobe (choose_lobe's intervals, whose
-// sum is `total`: total_selection(m, wo)). Each lobe slot is written out (checked against the
-// registry: caustic_kernels::lobes::WRITTEN_OUT); delta_lobe is generated from it.
+// sum is `total`: total_selection(m, wo)). smooth_selection_sum and delta_lobe are generated
+// from the lobe registry (caustic_kernels::lobes).
 fn smooth_probability(m: Material, eta: f32, wo: vec3<f32>, total: f32) -> f32 {
     if total <= 0.0 {
         return 0.0;
     }
-    let smooth_sum = smooth_selection(m, eta, wo, 0u) + smooth_selection(m, eta, wo, 1u) + smooth_selection(m, eta, wo, 2u) + smooth_selection(m, eta, wo, 3u)
-        + smooth_selection(m, eta, wo, 4u) + smooth_selection(m, eta, wo, 5u) + smooth_selection(m, eta, wo, 6u);
-    return min(smooth_sum / total, 1.0);
+    return min(smooth_selection_sum(m, eta, wo) / total, 1.0);
 }
 
 // Stores the light path's arrival at `si` as a photon where a non-delta lobe can gather it,

@@ -5,17 +5,19 @@
 //! ([`in_use`], the kernels' `LOBE_MASK`).
 //!
 //! The BSDF's dispatch is generated from these rows: the per-slot switches, the unrolled sums
-//! over the slots and the shading frame ([`wgsl_dispatch`], `generated/lobes.wgsl`), and the
+//! over the slots and the shading frame ([`wgsl_dispatch`], `generated/lobes.wgsl`), the
 //! packing of a slot's parameters for BDPT's light vertices ([`wgsl_parameters`],
-//! `generated/lobe_parameters.wgsl`). The hand-written `shaders/bsdf/slots.wgsl` (the mask) and
-//! `shaders/bsdf/bsdf.wgsl` (one slot's step of each sum, the choice, `sample_bsdf`) name no
-//! slot. The generated text declares the functions in the order the hand-written file had them,
-//! so every kernel's SPIR-V stayed as it was (docs/ARCHITECTURE.md, "Registries").
+//! `generated/lobe_parameters.wgsl`) and the integrators' per-slot steps ([`wgsl_steps`]).
+//! No hand-written WGSL names a slot: `shaders/bsdf/slots.wgsl` holds the mask and
+//! `shaders/bsdf/bsdf.wgsl` one slot's step of each sum, the choice and `sample_bsdf`. The
+//! generated text declares the BSDF's functions where the hand-written file had them, so the
+//! path tracer's kernels kept their SPIR-V (docs/ARCHITECTURE.md, "One source of truth").
 //!
 //! Adding a lobe: a variant and its rows in `caustic_bsdf::lobes`, its CPU model in
-//! `caustic-bsdf`, its WGSL file (listed in [`MODEL_FILES`]) and its rows here; its parameters
-//! are fields of `BsdfParams` and of the material (`gpu_types`, `common/types.wgsl`, checked
-//! against each other by naga reflection).
+//! `caustic-bsdf` (and a variant of `caustic_bsdf::bsdf::Lobe`), its WGSL file (listed in
+//! [`MODEL_FILES`]) and its rows here; its parameters are fields of `BsdfParams` and of the
+//! material (`gpu_types`, `common/types.wgsl`, checked against each other by naga reflection)
+//! packed by `scene_data`.
 
 use crate::gpu_types::GpuMaterial;
 use crate::shaders::ShaderFile;
@@ -28,8 +30,8 @@ pub const DISPATCH_FILE: &str = "generated/lobes.wgsl";
 /// Where [`wgsl_parameters`]'s text appears in the program.
 pub const PARAMETERS_FILE: &str = "generated/lobe_parameters.wgsl";
 
-/// Where [`wgsl_delta_lobe`]'s text appears in the program.
-pub const DELTA_FILE: &str = "generated/delta_lobe.wgsl";
+/// Where [`wgsl_steps`]'s text appears in the program.
+pub const STEPS_FILE: &str = "generated/lobe_steps.wgsl";
 
 /// The lobes' WGSL files (`shaders/bsdf/`), in the program's order: each model's functions
 /// before the dispatch that calls them.
@@ -402,41 +404,31 @@ pub fn wgsl_parameters() -> String {
     t
 }
 
-/// `delta_lobe` (`integrator/photons.wgsl` and `integrator/sppm.wgsl` call it): whether slot
-/// `slot` of material `m` is a delta lobe, from each kind's [`LobeCode::delta`].
-pub fn wgsl_delta_lobe() -> String {
-    let mut t = String::from("// Generated from caustic_kernels::lobes: whether a lobe of slot `slot` is a delta lobe for\n");
-    t.push_str("// material m (eta: the dielectric's relative index), which no photon can be gathered through.\n");
+/// `generated/lobe_steps.wgsl`: the integrators' per-slot code, after their files (it calls
+/// their functions): `delta_lobe` from each kind's [`LobeCode::delta`], and the unrolled steps of
+/// `integrator/bdpt.wgsl` (`keep_lobes`, `restore_lobes`: a light vertex's BSDF kept slot by
+/// slot) and `integrator/photons.wgsl` (`smooth_selection_sum`).
+pub fn wgsl_steps() -> String {
+    let mut t = String::from("// Generated from caustic_kernels::lobes (the lobe registry): the integrators' per-slot code.\n\n");
+    t.push_str("// Whether a lobe of slot `slot` is a delta lobe for material m (eta: the dielectric's\n// relative index), which no photon can be gathered through.\n");
     t.push_str("fn delta_lobe(m: Material, eta: f32, slot: u32) -> bool {\n");
     t.push_str(&condition_switch(|c| c.delta));
-    t.push_str("}\n");
+    t.push_str("}\n\n// Keeps material m's lobes as light vertex i's (integrator/bdpt.wgsl).\nfn keep_lobes(i: u32, m: Material) {\n");
+    t.push_str(&unrolled(|s| format!("    keep_lobe(i, m, {s});\n"), ""));
+    t.push_str("}\n\n// Material m with light vertex i's kept lobes set back (integrator/bdpt.wgsl).\nfn restore_lobes(i: u32, m: Material) -> Material {\n    var r = m;\n");
+    t.push_str(&unrolled(|s| format!("    r = restore_lobe(i, r, {s});\n"), ""));
+    t.push_str("    return r;\n}\n\n// The choice probabilities of m's non-delta lobes, summed (integrator/photons.wgsl).\n");
+    let _ = writeln!(
+        t,
+        "fn smooth_selection_sum(m: Material, eta: f32, wo: vec3<f32>) -> f32 {{\n    return {};\n}}",
+        unrolled(|s| format!("smooth_selection(m, eta, wo, {s})"), " + ")
+    );
     t
 }
-
-/// Per-slot steps written out by hand where a generated function would change the SPIR-V of
-/// the kernels that run them (naga declares a function where its first user is, and these
-/// sit amid hand-written code): the file, and the call whose last argument is the literal
-/// slot. A test checks each lists every slot once, in order; a new kind adds a line to each.
-pub const WRITTEN_OUT: [(&str, &str); 3] = [
-    ("integrator/bdpt.wgsl", "keep_lobe(i, si.material, "),
-    ("integrator/bdpt.wgsl", "si.material = restore_lobe(i, si.material, "),
-    ("integrator/photons.wgsl", "smooth_selection(m, eta, wo, "),
-];
 
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn written_out_steps_list_every_slot_in_order() {
-        let program = crate::shaders::program_files(crate::shaders::Program::PathTracer);
-        for (file, call) in WRITTEN_OUT {
-            let source = program.iter().find(|f| f.name == file).unwrap_or_else(|| panic!("{file} is not in the path tracer")).source;
-            let slots: Vec<&str> = source.split(call).skip(1).map(|rest| rest.split(')').next().unwrap()).collect();
-            let expected: Vec<String> = LobeKind::ALL.into_iter().map(slot).collect();
-            assert_eq!(slots, expected, "{file}: the steps `{call}..)` must list every lobe slot of caustic_bsdf::lobes::LobeKind once, in order");
-        }
-    }
 
     /// docs/MATERIALS.md's table of slots names each kind at its slot with its WGSL file.
     #[test]
@@ -486,5 +478,10 @@ mod tests {
             assert_eq!(body.matches("default:").count(), 1, "{function}");
         }
         assert_eq!(dispatch.matches("selection_in_scene(m, wo, ").count(), LOBE_SLOTS);
+        let steps = wgsl_steps();
+        for call in ["keep_lobe(i, m, ", "restore_lobe(i, r, ", "smooth_selection(m, eta, wo, "] {
+            let slots: Vec<&str> = steps.split(call).skip(1).map(|rest| rest.split(')').next().unwrap()).collect();
+            assert_eq!(slots, LobeKind::ALL.map(slot), "{call}..)");
+        }
     }
 }

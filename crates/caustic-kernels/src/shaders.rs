@@ -24,12 +24,13 @@ static INTERFACE: LazyLock<ShaderFile> =
     LazyLock::new(|| ShaderFile { name: crate::interface::INTERFACE_FILE, source: crate::interface::INTERFACE_SOURCE.as_str() });
 
 /// The light kinds' generated dispatch and own files ([`crate::lights::wgsl_files`]), after
-/// the path tracer's files (WGSL's declarations may come in any order), then the lobes'
-/// `delta_lobe` ([`crate::lobes::wgsl_delta_lobe`]): naga declares a function where its first
-/// user pulls it in, so at the end it keeps the place it had in `integrator/photons.wgsl`.
+/// the path tracer's files (WGSL's declarations may come in any order), then the integrators'
+/// per-slot code generated from the lobe registry ([`crate::lobes::wgsl_steps`]), which calls
+/// functions of `integrator/`: naga declares a function where its first user pulls it in, so
+/// `delta_lobe` keeps the place it had in `integrator/photons.wgsl`.
 static APPENDED: LazyLock<Vec<ShaderFile>> = LazyLock::new(|| {
-    static DELTA: LazyLock<String> = LazyLock::new(crate::lobes::wgsl_delta_lobe);
-    crate::lights::wgsl_files().chain(std::iter::once(ShaderFile { name: crate::lobes::DELTA_FILE, source: DELTA.as_str() })).collect()
+    static STEPS: LazyLock<String> = LazyLock::new(crate::lobes::wgsl_steps);
+    crate::lights::wgsl_files().chain(std::iter::once(ShaderFile { name: crate::lobes::STEPS_FILE, source: STEPS.as_str() })).collect()
 });
 
 /// The BSDF's files: `bsdf/common.wgsl`, the lobes' models ([`crate::lobes::MODEL_FILES`]), the
