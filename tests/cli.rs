@@ -495,3 +495,35 @@ fn adaptive_sampling_spends_a_mean_budget_per_pixel_and_reports_its_rounds() {
     assert_eq!(result.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&result.stderr).contains("--adaptive gives each pixel its own samples"));
 }
+
+/// `caustic wgsl` prints the program as the kernels compile it: every listed file under its
+/// header, the registries' generated files among them, one file alone, and a clear error for a
+/// file the program lacks.
+#[test]
+fn wgsl_prints_the_assembled_program_and_its_generated_files() {
+    let text = |args: &[&str]| {
+        let out = support::caustic(args);
+        assert!(out.status.success(), "caustic {args:?}: {}", String::from_utf8_lossy(&out.stderr));
+        String::from_utf8(out.stdout).expect("UTF-8")
+    };
+    let list = text(&["wgsl", "--list"]);
+    let names: Vec<&str> = list.lines().map(|l| l.split_whitespace().next().unwrap()).collect();
+    for generated in
+        ["generated/interface.wgsl", "generated/lobes.wgsl", "generated/lobe_parameters.wgsl", "generated/lobe_steps.wgsl", "generated/lights.wgsl"]
+    {
+        assert!(names.contains(&generated), "the path tracer's files should include {generated}: {names:?}");
+    }
+    let program = text(&["wgsl"]);
+    for name in &names {
+        let header = if name.starts_with("generated/") { format!("// ---- {name} ----") } else { format!("// ---- shaders/{name} ----") };
+        assert_eq!(program.matches(&header).count(), 1, "{header} should appear once");
+    }
+    let lobes = text(&["wgsl", "--file", "generated/lobes.wgsl"]);
+    assert!(lobes.contains("fn lobe_eval(") && lobes.contains("fn shading_frame("), "{lobes}");
+    assert!(text(&["wgsl", "--file", "shaders/bsdf/bsdf.wgsl"]).contains("fn sample_bsdf("));
+    assert!(text(&["wgsl", "--program", "ray-bench", "--list"]).contains("bench/rays.wgsl"));
+    let missing = support::caustic(&["wgsl", "--file", "bsdf/none.wgsl"]);
+    let stderr = String::from_utf8_lossy(&missing.stderr);
+    assert!(!missing.status.success() && stderr.contains("bsdf/none.wgsl") && stderr.contains("--list"), "{stderr}");
+    println!("{} files, {} lines in the path tracer's program", names.len(), program.lines().count());
+}

@@ -39,6 +39,9 @@ pub enum Command {
     DebugPixel(DebugPixelArgs),
     /// Measure an image against a reference: relMSE, the FLIP-like perceptual error, MAE.
     Compare(crate::compare::CompareArgs),
+    /// Print a WGSL program as Caustic assembles it (generated files included), or one file of
+    /// it, or the list of its files.
+    Wgsl(crate::wgsl::WgslArgs),
 }
 
 /// Options every command that opens a device shares.

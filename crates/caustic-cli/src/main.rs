@@ -22,6 +22,7 @@ mod script;
 mod shell;
 mod tasks;
 mod view;
+mod wgsl;
 
 use clap::Parser;
 use std::process::ExitCode;
@@ -51,6 +52,7 @@ fn main() -> ExitCode {
         args::Command::Converge(converge_args) => converge::run(&converge_args),
         args::Command::DebugPixel(debug_args) => debug_pixel::run(&debug_args),
         args::Command::Compare(compare_args) => compare::run(&compare_args),
+        args::Command::Wgsl(wgsl_args) => wgsl::run(&wgsl_args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

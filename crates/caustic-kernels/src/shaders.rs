@@ -11,6 +11,14 @@ pub struct ShaderFile {
     pub source: &'static str,
 }
 
+impl ShaderFile {
+    /// Where its text comes from: `shaders/NAME`, or `generated/NAME` for text generated from
+    /// Rust (`caustic wgsl --file` prints it).
+    pub fn path(&self) -> String {
+        if self.name.starts_with("generated/") { self.name.to_string() } else { format!("shaders/{}", self.name) }
+    }
+}
+
 /// A [`ShaderFile`] of `shaders/`, embedded.
 macro_rules! shader_file {
     ($name:literal) => {
@@ -243,7 +251,7 @@ impl Program {
 
     /// The assembled WGSL source, each file introduced by a comment naming it.
     pub fn source(self) -> String {
-        program_files(self).iter().map(|f| format!("// ---- shaders/{} ----\n{}\n", f.name, f.source)).collect()
+        program_files(self).iter().map(|f| format!("// ---- {} ----\n{}\n", f.path(), f.source)).collect()
     }
 
     /// The program with one of its files (`name`, relative to `shaders/`) replaced by
@@ -253,7 +261,7 @@ impl Program {
             .iter()
             .map(|f| {
                 let text = if f.name == name { replacement } else { f.source };
-                format!("// ---- shaders/{} ----\n{text}\n", f.name)
+                format!("// ---- {} ----\n{text}\n", f.path())
             })
             .collect()
     }
