@@ -79,7 +79,7 @@ fn mirror_index(i: i64, n: i64) -> usize {
     (if m >= n { 2 * n - 1 - m } else { m }) as usize
 }
 
-/// The CPU twin of [`Bloom::apply`]: the same operator in the same order of operations.
+/// The CPU twin of `caustic_gpu::bloom::Bloom::apply`: the same operator in the same order of operations.
 pub fn bloom_cpu(image: &Image, settings: &BloomSettings) -> Image {
     let (w, h) = (image.width as usize, image.height as usize);
     let bright: Vec<[f32; 3]> = image
