@@ -190,7 +190,10 @@ fn callees_first(functions: Arena<Function>, entry_points: &mut [naga::EntryPoin
     sorted
 }
 
-/// Calls `f` with the callee of every call in `block` and the blocks within it.
+/// Calls `f` with the callee of every call in `block` and the blocks within it, in the order
+/// the statements run: a statement's blocks are visited where it stands, before the statements
+/// after it. `callees_first` orders the functions so, and the kernels' SPIR-V follows that order
+/// (visiting a block's own calls before its nested blocks' reorders most kernels' functions).
 pub fn for_each_call(block: &mut Block, f: &mut dyn FnMut(&mut Handle<Function>)) {
     for statement in block.iter_mut() {
         match statement {
