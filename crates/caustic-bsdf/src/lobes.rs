@@ -1,10 +1,11 @@
 //! The lobe registry: the slots of the path tracer's BSDF, each a [`LobeKind`] declared once
-//! (pbrt-v4's type lists, Mitsuba's plugins). Here are its host facts: its slot, name,
-//! weight and parameters in [`BsdfParams`], its CPU model ([`LobeKind::lobe`]) and the factor its
-//! choice probability carries. Its device facts (the WGSL it calls, the parameters a kept
-//! surface stores, whether a material uses it) are `caustic_kernels::lobes`, an exhaustive match
-//! over the same enum from which `shaders/bsdf`'s dispatch is generated; a new kind is a
-//! compile error in both until it is declared in both.
+//! (pbrt-v4's type lists, Mitsuba's plugins), with every fact about it in this file's
+//! exhaustive matches: its slot (its bit in the kernels' `LOBE_MASK`), name, weight and
+//! parameters in [`BsdfParams`], its CPU model ([`LobeKind::lobe`]), the factor its choice
+//! probability carries, and its device code ([`LobeKind::code`]: the WGSL it runs, its WGSL
+//! file, the material fields a kept surface stores). [`crate::bsdf::Bsdf`] builds its slots
+//! from these rows, and `caustic_kernels::lobes` generates the BSDF's WGSL dispatch from them
+//! (docs/MATERIALS.md, "Adding a lobe").
 
 use crate::ashikhmin::{AnisotropicPhong, AshikhminShirley};
 use crate::bsdf::Lobe;
@@ -71,6 +72,104 @@ impl LobeKind {
         }
     }
 
+    /// Its device code: the WGSL its slot runs (`caustic_kernels::lobes` generates the
+    /// dispatch from it; a kernel test checks each against this kind's CPU model).
+    pub const fn code(self) -> LobeCode {
+        match self {
+            LobeKind::Diffuse => LobeCode {
+                file: "bsdf/lambert.wgsl",
+                weight: "m.diffuse",
+                selection: None,
+                eval: "vec3<f32>(lambert_eval(wo, wi))",
+                pdf: "lambert_pdf(wo, wi)",
+                sample: "lambert_sample(wo, u)",
+                replaced: Condition::Always,
+                delta: Condition::Never,
+                frame: None,
+                parameters: &[("diffuse", 3), ("coat_f0", 1), ("coat_weight", 1)],
+            },
+            LobeKind::Translucent => LobeCode {
+                file: "bsdf/lambert.wgsl",
+                weight: "m.translucent",
+                selection: None,
+                eval: "vec3<f32>(diffuse_transmission_eval(wo, wi))",
+                pdf: "diffuse_transmission_pdf(wo, wi)",
+                sample: "diffuse_transmission_sample(wo, u)",
+                replaced: Condition::Never,
+                delta: Condition::Never,
+                frame: None,
+                parameters: &[("translucent", 3)],
+            },
+            LobeKind::Phong => LobeCode {
+                file: "bsdf/phong.wgsl",
+                weight: "m.phong",
+                selection: None,
+                eval: "vec3<f32>(phong_eval(wo, wi, m.phong_exponent))",
+                pdf: "phong_pdf(wo, wi, m.phong_exponent)",
+                sample: "phong_sample(wo, u, m.phong_exponent)",
+                replaced: Condition::Always,
+                delta: Condition::Never,
+                frame: None,
+                parameters: &[("phong", 3), ("phong_exponent", 1)],
+            },
+            LobeKind::Specular => LobeCode {
+                file: "bsdf/ggx.wgsl",
+                weight: "vec3<f32>(m.specular_weight)",
+                selection: Some("s *= rgb_luminance(fresnel_schlick(m.specular_f0, wo.z));"),
+                eval: "conductor_eval(m.specular_alpha, m.specular_f0, wo, wi)",
+                pdf: "conductor_pdf(m.specular_alpha, wo, wi)",
+                sample: "conductor_sample(m.specular_alpha, m.specular_f0, wo, u)",
+                replaced: Condition::When("m.specular_alpha >= ALPHA_SMOOTH"),
+                delta: Condition::When("m.specular_alpha < ALPHA_SMOOTH"),
+                frame: None,
+                parameters: &[("specular_f0", 3), ("specular_weight", 1), ("specular_alpha", 1)],
+            },
+            LobeKind::Mirror => LobeCode {
+                file: "bsdf/ggx.wgsl",
+                weight: "vec3<f32>(m.mirror)",
+                selection: None,
+                eval: "conductor_eval(m.mirror_alpha, vec3<f32>(1.0), wo, wi)",
+                pdf: "conductor_pdf(m.mirror_alpha, wo, wi)",
+                sample: "conductor_sample(m.mirror_alpha, vec3<f32>(1.0), wo, u)",
+                replaced: Condition::When("m.mirror_alpha >= ALPHA_SMOOTH"),
+                delta: Condition::When("m.mirror_alpha < ALPHA_SMOOTH"),
+                frame: None,
+                parameters: &[("mirror", 1), ("mirror_alpha", 1)],
+            },
+            LobeKind::Dielectric => LobeCode {
+                file: "bsdf/dielectric.wgsl",
+                weight: "m.dielectric",
+                selection: None,
+                eval: "vec3<f32>(dielectric_eval(m.dielectric_alpha, eta, wo, wi))",
+                pdf: "dielectric_pdf(m.dielectric_alpha, eta, wo, wi)",
+                sample: "dielectric_sample(m.dielectric_alpha, eta, wo, u_lobe, u)",
+                replaced: Condition::Never,
+                delta: Condition::When("dielectric_is_smooth(m.dielectric_alpha, eta)"),
+                frame: None,
+                parameters: &[("dielectric", 3), ("dielectric_alpha", 1)],
+            },
+            LobeKind::Anisotropic => LobeCode {
+                file: "bsdf/ashikhmin.wgsl",
+                weight: "vec3<f32>(m.anisotropic_weight)",
+                selection: Some("let a = anisotropic_albedo_estimate(m.anisotropic_rs, m.anisotropic_rd, wo.z);\ns *= a.x + a.y;"),
+                eval: "anisotropic_phong_eval(wo, wi, m.anisotropic_rs, m.anisotropic_rd, m.anisotropic_nu, m.anisotropic_nv)",
+                pdf: "anisotropic_phong_pdf(wo, wi, m.anisotropic_rs, m.anisotropic_rd, m.anisotropic_nu, m.anisotropic_nv)",
+                sample: "anisotropic_phong_sample(wo, u_lobe, u, m.anisotropic_rs, m.anisotropic_rd, m.anisotropic_nu, m.anisotropic_nv)",
+                replaced: Condition::Always,
+                delta: Condition::Never,
+                frame: Some(OwnFrame { when: "m.anisotropic_weight > 0.0", frame: "anisotropic_frame(n, m.anisotropic_axis)" }),
+                parameters: &[
+                    ("anisotropic_rs", 3),
+                    ("anisotropic_weight", 1),
+                    ("anisotropic_rd", 3),
+                    ("anisotropic_nu", 1),
+                    ("anisotropic_axis", 3),
+                    ("anisotropic_nv", 1),
+                ],
+            },
+        }
+    }
+
     /// Its weight in `p` before the coat (0 switches the slot off).
     pub fn weight(self, p: &BsdfParams) -> Vec3 {
         match self {
@@ -123,6 +222,69 @@ impl LobeKind {
     }
 }
 
+/// When a property of a kind's lobe holds for a material.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Condition {
+    /// For every material.
+    Always,
+    /// Where this WGSL condition on `m` (and `eta`) holds.
+    When(&'static str),
+    /// For no material.
+    Never,
+}
+
+/// The frame a kind's lobe is evaluated in where it is not any frame about the normal.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct OwnFrame {
+    /// WGSL condition on material `m` under which the kind's frame is used.
+    pub when: &'static str,
+    /// WGSL `Frame3` expression of `m` and shading normal `n`.
+    pub frame: &'static str,
+}
+
+/// One kind's device code, from which `caustic_kernels::lobes` generates the BSDF's WGSL
+/// dispatch. Expressions read the WGSL names of `bsdf.wgsl`'s functions: `m`
+/// (the `Material`), `eta` (the dielectric's relative index), `wo`, `wi` (local directions),
+/// `u_lobe` and `u` (random numbers).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LobeCode {
+    /// The WGSL file of its model (under `shaders/`; one of `caustic_kernels::lobes::MODEL_FILES`).
+    pub file: &'static str,
+    /// Its weight (`vec3<f32>`), before the coat for a coated kind
+    /// ([`LobeKind::is_coated`]).
+    pub weight: &'static str,
+    /// Statements multiplying `s`, its choice probability, by what the weight's luminance
+    /// misjudges of its albedo ([`LobeKind::selection_factor`]).
+    pub selection: Option<&'static str>,
+    /// BSDF times cosine, `vec3<f32>`.
+    pub eval: &'static str,
+    /// Density of its own sampler, `f32`.
+    pub pdf: &'static str,
+    /// Its own sampler, `BsdfSample`.
+    pub sample: &'static str,
+    /// When the BSDF's sampling strategy (`SAMPLING_HEMISPHERE`, `SAMPLING_COSINE`; CSE168's
+    /// `importancesampling`) replaces its own sampler: always for a non-delta reflection lobe,
+    /// where it is rough for one that is a delta lobe when smooth, never for transmission
+    /// (the hemisphere strategies would miss it).
+    pub replaced: Condition,
+    /// When it is a delta lobe (which no photon is gathered through).
+    pub delta: Condition,
+    /// The frame it needs, if not any frame about the normal.
+    pub frame: Option<OwnFrame>,
+    /// The material fields it reads, with their widths in floats, in the order a kept
+    /// surface packs them (a field never straddles two `vec4`s).
+    pub parameters: &'static [(&'static str, usize)],
+}
+
+/// The slots any of `materials` uses (a weight not zero), one bit per slot: the kernels'
+/// `LOBE_MASK` override, so a scene of diffuse surfaces runs no code of the other lobes. At
+/// least the diffuse bit, so an empty scene compiles as before.
+pub fn lobe_mask<'a>(materials: impl IntoIterator<Item = &'a BsdfParams>) -> u32 {
+    materials.into_iter().fold(1 << LobeKind::Diffuse.slot(), |mask, p| {
+        LobeKind::ALL.into_iter().filter(|kind| kind.weight(p) != Vec3::ZERO).fold(mask, |mask, kind| mask | 1 << kind.slot())
+    })
+}
+
 /// The anisotropic Phong model of `p`.
 fn anisotropic(p: &BsdfParams) -> AnisotropicPhong {
     AnisotropicPhong { specular: AshikhminShirley { rs: p.anisotropic_rs, nu: p.anisotropic_nu, nv: p.anisotropic_nv }, rd: p.anisotropic_rd }
@@ -131,6 +293,18 @@ fn anisotropic(p: &BsdfParams) -> AnisotropicPhong {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_lobe_mask_has_the_slots_materials_use() {
+        let diffuse = BsdfParams::lambert(Vec3::splat(0.5));
+        let glass = BsdfParams { dielectric: Vec3::ONE, ..BsdfParams::default() };
+        let metal = BsdfParams { specular_weight: 1.0, mirror: 0.5, ..BsdfParams::default() };
+        assert_eq!(lobe_mask(&[]), 0b1);
+        assert_eq!(lobe_mask(&[diffuse]), 0b1);
+        assert_eq!(lobe_mask(&[diffuse, glass]), 0b10_0001);
+        assert_eq!(lobe_mask(&[metal]), 0b1_1001);
+        assert_eq!(lobe_mask(&[BsdfParams::anisotropic_phong(Vec3::ONE, Vec3::ZERO, 10.0, 100.0)]), 0b100_0001);
+    }
 
     #[test]
     fn kinds_are_listed_in_slot_order() {

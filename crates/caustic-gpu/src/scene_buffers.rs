@@ -110,7 +110,7 @@ pub struct GpuScene {
     /// larger ones the materials and lights (`None` when a table is too long); dropped by
     /// [`GpuScene::update_materials`].
     pub tables: Option<crate::bake::BakedTables>,
-    /// The BSDF lobes the scene's materials use ([`specialize::lobe_mask`]), for the
+    /// The BSDF lobes the scene's materials use ([`caustic_bsdf::lobes::lobe_mask`]), for the
     /// kernels' `LOBE_MASK` override.
     pub lobe_mask: u32,
     /// Whether an object moves over the shutter: the kernels' `MOTION_BLUR` override

@@ -3,7 +3,7 @@
 //!
 //! - The data the kernels read: [`gpu_types`] (the `#[repr(C)]` mirrors of
 //!   `shaders/common/types.wgsl`), [`SceneData`] (a scene assembled for upload), the light
-//!   registry [`lights`] and the device side of the lobe registry [`lobes`].
+//!   registry [`lights`] and the WGSL generated from the lobe registry ([`lobes`]).
 //! - The scene analysis that specialises kernels: [`requirements`] (the parts a scene uses),
 //!   [`features`] and [`classic`] (the classic tracer's switches), the shadow-ray culls
 //!   ([`shadow_hull`], [`convex_solid`], [`convex_occluder`], [`closest_solid`],

@@ -1,27 +1,19 @@
-//! The device side of the lobe registry ([`caustic_bsdf::lobes::LobeKind`]): per kind, in
-//! exhaustive matches with no catch-all arm, the WGSL its slot runs ([`code`]: weight, choice
-//! factor, eval, pdf, sample, when the sampling strategy replaces its sampler, when it is a
-//! delta lobe, the material fields a kept surface stores) and whether a material uses it
-//! ([`in_use`], the kernels' `LOBE_MASK`).
+//! The lobe registry's WGSL: the BSDF's dispatch generated from every kind's device code
+//! ([`caustic_bsdf::lobes::LobeKind::code`], declared with the kind's slot, parameters and CPU
+//! model in `caustic-bsdf/src/lobes.rs`): the per-slot switches, the unrolled sums over the
+//! slots and the shading frame ([`wgsl_dispatch`], `generated/lobes.wgsl`), the packing of a
+//! slot's parameters for BDPT's light vertices ([`wgsl_parameters`],
+//! `generated/lobe_parameters.wgsl`) and the integrators' per-slot steps ([`wgsl_steps`]), and
+//! the lobes' WGSL files ([`MODEL_FILES`]).
 //!
-//! The BSDF's dispatch is generated from these rows: the per-slot switches, the unrolled sums
-//! over the slots and the shading frame ([`wgsl_dispatch`], `generated/lobes.wgsl`), the
-//! packing of a slot's parameters for BDPT's light vertices ([`wgsl_parameters`],
-//! `generated/lobe_parameters.wgsl`) and the integrators' per-slot steps ([`wgsl_steps`]).
 //! No hand-written WGSL names a slot: `shaders/bsdf/slots.wgsl` holds the mask and
 //! `shaders/bsdf/bsdf.wgsl` one slot's step of each sum, the choice and `sample_bsdf`. The
 //! generated text declares the BSDF's functions where the hand-written file had them, so the
-//! path tracer's kernels kept their SPIR-V (docs/ARCHITECTURE.md, "One source of truth").
-//!
-//! Adding a lobe: a variant and its rows in `caustic_bsdf::lobes`, its CPU model in
-//! `caustic-bsdf` (and a variant of `caustic_bsdf::bsdf::Lobe`), its WGSL file (listed in
-//! [`MODEL_FILES`]) and its rows here; its parameters are fields of `BsdfParams` and of the
-//! material (`gpu_types`, `common/types.wgsl`, checked against each other by naga reflection)
-//! packed by `scene_data`.
+//! path tracer's kernels kept their SPIR-V (docs/ARCHITECTURE.md, "One source of truth";
+//! docs/MATERIALS.md, "Adding a lobe").
 
-use crate::gpu_types::GpuMaterial;
 use crate::shaders::ShaderFile;
-use caustic_bsdf::lobes::{LOBE_SLOTS, LobeKind};
+use caustic_bsdf::lobes::{Condition, LOBE_SLOTS, LobeCode, LobeKind};
 use std::fmt::Write;
 
 /// Where [`wgsl_dispatch`]'s text appears in the program.
@@ -49,170 +41,6 @@ pub const MODEL_FILES: [ShaderFile; 6] = [
 /// the generated ones keep it there and the kernels' SPIR-V is unchanged.
 pub const DEFAULT_ARM: LobeKind = LobeKind::Dielectric;
 
-/// When a property of a kind's lobe holds for a material.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Condition {
-    /// For every material.
-    Always,
-    /// Where this WGSL condition on `m` (and `eta`) holds.
-    When(&'static str),
-    /// For no material.
-    Never,
-}
-
-/// The frame a kind's lobe is evaluated in where it is not any frame about the normal.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct OwnFrame {
-    /// WGSL condition on material `m` under which the kind's frame is used.
-    pub when: &'static str,
-    /// WGSL `Frame3` expression of `m` and shading normal `n`.
-    pub frame: &'static str,
-}
-
-/// One kind's device code. Expressions read the WGSL names of `bsdf.wgsl`'s functions: `m`
-/// (the `Material`), `eta` (the dielectric's relative index), `wo`, `wi` (local directions),
-/// `u_lobe` and `u` (random numbers).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct LobeCode {
-    /// The WGSL file of its model (one of [`MODEL_FILES`]).
-    pub file: &'static str,
-    /// Its weight (`vec3<f32>`), before the coat for a coated kind
-    /// ([`LobeKind::is_coated`]).
-    pub weight: &'static str,
-    /// Statements multiplying `s`, its choice probability, by what the weight's luminance
-    /// misjudges of its albedo ([`LobeKind::selection_factor`]).
-    pub selection: Option<&'static str>,
-    /// BSDF times cosine, `vec3<f32>`.
-    pub eval: &'static str,
-    /// Density of its own sampler, `f32`.
-    pub pdf: &'static str,
-    /// Its own sampler, `BsdfSample`.
-    pub sample: &'static str,
-    /// When the BSDF's sampling strategy (`SAMPLING_HEMISPHERE`, `SAMPLING_COSINE`; CSE168's
-    /// `importancesampling`) replaces its own sampler: always for a non-delta reflection lobe,
-    /// where it is rough for one that is a delta lobe when smooth, never for transmission
-    /// (the hemisphere strategies would miss it).
-    pub replaced: Condition,
-    /// When it is a delta lobe (which no photon is gathered through).
-    pub delta: Condition,
-    /// The frame it needs, if not any frame about the normal.
-    pub frame: Option<OwnFrame>,
-    /// The material fields it reads, with their widths in floats, in the order a kept
-    /// surface packs them (a field never straddles two `vec4`s).
-    pub parameters: &'static [(&'static str, usize)],
-}
-
-/// The device code of `kind`.
-pub const fn code(kind: LobeKind) -> LobeCode {
-    match kind {
-        LobeKind::Diffuse => LobeCode {
-            file: "bsdf/lambert.wgsl",
-            weight: "m.diffuse",
-            selection: None,
-            eval: "vec3<f32>(lambert_eval(wo, wi))",
-            pdf: "lambert_pdf(wo, wi)",
-            sample: "lambert_sample(wo, u)",
-            replaced: Condition::Always,
-            delta: Condition::Never,
-            frame: None,
-            parameters: &[("diffuse", 3), ("coat_f0", 1), ("coat_weight", 1)],
-        },
-        LobeKind::Translucent => LobeCode {
-            file: "bsdf/lambert.wgsl",
-            weight: "m.translucent",
-            selection: None,
-            eval: "vec3<f32>(diffuse_transmission_eval(wo, wi))",
-            pdf: "diffuse_transmission_pdf(wo, wi)",
-            sample: "diffuse_transmission_sample(wo, u)",
-            replaced: Condition::Never,
-            delta: Condition::Never,
-            frame: None,
-            parameters: &[("translucent", 3)],
-        },
-        LobeKind::Phong => LobeCode {
-            file: "bsdf/phong.wgsl",
-            weight: "m.phong",
-            selection: None,
-            eval: "vec3<f32>(phong_eval(wo, wi, m.phong_exponent))",
-            pdf: "phong_pdf(wo, wi, m.phong_exponent)",
-            sample: "phong_sample(wo, u, m.phong_exponent)",
-            replaced: Condition::Always,
-            delta: Condition::Never,
-            frame: None,
-            parameters: &[("phong", 3), ("phong_exponent", 1)],
-        },
-        LobeKind::Specular => LobeCode {
-            file: "bsdf/ggx.wgsl",
-            weight: "vec3<f32>(m.specular_weight)",
-            selection: Some("s *= rgb_luminance(fresnel_schlick(m.specular_f0, wo.z));"),
-            eval: "conductor_eval(m.specular_alpha, m.specular_f0, wo, wi)",
-            pdf: "conductor_pdf(m.specular_alpha, wo, wi)",
-            sample: "conductor_sample(m.specular_alpha, m.specular_f0, wo, u)",
-            replaced: Condition::When("m.specular_alpha >= ALPHA_SMOOTH"),
-            delta: Condition::When("m.specular_alpha < ALPHA_SMOOTH"),
-            frame: None,
-            parameters: &[("specular_f0", 3), ("specular_weight", 1), ("specular_alpha", 1)],
-        },
-        LobeKind::Mirror => LobeCode {
-            file: "bsdf/ggx.wgsl",
-            weight: "vec3<f32>(m.mirror)",
-            selection: None,
-            eval: "conductor_eval(m.mirror_alpha, vec3<f32>(1.0), wo, wi)",
-            pdf: "conductor_pdf(m.mirror_alpha, wo, wi)",
-            sample: "conductor_sample(m.mirror_alpha, vec3<f32>(1.0), wo, u)",
-            replaced: Condition::When("m.mirror_alpha >= ALPHA_SMOOTH"),
-            delta: Condition::When("m.mirror_alpha < ALPHA_SMOOTH"),
-            frame: None,
-            parameters: &[("mirror", 1), ("mirror_alpha", 1)],
-        },
-        LobeKind::Dielectric => LobeCode {
-            file: "bsdf/dielectric.wgsl",
-            weight: "m.dielectric",
-            selection: None,
-            eval: "vec3<f32>(dielectric_eval(m.dielectric_alpha, eta, wo, wi))",
-            pdf: "dielectric_pdf(m.dielectric_alpha, eta, wo, wi)",
-            sample: "dielectric_sample(m.dielectric_alpha, eta, wo, u_lobe, u)",
-            replaced: Condition::Never,
-            delta: Condition::When("dielectric_is_smooth(m.dielectric_alpha, eta)"),
-            frame: None,
-            parameters: &[("dielectric", 3), ("dielectric_alpha", 1)],
-        },
-        LobeKind::Anisotropic => LobeCode {
-            file: "bsdf/ashikhmin.wgsl",
-            weight: "vec3<f32>(m.anisotropic_weight)",
-            selection: Some("let a = anisotropic_albedo_estimate(m.anisotropic_rs, m.anisotropic_rd, wo.z);\ns *= a.x + a.y;"),
-            eval: "anisotropic_phong_eval(wo, wi, m.anisotropic_rs, m.anisotropic_rd, m.anisotropic_nu, m.anisotropic_nv)",
-            pdf: "anisotropic_phong_pdf(wo, wi, m.anisotropic_rs, m.anisotropic_rd, m.anisotropic_nu, m.anisotropic_nv)",
-            sample: "anisotropic_phong_sample(wo, u_lobe, u, m.anisotropic_rs, m.anisotropic_rd, m.anisotropic_nu, m.anisotropic_nv)",
-            replaced: Condition::Always,
-            delta: Condition::Never,
-            frame: Some(OwnFrame { when: "m.anisotropic_weight > 0.0", frame: "anisotropic_frame(n, m.anisotropic_axis)" }),
-            parameters: &[
-                ("anisotropic_rs", 3),
-                ("anisotropic_weight", 1),
-                ("anisotropic_rd", 3),
-                ("anisotropic_nu", 1),
-                ("anisotropic_axis", 3),
-                ("anisotropic_nv", 1),
-            ],
-        },
-    }
-}
-
-/// Whether material `m` uses `kind` (a weight not zero): the kind's bit of `LOBE_MASK`.
-pub fn in_use(kind: LobeKind, m: &GpuMaterial) -> bool {
-    let any = |w: [f32; 3]| w.iter().any(|&c| c != 0.0);
-    match kind {
-        LobeKind::Diffuse => any(m.diffuse),
-        LobeKind::Translucent => any(m.translucent),
-        LobeKind::Phong => any(m.phong),
-        LobeKind::Specular => m.specular_weight != 0.0,
-        LobeKind::Mirror => m.mirror != 0.0,
-        LobeKind::Dielectric => any(m.dielectric),
-        LobeKind::Anisotropic => m.anisotropic_weight != 0.0,
-    }
-}
-
 /// `kind`'s slot as a WGSL literal.
 fn slot(kind: LobeKind) -> String {
     format!("{}u", kind.slot())
@@ -231,13 +59,13 @@ fn value_switch(value: impl Fn(LobeKind) -> String) -> String {
 /// A `switch slot` returning whether `condition(kind)` holds: one arm for the kinds where it
 /// always does, one per kind with a WGSL condition, `false` in the default arm.
 fn condition_switch(condition: impl Fn(LobeCode) -> Condition) -> String {
-    let always: Vec<String> = LobeKind::ALL.into_iter().filter(|&k| condition(code(k)) == Condition::Always).map(slot).collect();
+    let always: Vec<String> = LobeKind::ALL.into_iter().filter(|&k| condition(k.code()) == Condition::Always).map(slot).collect();
     let mut text = String::from("    switch slot {\n");
     if !always.is_empty() {
         let _ = writeln!(text, "        case {}: {{ return true; }}", always.join(", "));
     }
     for kind in LobeKind::ALL {
-        if let Condition::When(holds) = condition(code(kind)) {
+        if let Condition::When(holds) = condition(kind.code()) {
             let _ = writeln!(text, "        case {}: {{ return {holds}; }}", slot(kind));
         }
     }
@@ -260,18 +88,18 @@ pub fn wgsl_dispatch() -> String {
     t.push_str("// The local shading frame of material m at shading normal n: the frame of the first lobe\n// that needs its own (anisotropic_frame orients the tangent by the material's axis), else\n// frame_from_normal (isotropic lobes accept any tangent).\n");
     t.push_str("fn shading_frame(m: Material, n: vec3<f32>) -> Frame3 {\n");
     for kind in LobeKind::ALL {
-        if let Some(own) = code(kind).frame {
+        if let Some(own) = kind.code().frame {
             let _ = writeln!(t, "    if lobe_in_scene({}) && {} {{\n        return {};\n    }}", slot(kind), own.when, own.frame);
         }
     }
     t.push_str("    return frame_from_normal(n);\n}\n\n");
 
     t.push_str("fn lobe_weight(m: Material, wo: vec3<f32>, slot: u32) -> vec3<f32> {\n");
-    t.push_str(&value_switch(|k| if k.is_coated() { format!("{} * coat_transmission(m, wo.z)", code(k).weight) } else { code(k).weight.to_string() }));
+    t.push_str(&value_switch(|k| if k.is_coated() { format!("{} * coat_transmission(m, wo.z)", k.code().weight) } else { k.code().weight.to_string() }));
     t.push_str("}\n\n// Unnormalised probability of sampling a slot.\nfn lobe_selection(m: Material, wo: vec3<f32>, slot: u32) -> f32 {\n");
     t.push_str("    var s = rgb_luminance(lobe_weight(m, wo, slot));\n");
     for kind in LobeKind::ALL {
-        if let Some(statements) = code(kind).selection {
+        if let Some(statements) = kind.code().selection {
             let _ = writeln!(t, "    if slot == {} {{", slot(kind));
             for line in statements.lines() {
                 let _ = writeln!(t, "        {line}");
@@ -282,7 +110,7 @@ pub fn wgsl_dispatch() -> String {
     t.push_str("    return s;\n}\n\n");
 
     t.push_str("fn lobe_eval(m: Material, eta: f32, wo: vec3<f32>, wi: vec3<f32>, slot: u32) -> vec3<f32> {\n");
-    t.push_str(&value_switch(|k| code(k).eval.to_string()));
+    t.push_str(&value_switch(|k| k.code().eval.to_string()));
     t.push_str("}\n\n// Whether `sampling` replaces the slot's own sampler (non-delta reflection lobes).\n");
     t.push_str("fn lobe_replaced(m: Material, slot: u32, sampling: u32) -> bool {\n    if sampling == SAMPLING_BSDF {\n        return false;\n    }\n");
     t.push_str(&condition_switch(|c| c.replaced));
@@ -291,14 +119,14 @@ pub fn wgsl_dispatch() -> String {
     t.push_str("fn lobe_pdf(m: Material, eta: f32, wo: vec3<f32>, wi: vec3<f32>, slot: u32, sampling: u32) -> f32 {\n");
     t.push_str("    if lobe_replaced(m, slot, sampling) {\n        if wo.z <= 0.0 || wi.z <= 0.0 {\n            return 0.0;\n        }\n");
     t.push_str("        return select(0.5 * INV_PI, wi.z * INV_PI, sampling == SAMPLING_COSINE);\n    }\n");
-    t.push_str(&value_switch(|k| code(k).pdf.to_string()));
+    t.push_str(&value_switch(|k| k.code().pdf.to_string()));
     t.push_str("}\n\n");
 
     t.push_str("fn lobe_sample(m: Material, eta: f32, wo: vec3<f32>, u_lobe: f32, u: vec2<f32>, slot: u32, sampling: u32) -> BsdfSample {\n");
     t.push_str("    if lobe_replaced(m, slot, sampling) {\n");
     t.push_str("        let wi = select(square_to_uniform_hemisphere(u), square_to_cosine_hemisphere(u), sampling == SAMPLING_COSINE);\n");
     t.push_str("        return BsdfSample(wi, 1.0, vec3<f32>(0.0), 1.0, false);\n    }\n");
-    t.push_str(&value_switch(|k| code(k).sample.to_string()));
+    t.push_str(&value_switch(|k| k.code().sample.to_string()));
     t.push_str("}\n\n");
 
     t.push_str("// The sums and the choice run bsdf.wgsl's per-slot step once for each slot, the slot a\n// literal, rather than in a loop (docs/PERFORMANCE.md, \"BSDF slots unrolled\").\n\n");
@@ -355,7 +183,7 @@ fn packing(parameters: &[(&'static str, usize)]) -> Vec<(&'static str, usize, us
 
 /// How many `vec4`s hold the widest kind's parameters.
 fn parameter_vectors() -> usize {
-    LobeKind::ALL.into_iter().map(|k| packing(code(k).parameters).last().map_or(0, |p| p.1 + 1)).max().unwrap_or(1)
+    LobeKind::ALL.into_iter().map(|k| packing(k.code().parameters).last().map_or(0, |p| p.1 + 1)).max().unwrap_or(1)
 }
 
 /// The WGSL name of `LobeParameters`' `vector`th member.
@@ -378,7 +206,7 @@ pub fn wgsl_parameters() -> String {
     }
     t.push_str("}\n\nfn lobe_parameters(m: Material, slot: u32) -> LobeParameters {\n    let none = vec4<f32>(0.0);\n");
     t.push_str(&value_switch(|k| {
-        let placed = packing(code(k).parameters);
+        let placed = packing(k.code().parameters);
         let vector = |v: usize| {
             let mut parts: Vec<String> = placed.iter().filter(|p| p.1 == v).map(|p| format!("m.{}", p.0)).collect();
             if parts.is_empty() {
@@ -392,7 +220,7 @@ pub fn wgsl_parameters() -> String {
     }));
     t.push_str("}\n\nfn with_lobe_parameters(m: Material, slot: u32, p: LobeParameters) -> Material {\n    var r = m;\n    switch slot {\n");
     let assignments = |kind: LobeKind, indent: &str| {
-        packing(code(kind).parameters)
+        packing(kind.code().parameters)
             .iter()
             .map(|&(field, v, offset, width)| format!("{indent}r.{field} = p.{}.{};\n", member(v), &"xyzw"[offset..offset + width]))
             .collect::<String>()
@@ -438,14 +266,14 @@ mod tests {
         assert_eq!(rows.len(), LOBE_SLOTS, "docs/MATERIALS.md's table has a row per slot");
         for (row, kind) in rows.iter().zip(LobeKind::ALL) {
             assert!(row.starts_with(&format!("| {} |", kind.slot())), "row `{row}` should be slot {}", kind.slot());
-            assert!(row.contains(&format!("`{}`", code(kind).file)), "row of slot {} should name {}", kind.slot(), code(kind).file);
+            assert!(row.contains(&format!("`{}`", kind.code().file)), "row of slot {} should name {}", kind.slot(), kind.code().file);
         }
     }
 
     #[test]
     fn every_kind_s_file_is_a_model_file() {
         for kind in LobeKind::ALL {
-            assert!(MODEL_FILES.iter().any(|f| f.name == code(kind).file), "{}: {} is not in MODEL_FILES", kind.name(), code(kind).file);
+            assert!(MODEL_FILES.iter().any(|f| f.name == kind.code().file), "{}: {} is not in MODEL_FILES", kind.name(), kind.code().file);
         }
     }
 
@@ -454,7 +282,7 @@ mod tests {
     #[test]
     fn parameters_cover_what_each_kind_reads() {
         for kind in LobeKind::ALL {
-            let c = code(kind);
+            let c = kind.code();
             let condition = |c: Condition| if let Condition::When(holds) = c { holds } else { "" };
             let text = [c.weight, c.selection.unwrap_or(""), c.eval, c.pdf, c.sample, condition(c.delta), condition(c.replaced)].join(" ")
                 + &c.frame.map(|f| format!("{} {}", f.when, f.frame)).unwrap_or_default();

@@ -121,14 +121,15 @@ pub fn device_materials(scene: &Scene) -> Vec<GpuMaterial> {
     scene.materials.iter().map(gpu_material).chain(quad_emitters).collect()
 }
 
-/// The kernels' `LOBE_MASK` ([`crate::specialize::lobe_mask`]) for the scene's materials,
+/// The kernels' `LOBE_MASK` ([`caustic_bsdf::lobes::lobe_mask`]) for the scene's materials,
 /// including the lobes a metallic-roughness texel can switch on (a texel's metallic ranges
-/// from 0 to the factor, and the lobes are rebuilt per hit).
+/// from 0 to the factor, and the lobes are rebuilt per hit). Quad lights' emitter materials
+/// have no lobes.
 pub fn lobe_mask(scene: &Scene) -> u32 {
     let textured = scene.materials.iter().filter(|m| m.metallic_roughness_texture.is_some());
-    let unmetalled = textured.map(|m| gpu_material(&caustic_scene::Material { metallic: 0.0, ..m.clone() }));
-    let materials: Vec<GpuMaterial> = device_materials(scene).into_iter().chain(unmetalled).collect();
-    crate::specialize::lobe_mask(&materials)
+    let unmetalled = textured.map(|m| caustic_scene::Material { metallic: 0.0, ..m.clone() });
+    let params: Vec<BsdfParams> = scene.materials.iter().map(bsdf_params).chain(unmetalled.map(|m| bsdf_params(&m))).collect();
+    caustic_bsdf::lobes::lobe_mask(&params)
 }
 
 /// The light list with its power CDF (emissive triangles, then the scene's lights) and the

@@ -119,17 +119,6 @@ pub fn unrolled_traversal(bvh: &GpuBvh, lights: &[GpuLight]) -> Option<UnrolledT
     Some(UnrolledTraversal { wgsl, hull, occluders, closest_solids, light_planes })
 }
 
-/// The BSDF lobe slots any of `materials` uses, one bit per slot
-/// ([`caustic_bsdf::lobes::LobeKind::slot`], used as [`crate::lobes::in_use`] says): the
-/// kernels' `LOBE_MASK` override, so a scene of diffuse surfaces runs no code of the other
-/// lobes. At least the diffuse bit, so an empty scene compiles as before.
-pub fn lobe_mask(materials: &[crate::gpu_types::GpuMaterial]) -> u32 {
-    use caustic_bsdf::lobes::LobeKind;
-    materials.iter().fold(1 << LobeKind::Diffuse.slot(), |mask, m| {
-        LobeKind::ALL.into_iter().filter(|&kind| crate::lobes::in_use(kind, m)).fold(mask, |mask, kind| mask | 1 << kind.slot())
-    })
-}
-
 /// A WGSL `vec3<f32>` constructor that reproduces `v` exactly (Rust's shortest round-trip
 /// float formatting, as WGSL literals with the `f` suffix).
 fn vec3(v: Vec3) -> String {
@@ -194,18 +183,6 @@ mod tests {
         let wgsl = unrolled_traversal(&gpu, &[]).unwrap().wgsl;
         assert!(wgsl.contains("surface = nearer_flat(surface") && wgsl.contains("hit = solid_hit(r, hit, surface);"), "{wgsl}");
         assert!(wgsl.contains("any_hit {\n        hit = test_triangle("), "its triangle test is left to shadow rays: {wgsl}");
-    }
-
-    #[test]
-    fn the_lobe_mask_has_the_slots_materials_use() {
-        use crate::gpu_types::GpuMaterial;
-        let diffuse = GpuMaterial { diffuse: [0.5; 3], ..GpuMaterial::default() };
-        let glass = GpuMaterial { dielectric: [1.0; 3], ..GpuMaterial::default() };
-        let metal = GpuMaterial { specular_weight: 1.0, mirror: 0.5, ..GpuMaterial::default() };
-        assert_eq!(lobe_mask(&[]), 0b1);
-        assert_eq!(lobe_mask(&[diffuse]), 0b1);
-        assert_eq!(lobe_mask(&[diffuse, glass]), 0b10_0001);
-        assert_eq!(lobe_mask(&[metal]), 0b1_1001);
     }
 
     #[test]
