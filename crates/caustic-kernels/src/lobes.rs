@@ -76,7 +76,7 @@ fn condition_switch(condition: impl Fn(LobeCode) -> Condition) -> String {
 /// `step(slot)` for every slot, joined by `separator`: the unrolled sums (a literal slot in
 /// each call, so the folding keeps only the scene's lobes; docs/PERFORMANCE.md, "BSDF slots
 /// unrolled").
-pub fn unrolled(step: impl Fn(&str) -> String, separator: &str) -> String {
+fn unrolled(step: impl Fn(&str) -> String, separator: &str) -> String {
     LobeKind::ALL.into_iter().map(|k| step(&slot(k))).collect::<Vec<_>>().join(separator)
 }
 
