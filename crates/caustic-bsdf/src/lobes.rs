@@ -18,6 +18,19 @@ use crate::translucent::DiffuseTransmission;
 use crate::{fresnel_schlick, luminance};
 use glam::Vec3;
 
+/// The lobes' WGSL files (name under `shaders/`, text), in the order the programs hold them:
+/// each model's functions before the dispatch generated from [`LobeKind::code`] calls them.
+/// Every kind's [`LobeCode::file`] is one of them; `bsdf/microfacet.wgsl` is the GGX
+/// distribution the conductor and the rough dielectric share.
+pub const MODEL_FILES: [(&str, &str); 6] = [
+    ("bsdf/lambert.wgsl", include_str!("../../../shaders/bsdf/lambert.wgsl")),
+    ("bsdf/phong.wgsl", include_str!("../../../shaders/bsdf/phong.wgsl")),
+    ("bsdf/ashikhmin.wgsl", include_str!("../../../shaders/bsdf/ashikhmin.wgsl")),
+    ("bsdf/microfacet.wgsl", include_str!("../../../shaders/bsdf/microfacet.wgsl")),
+    ("bsdf/ggx.wgsl", include_str!("../../../shaders/bsdf/ggx.wgsl")),
+    ("bsdf/dielectric.wgsl", include_str!("../../../shaders/bsdf/dielectric.wgsl")),
+];
+
 /// Number of lobe slots: one per [`LobeKind`].
 pub const LOBE_SLOTS: usize = LobeKind::ALL.len();
 
@@ -248,7 +261,7 @@ pub struct OwnFrame {
 /// `u_lobe` and `u` (random numbers).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct LobeCode {
-    /// The WGSL file of its model (under `shaders/`; one of `caustic_kernels::lobes::MODEL_FILES`).
+    /// The WGSL file of its model (under `shaders/`; one of [`MODEL_FILES`]).
     pub file: &'static str,
     /// Its weight (`vec3<f32>`), before the coat for a coated kind
     /// ([`LobeKind::is_coated`]).
@@ -304,6 +317,13 @@ mod tests {
         assert_eq!(lobe_mask(&[diffuse, glass]), 0b10_0001);
         assert_eq!(lobe_mask(&[metal]), 0b1_1001);
         assert_eq!(lobe_mask(&[BsdfParams::anisotropic_phong(Vec3::ONE, Vec3::ZERO, 10.0, 100.0)]), 0b100_0001);
+    }
+
+    #[test]
+    fn every_kind_s_file_is_a_model_file() {
+        for kind in LobeKind::ALL {
+            assert!(MODEL_FILES.iter().any(|(name, _)| *name == kind.code().file), "{}: {} is not in MODEL_FILES", kind.name(), kind.code().file);
+        }
     }
 
     #[test]

@@ -3,8 +3,7 @@
 //! model in `caustic-bsdf/src/lobes.rs`): the per-slot switches, the unrolled sums over the
 //! slots and the shading frame ([`wgsl_dispatch`], `generated/lobes.wgsl`), the packing of a
 //! slot's parameters for BDPT's light vertices ([`wgsl_parameters`],
-//! `generated/lobe_parameters.wgsl`) and the integrators' per-slot steps ([`wgsl_steps`]), and
-//! the lobes' WGSL files ([`MODEL_FILES`]).
+//! `generated/lobe_parameters.wgsl`) and the integrators' per-slot steps ([`wgsl_steps`]).
 //!
 //! No hand-written WGSL names a slot: `shaders/bsdf/slots.wgsl` holds the mask and
 //! `shaders/bsdf/bsdf.wgsl` one slot's step of each sum, the choice and `sample_bsdf`. The
@@ -12,7 +11,6 @@
 //! path tracer's kernels kept their SPIR-V (docs/ARCHITECTURE.md, "One source of truth";
 //! docs/MATERIALS.md, "Adding a lobe").
 
-use crate::shaders::ShaderFile;
 use caustic_bsdf::lobes::{Condition, LOBE_SLOTS, LobeCode, LobeKind};
 use std::fmt::Write;
 
@@ -24,17 +22,6 @@ pub const PARAMETERS_FILE: &str = "generated/lobe_parameters.wgsl";
 
 /// Where [`wgsl_steps`]'s text appears in the program.
 pub const STEPS_FILE: &str = "generated/lobe_steps.wgsl";
-
-/// The lobes' WGSL files (`shaders/bsdf/`), in the program's order: each model's functions
-/// before the dispatch that calls them.
-pub const MODEL_FILES: [ShaderFile; 6] = [
-    crate::shaders::shader_file!("bsdf/lambert.wgsl"),
-    crate::shaders::shader_file!("bsdf/phong.wgsl"),
-    crate::shaders::shader_file!("bsdf/ashikhmin.wgsl"),
-    crate::shaders::shader_file!("bsdf/microfacet.wgsl"),
-    crate::shaders::shader_file!("bsdf/ggx.wgsl"),
-    crate::shaders::shader_file!("bsdf/dielectric.wgsl"),
-];
 
 /// The kind whose code a switch's `default:` arm holds (WGSL requires one; every slot the
 /// switch does not list is this kind). The dielectric held it in the hand-written switches, so
@@ -267,13 +254,6 @@ mod tests {
         for (row, kind) in rows.iter().zip(LobeKind::ALL) {
             assert!(row.starts_with(&format!("| {} |", kind.slot())), "row `{row}` should be slot {}", kind.slot());
             assert!(row.contains(&format!("`{}`", kind.code().file)), "row of slot {} should name {}", kind.slot(), kind.code().file);
-        }
-    }
-
-    #[test]
-    fn every_kind_s_file_is_a_model_file() {
-        for kind in LobeKind::ALL {
-            assert!(MODEL_FILES.iter().any(|f| f.name == kind.code().file), "{}: {} is not in MODEL_FILES", kind.name(), kind.code().file);
         }
     }
 

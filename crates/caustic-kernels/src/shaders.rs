@@ -22,10 +22,9 @@ impl ShaderFile {
 /// A [`ShaderFile`] of `shaders/`, embedded.
 macro_rules! shader_file {
     ($name:literal) => {
-        $crate::shaders::ShaderFile { name: $name, source: include_str!(concat!("../../../shaders/", $name)) }
+        ShaderFile { name: $name, source: include_str!(concat!("../../../shaders/", $name)) }
     };
 }
-pub(crate) use shader_file;
 
 /// The generated `generated/interface.wgsl` ([`crate::interface::wgsl_constants`]).
 static INTERFACE: LazyLock<ShaderFile> =
@@ -41,7 +40,7 @@ static APPENDED: LazyLock<Vec<ShaderFile>> = LazyLock::new(|| {
     crate::lights::wgsl_files().chain(std::iter::once(ShaderFile { name: crate::lobes::STEPS_FILE, source: STEPS.as_str() })).collect()
 });
 
-/// The BSDF's files: `bsdf/common.wgsl`, the lobes' models ([`crate::lobes::MODEL_FILES`]), the
+/// The BSDF's files: `bsdf/common.wgsl`, the lobes' models ([`caustic_bsdf::lobes::MODEL_FILES`]), the
 /// slot mask, the dispatch generated from the lobe registry ([`crate::lobes::wgsl_dispatch`]),
 /// the mixture that calls it, and the generated packing of kept lobes
 /// ([`crate::lobes::wgsl_parameters`]). In this order each function is declared where the
@@ -51,7 +50,7 @@ static BSDF: LazyLock<Vec<ShaderFile>> = LazyLock::new(|| {
     static DISPATCH: LazyLock<String> = LazyLock::new(crate::lobes::wgsl_dispatch);
     static PARAMETERS: LazyLock<String> = LazyLock::new(crate::lobes::wgsl_parameters);
     let mut files = vec![shader_file!("bsdf/common.wgsl")];
-    files.extend(crate::lobes::MODEL_FILES);
+    files.extend(caustic_bsdf::lobes::MODEL_FILES.map(|(name, source)| ShaderFile { name, source }));
     files.push(shader_file!("bsdf/slots.wgsl"));
     files.push(ShaderFile { name: crate::lobes::DISPATCH_FILE, source: DISPATCH.as_str() });
     files.push(shader_file!("bsdf/bsdf.wgsl"));
