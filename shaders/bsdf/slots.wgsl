@@ -8,7 +8,7 @@ const SAMPLING_HEMISPHERE: u32 = 0u;
 const SAMPLING_COSINE: u32 = 1u;
 const SAMPLING_BSDF: u32 = 2u;
 
-// The slots the scene's materials use, a bit each (caustic_kernels::specialize::lobe_mask): the
+// The slots the scene's materials use, a bit each (caustic_bsdf::lobes::lobe_mask): the
 // sums and the choice skip the others, so a pipeline compiled for a scene of diffuse surfaces
 // runs no code of the other lobes.
 override LOBE_MASK: u32 = 0x7fu;
