@@ -98,7 +98,8 @@ impl Bsdf {
 
     /// Each slot's weight for outgoing direction `wo` (the coat's Fresnel term depends on it).
     pub fn weights(&self, wo: Vec3) -> [Vec3; LOBE_SLOTS] {
-        LobeKind::ALL.map(|kind| if kind.is_coated() { kind.weight(&self.params) * self.coat_transmission(wo.z) } else { kind.weight(&self.params) })
+        let coat = self.coat_transmission(wo.z);
+        LobeKind::ALL.map(|kind| kind.weight(&self.params) * if kind.is_coated() { coat } else { 1.0 })
     }
 
     /// Probability of sampling each slot: its weight's luminance, times its kind's
@@ -119,9 +120,9 @@ impl Bsdf {
 
     /// BSDF times |cos theta_i|, summed over the lobes.
     pub fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
-        let mut w = self.weights(wo);
+        let (mut w, coat) = (self.weights(wo), self.coat_transmission(wi.z));
         for kind in LobeKind::ALL.into_iter().filter(|kind| kind.is_coated()) {
-            w[kind.slot()] *= self.coat_transmission(wi.z);
+            w[kind.slot()] *= coat;
         }
         self.lobes.iter().zip(w).filter(|(_, w)| *w != Vec3::ZERO).map(|(l, w)| w * l.bxdf().eval(wo, wi)).sum()
     }

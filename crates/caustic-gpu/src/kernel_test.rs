@@ -46,7 +46,7 @@ impl<'a> KernelTest<'a> {
     /// [`KernelTest::new`] with pipeline override `constants` set (e.g. `SAMPLER`, to test the
     /// code a render's kernel selects with it).
     pub fn with_constants(ctx: &'a GpuContext, library: &[&ShaderFile], test_source: &str, constants: &[(&str, f64)]) -> Result<KernelTest<'a>, GpuError> {
-        let mut source: String = library.iter().map(|f| format!("// ---- {} ----\n{}\n", f.path(), f.source)).collect();
+        let mut source: String = library.iter().map(|f| f.section(f.source)).collect();
         source.push_str("// ---- test kernel ----\n");
         source.push_str(test_source);
         source.push_str(ENTRY_POINT);

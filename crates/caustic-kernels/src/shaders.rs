@@ -12,10 +12,22 @@ pub struct ShaderFile {
 }
 
 impl ShaderFile {
+    /// Whether its text is generated from Rust (named `generated/NAME`) rather than a file of
+    /// `shaders/`.
+    pub fn is_generated(&self) -> bool {
+        self.name.starts_with("generated/")
+    }
+
     /// Where its text comes from: `shaders/NAME`, or `generated/NAME` for text generated from
     /// Rust (`caustic wgsl --file` prints it).
     pub fn path(&self) -> String {
-        if self.name.starts_with("generated/") { self.name.to_string() } else { format!("shaders/{}", self.name) }
+        if self.is_generated() { self.name.to_string() } else { format!("shaders/{}", self.name) }
+    }
+
+    /// `text` (its own, or what replaces it) as a part of a program: after a comment naming
+    /// the file, so a line of an assembled program can be traced to its file.
+    pub fn section(&self, text: &str) -> String {
+        format!("// ---- {} ----\n{text}\n", self.path())
     }
 }
 
@@ -127,7 +139,7 @@ pub fn wide_walk(layout: NodeLayout, words_64: bool) -> Option<String> {
         NodeLayout::Wide => vec![if words_64 { &WIDE_NODES_64 } else { &WIDE_NODES }, &WIDE_QUANTISED, &WIDE_TRAVERSAL],
         NodeLayout::WideExact => vec![&WIDE_EXACT, &WIDE_TRAVERSAL],
     };
-    Some(files.iter().map(|f| format!("// ---- shaders/{} ----\n{}\n", f.name, f.source)).collect())
+    Some(files.iter().map(|f| f.section(f.source)).collect())
 }
 
 /// The ray bench's source for a scene uploaded in `layout`: its walk in place of
@@ -139,7 +151,7 @@ pub fn ray_bench_source(layout: NodeLayout, words_64: bool, packet_walk: bool) -
         None => Program::RayBench.source(),
     };
     if packet_walk {
-        source.push_str(&format!("// ---- shaders/{} ----\n{}\n", PACKET_WALK.name, PACKET_WALK.source));
+        source.push_str(&PACKET_WALK.section(PACKET_WALK.source));
     }
     source
 }
@@ -250,19 +262,13 @@ impl Program {
 
     /// The assembled WGSL source, each file introduced by a comment naming it.
     pub fn source(self) -> String {
-        program_files(self).iter().map(|f| format!("// ---- {} ----\n{}\n", f.path(), f.source)).collect()
+        program_files(self).iter().map(|f| f.section(f.source)).collect()
     }
 
     /// The program with one of its files (`name`, relative to `shaders/`) replaced by
     /// `replacement`, e.g. the scene-specialised traversal of [`crate::specialize`].
     pub fn source_replacing(self, name: &str, replacement: &str) -> String {
-        program_files(self)
-            .iter()
-            .map(|f| {
-                let text = if f.name == name { replacement } else { f.source };
-                format!("// ---- {} ----\n{text}\n", f.path())
-            })
-            .collect()
+        program_files(self).iter().map(|f| f.section(if f.name == name { replacement } else { f.source })).collect()
     }
 
     /// Debug label.
