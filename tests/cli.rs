@@ -525,5 +525,23 @@ fn wgsl_prints_the_assembled_program_and_its_generated_files() {
     let missing = support::caustic(&["wgsl", "--file", "bsdf/none.wgsl"]);
     let stderr = String::from_utf8_lossy(&missing.stderr);
     assert!(!missing.status.success() && stderr.contains("bsdf/none.wgsl") && stderr.contains("--list"), "{stderr}");
-    println!("{} files, {} lines in the path tracer's program", names.len(), program.lines().count());
+    // A reader that stops early (`caustic wgsl | head`) ends the command quietly.
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_caustic"))
+        .arg("wgsl")
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("run caustic wgsl");
+    let mut first = [0u8; 64];
+    std::io::Read::read_exact(child.stdout.as_mut().unwrap(), &mut first).expect("the program's first bytes");
+    drop(child.stdout.take());
+    let closed = child.wait_with_output().expect("caustic wgsl ends");
+    let stderr = String::from_utf8_lossy(&closed.stderr);
+    assert!(closed.status.success() && !stderr.contains("panicked"), "a closed pipe: {:?} {stderr}", closed.status);
+    println!(
+        "{} files, {} lines in the path tracer's program; a reader closing after 64 bytes ends it with {}",
+        names.len(),
+        program.lines().count(),
+        closed.status
+    );
 }

@@ -4,8 +4,9 @@
 //! found, without running anything.
 
 use anyhow::bail;
-use caustic_kernels::shaders::{Program, program_files};
+use caustic_kernels::shaders::{Program, ShaderFile, program_files};
 use clap::{Args, ValueEnum};
+use std::io::Write;
 
 /// The programs `caustic wgsl` prints.
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -38,19 +39,29 @@ pub fn run(args: &WgslArgs) -> anyhow::Result<()> {
         ProgramName::RayBench => Program::RayBench,
     };
     let files = program_files(program);
-    if args.list {
-        for file in &files {
-            let origin = if file.name.starts_with("generated/") { "generated from Rust" } else { "shaders/" };
-            println!("{:<36} {:>6} lines  {origin}", file.name, file.source.lines().count());
-        }
-        return Ok(());
-    }
-    match &args.file {
-        Some(name) => match files.iter().find(|f| f.name == name.trim_start_matches("shaders/")) {
-            Some(file) => print!("{}", file.source),
+    let text = if args.list {
+        let line = |file: &&ShaderFile| {
+            let origin = if file.is_generated() { "generated from Rust" } else { "shaders/" };
+            format!("{:<36} {:>6} lines  {origin}\n", file.name, file.source.lines().count())
+        };
+        files.iter().map(line).collect()
+    } else if let Some(name) = &args.file {
+        match files.iter().find(|f| f.name == name.trim_start_matches("shaders/")) {
+            Some(file) => file.source.to_string(),
             None => bail!("the {} program has no file `{name}` (`caustic wgsl --list` lists its files)", program.label()),
-        },
-        None => print!("{}", program.source()),
+        }
+    } else {
+        program.source()
+    };
+    write_out(&text)
+}
+
+/// Writes `text` to standard output; a reader that stops early (`caustic wgsl | head`) ends
+/// the command quietly instead of as a failed print.
+fn write_out(text: &str) -> anyhow::Result<()> {
+    let mut out = std::io::stdout().lock();
+    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
+        result => Ok(result?),
     }
-    Ok(())
 }
