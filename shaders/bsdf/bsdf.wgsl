@@ -8,7 +8,7 @@
 
 // The share of light the coat lets through to the diffuse base at cosine cos_theta.
 fn coat_transmission(m: Material, cos_theta: f32) -> f32 {
-    return 1.0 - m.coat_weight * fresnel_schlick(vec3<f32>(m.coat_f0), cos_theta).x;
+    return 1.0 - m.bsdf.coat_weight * fresnel_schlick(vec3<f32>(m.bsdf.coat_f0), cos_theta).x;
 }
 
 fn selection_in_scene(m: Material, wo: vec3<f32>, slot: u32) -> f32 {

@@ -10,8 +10,9 @@ const SAMPLING_BSDF: u32 = 2u;
 
 // The slots the scene's materials use, a bit each (caustic_bsdf::lobes::lobe_mask): the
 // sums and the choice skip the others, so a pipeline compiled for a scene of diffuse surfaces
-// runs no code of the other lobes.
-override LOBE_MASK: u32 = 0x7fu;
+// runs no code of the other lobes. Every slot unless the host says otherwise (LOBE_SLOTS:
+// generated/lobes.wgsl).
+override LOBE_MASK: u32 = (1u << LOBE_SLOTS) - 1u;
 
 fn lobe_in_scene(slot: u32) -> bool {
     return (LOBE_MASK & (1u << slot)) != 0u;

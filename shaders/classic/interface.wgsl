@@ -39,21 +39,21 @@ fn split_at(si: SurfaceInteraction, direction: vec3<f32>) -> ClassicSplit {
     let m = si.material;
     var out = ClassicSplit(vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0));
     if feature_on(FEATURE_REFLECTION) {
-        out.reflect = min(m.specular + vec3<f32>(m.mirror), vec3<f32>(1.0));
+        out.reflect = min(m.specular + vec3<f32>(m.bsdf.mirror), vec3<f32>(1.0));
     }
     if !feature_on(FEATURE_REFRACTION) || m.transparency <= 0.0 {
         return out;
     }
     let wi = -direction;
     let n = select(si.ng, si.ns, dot(wi, si.ns) > 0.0);
-    let ior = max(m.ior, 1e-3);
+    let ior = max(m.bsdf.ior, 1e-3);
     let eta = select(1.0 / ior, ior, si.front_face);
     let cos_i = clamp(dot(wi, n), 0.0, 1.0);
     let fresnel = classic_fresnel(cos_i, eta);
     out.reflect = min(out.reflect + vec3<f32>(fresnel * m.transparency), vec3<f32>(1.0));
     if fresnel < 1.0 {
         out.refracted = refract_through(wi, n, eta);
-        out.refract = (1.0 - fresnel) * m.dielectric;
+        out.refract = (1.0 - fresnel) * m.bsdf.dielectric;
     }
     return out;
 }

@@ -42,7 +42,7 @@ fn classic_reflectance(si: SurfaceInteraction, view: vec3<f32>, wi: vec3<f32>) -
 
 // The fraction of light that reaches si from the light point at `distance` along wi: 1 with
 // shadows off; 0 or 1 without light transparency; else the product of the tints
-// (Material.dielectric) of the transparent surfaces crossed, 0 at an opaque one.
+// (Material.bsdf.dielectric) of the transparent surfaces crossed, 0 at an opaque one.
 fn shadow_transmittance(si: SurfaceInteraction, wi: vec3<f32>, distance: f32) -> vec3<f32> {
     if !feature_on(FEATURE_SHADOWS) {
         return vec3<f32>(1.0);
@@ -60,7 +60,7 @@ fn shadow_transmittance(si: SurfaceInteraction, wi: vec3<f32>, distance: f32) ->
             return tint;
         }
         let blocker = surface_interaction(ray, hit);
-        tint *= select(vec3<f32>(0.0), blocker.material.dielectric, blocker.material.transparency > 0.0);
+        tint *= select(vec3<f32>(0.0), blocker.material.bsdf.dielectric, blocker.material.transparency > 0.0);
         if all(tint <= vec3<f32>(0.0)) {
             return vec3<f32>(0.0);
         }

@@ -184,32 +184,15 @@ struct Material {
     emission: vec3<f32>,
     shininess: f32,
     ambient: vec3<f32>,
-    // Classic ray tracer: weight of refraction (the part of `dielectric`'s tint that is not
+    // Classic ray tracer: weight of refraction (the part of `bsdf.dielectric`'s tint that is not
     // colour), which also dims direct light (classic/interface.wgsl).
     transparency: f32,
     specular: vec3<f32>,
     // Classic ray tracer: radius of the glossy reflection lobe (integrator/whitted.wgsl).
     gloss: f32,
-    // Lambertian albedo, under a coat of Schlick F0 coat_f0 and strength coat_weight.
-    diffuse: vec3<f32>,
-    coat_f0: f32,
-    // Diffuse transmission albedo.
-    translucent: vec3<f32>,
-    coat_weight: f32,
-    // Modified Phong lobe albedo and exponent.
-    phong: vec3<f32>,
-    phong_exponent: f32,
-    // GGX reflection: Schlick F0, weight, alpha.
-    specular_f0: vec3<f32>,
-    specular_weight: f32,
-    // Dielectric interface tint.
-    dielectric: vec3<f32>,
-    specular_alpha: f32,
-    // Glossy mirror (F = 1) weight and alpha; dielectric alpha and index of the inside.
-    mirror: f32,
-    mirror_alpha: f32,
-    dielectric_alpha: f32,
-    ior: f32,
+    // The lobes' weights and parameters (BsdfParams: generated from the lobe registry,
+    // caustic_bsdf::lobes; `caustic wgsl --file generated/interface.wgsl` shows it).
+    bsdf: BsdfParams,
     // Base colour texture (integrator/texture.wgsl): the KHR_texture_transform rows giving
     // u' and v' from (u, v, 1), 1 + the texture's index (0: none), and the wrap modes (S in
     // bits 0-1, T in bits 2-3: 0 repeat, 1 mirrored repeat, 2 clamp), filter (bit 4:
@@ -241,16 +224,6 @@ struct Material {
     alpha_mode: u32,
     metallic_roughness_model: u32,
     _gltf_pad: u32,
-    // Anisotropic Phong lobe (slot 6, bsdf/ashikhmin.wgsl; scene language `anisotropic`):
-    // Schlick F0 rs and the slot's weight; coupled diffuse rd and the exponent nu along the
-    // tangent; the world-space axis whose projection onto the tangent plane is the tangent
-    // (anisotropic_frame) and the exponent nv along the bitangent.
-    anisotropic_rs: vec3<f32>,
-    anisotropic_weight: f32,
-    anisotropic_rd: vec3<f32>,
-    anisotropic_nu: f32,
-    anisotropic_axis: vec3<f32>,
-    anisotropic_nv: f32,
 }
 
 // A material's use of a texture (integrator/texture.wgsl): the KHR_texture_transform rows

@@ -61,7 +61,7 @@ fn restore_lobe(i: u32, m: Material, slot: u32) -> Material {
 // from the lobe registry, calls keep_lobe with each slot a literal, so the scene's unused slots
 // fold away as in bsdf/bsdf.wgsl).
 fn keep_light_surface(i: u32, si: SurfaceInteraction) {
-    light_surfaces[i] = LightSurface(si.p, u32(si.front_face), si.ng, si.material.ior, si.ns);
+    light_surfaces[i] = LightSurface(si.p, u32(si.front_face), si.ng, si.material.bsdf.ior, si.ns);
     keep_lobes(i, si.material);
 }
 
@@ -73,7 +73,7 @@ fn kept_light_surface(i: u32) -> SurfaceInteraction {
     si.front_face = kept.front_face != 0u;
     si.ng = kept.ng;
     si.ns = kept.ns;
-    si.material.ior = kept.ior;
+    si.material.bsdf.ior = kept.ior;
     si.material = restore_lobes(i, si.material);
     return si;
 }

@@ -12,20 +12,20 @@ fn metallic_roughness_lobes(m: Material, metallic: f32, roughness: f32) -> Mater
     let dielectric_share = 1.0 - metallic;
     let opaque = dielectric_share * (1.0 - m.transmission);
     let coat = opaque * m.specular_factor;
-    let r = (m.ior - 1.0) / (m.ior + 1.0);
+    let r = (m.bsdf.ior - 1.0) / (m.bsdf.ior + 1.0);
     let dielectric_f0 = min(r * r * m.specular_tint, vec3<f32>(1.0));
     let weight = metallic + coat;
     var out = m;
     out.metallic = metallic;
     out.roughness = roughness;
-    out.diffuse = base * opaque;
-    out.coat_f0 = max(dielectric_f0.x, max(dielectric_f0.y, dielectric_f0.z));
-    out.coat_weight = m.specular_factor;
-    out.specular_weight = weight;
-    out.specular_f0 = select(vec3<f32>(0.0), (metallic * base + coat * dielectric_f0) / weight, weight > 0.0);
-    out.specular_alpha = alpha;
-    out.dielectric = base * (dielectric_share * m.transmission);
-    out.dielectric_alpha = alpha;
+    out.bsdf.diffuse = base * opaque;
+    out.bsdf.coat_f0 = max(dielectric_f0.x, max(dielectric_f0.y, dielectric_f0.z));
+    out.bsdf.coat_weight = m.specular_factor;
+    out.bsdf.specular_weight = weight;
+    out.bsdf.specular_f0 = select(vec3<f32>(0.0), (metallic * base + coat * dielectric_f0) / weight, weight > 0.0);
+    out.bsdf.specular_alpha = alpha;
+    out.bsdf.dielectric = base * (dielectric_share * m.transmission);
+    out.bsdf.dielectric_alpha = alpha;
     return out;
 }
 

@@ -20,7 +20,7 @@ fn sampling_mode() -> u32 {
 
 // Index of refraction beyond the surface over the ray's side.
 fn relative_ior(si: SurfaceInteraction) -> f32 {
-    return select(1.0 / si.material.ior, si.material.ior, si.front_face);
+    return select(1.0 / si.material.bsdf.ior, si.material.bsdf.ior, si.front_face);
 }
 
 // Whether a world direction leaves on the side its local z says (shading and geometric
@@ -58,7 +58,7 @@ fn light_connection(si: SurfaceInteraction, local: Frame3, wo: vec3<f32>, rng: p
     let eta = relative_ior(si);
     // A flat material's direct light is its diffuse albedo / pi times the toon ramp of the
     // cosine instead of the cosine (the seed's cartoon shading, where light is sampled).
-    let f = select(eval_bsdf(si.material, eta, wo, wi_local), si.material.diffuse * INV_PI * toon_ramp(wi_local.z), is_flat(si.material));
+    let f = select(eval_bsdf(si.material, eta, wo, wi_local), si.material.bsdf.diffuse * INV_PI * toon_ramp(wi_local.z), is_flat(si.material));
     if all(f == vec3<f32>(0.0)) {
         return nothing;
     }

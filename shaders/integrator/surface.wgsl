@@ -101,7 +101,7 @@ fn checkered(m: Material, p: vec3<f32>) -> Material {
     }
     var dark = m;
     dark.base_color *= CHECKER_DARK;
-    dark.diffuse *= CHECKER_DARK;
+    dark.bsdf.diffuse *= CHECKER_DARK;
     return dark;
 }
 
@@ -169,8 +169,8 @@ fn textured_material(m: Material, tc: TexCoords) -> Material {
         }
         out = metallic_roughness_lobes(out, metallic_roughness.x, metallic_roughness.y);
     } else {
-        out.diffuse = m.diffuse * color;
-        out.dielectric = m.dielectric * color;
+        out.bsdf.diffuse = m.bsdf.diffuse * color;
+        out.bsdf.dielectric = m.bsdf.dielectric * color;
     }
     if m.emissive_map.texture != 0u {
         out.emission = m.emission * sample_at(m.emissive_map, tc).rgb;

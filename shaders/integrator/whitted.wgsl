@@ -74,12 +74,12 @@ fn trace_classic(primary: Ray, rng: ptr<function, Rng>) -> vec3<f32> {
         if max(refracted.x, max(refracted.y, refracted.z)) >= MIN_BRANCH_WEIGHT && size < CLASSIC_STACK {
             // Frosted: frame.classic_frost_samples directions over the lobe of radius the
             // dielectric's roughness, kept on the far side of the surface.
-            let frosted = feature_on(FEATURE_FROSTED) && m.dielectric_alpha > 0.0;
+            let frosted = feature_on(FEATURE_FROSTED) && m.bsdf.dielectric_alpha > 0.0;
             let n = select(1u, min(max(frame.classic_frost_samples, 1u), CLASSIC_STACK - size), frosted);
             for (var s = 0u; s < n; s++) {
                 var d = split.refracted;
                 if frosted {
-                    d = glossy_direction(d, m.dielectric_alpha, -si.ng, next_2d(rng));
+                    d = glossy_direction(d, m.bsdf.dielectric_alpha, -si.ng, next_2d(rng));
                 }
                 stack[size] = ClassicRay(spawn_ray(si, d), refracted / f32(n), item.depth + 1u);
                 size += 1u;

@@ -2,15 +2,9 @@
 //! with probability proportional to its estimated albedo (one-sample MIS over the lobes).
 //! Twin of `shaders/bsdf/bsdf.wgsl` (`eval_bsdf`, `pdf_bsdf`, `sample_bsdf`), slot for slot.
 
-use crate::ashikhmin::AnisotropicPhong;
-use crate::conductor::Conductor;
-use crate::lambert::Lambert;
-use crate::lobes::{LOBE_SLOTS, LobeKind};
+use crate::lobes::{LOBE_SLOTS, Lobe, LobeKind};
 use crate::params::BsdfParams;
-use crate::phong::PhongLobe;
-use crate::rough_dielectric::RoughDielectric;
-use crate::translucent::DiffuseTransmission;
-use crate::{BsdfSample, Bxdf, cosine_hemisphere, fresnel_schlick, luminance, uniform_hemisphere};
+use crate::{BsdfSample, cosine_hemisphere, fresnel_schlick, luminance, uniform_hemisphere};
 use glam::{Vec2, Vec3};
 use std::f32::consts::{FRAC_1_PI, PI};
 
@@ -28,46 +22,6 @@ pub enum Sampling {
 
 /// The largest f32 below 1 (as `0.99999994` in WGSL), where a rescaled `u_lobe` is clamped.
 const ONE_MINUS_EPSILON: f32 = 1.0 - f32::EPSILON / 2.0;
-
-/// One lobe's model in a [`Bsdf`] (which model each slot holds: [`LobeKind::lobe`]).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Lobe {
-    /// Diffuse reflection.
-    Lambert(Lambert),
-    /// Diffuse transmission.
-    Translucent(DiffuseTransmission),
-    /// Modified Phong lobe.
-    Phong(PhongLobe),
-    /// GGX reflection (specular coat, metal, mirror).
-    Conductor(Conductor),
-    /// Dielectric interface.
-    Dielectric(RoughDielectric),
-    /// Ashikhmin-Shirley anisotropic Phong (specular and coupled diffuse).
-    Anisotropic(AnisotropicPhong),
-}
-
-impl Lobe {
-    fn bxdf(&self) -> &dyn Bxdf {
-        match self {
-            Lobe::Lambert(l) => l,
-            Lobe::Translucent(l) => l,
-            Lobe::Phong(l) => l,
-            Lobe::Conductor(l) => l,
-            Lobe::Dielectric(l) => l,
-            Lobe::Anisotropic(l) => l,
-        }
-    }
-
-    /// Whether `sampling` replaces this lobe's own sampler (non-delta reflection lobes).
-    fn replaced_by(&self, sampling: Sampling) -> bool {
-        let reflective = match self {
-            Lobe::Lambert(_) | Lobe::Phong(_) | Lobe::Anisotropic(_) => true,
-            Lobe::Conductor(c) => !c.is_smooth(),
-            Lobe::Translucent(_) | Lobe::Dielectric(_) => false,
-        };
-        reflective && sampling != Sampling::Bsdf
-    }
-}
 
 /// A material's BSDF at a shading point: the lobes of [`BsdfParams`] in slot order.
 #[derive(Clone, Debug, PartialEq)]
@@ -104,7 +58,7 @@ impl Bsdf {
 
     /// Probability of sampling each slot: its weight's luminance, times its kind's
     /// [`LobeKind::selection_factor`] at `wo` (the Schlick reflectance for the GGX specular
-    /// lobe, the estimated albedo [`AnisotropicPhong::albedo_estimate`] for the anisotropic
+    /// lobe, the estimated albedo [`crate::lobes::ashikhmin::AnisotropicPhong::albedo_estimate`] for the anisotropic
     /// one); normalised (all 0 for a black surface).
     pub fn selection(&self, wo: Vec3) -> [f32; LOBE_SLOTS] {
         let w = self.weights(wo);

@@ -1,9 +1,11 @@
 //! The model settings the sampler tests cover, shared by the CPU tests
 //! (`crates/caustic-bsdf/tests`) and the GPU twin tests (`crates/caustic-gpu/tests/bsdf_gpu.rs`),
 //! so both judge the same configurations: every model at several roughnesses, exponents and
-//! indices, and the hemisphere and cosine sampling switches.
+//! indices, the hemisphere and cosine sampling switches, and every kind of the lobe registry
+//! alone at its example parameters ([`LobeKind::example`]), so a new kind is covered by both.
 
 use crate::bsdf::{Bsdf, Sampling};
+use crate::lobes::LobeKind;
 use crate::params::BsdfParams;
 use glam::Vec3;
 
@@ -58,6 +60,7 @@ pub fn reference_cases() -> Vec<Case> {
     let layered = BsdfParams::phong(Vec3::splat(0.5), Vec3::splat(0.3), 20.0).with_layers(0.2, 0.3, 0.3, 0.4, 1.33);
     add("phong + gloss 0.3 + frost 0.4".into(), layered, 1.33, Sampling::Bsdf);
     out.extend(anisotropic_cases());
+    out.extend(LobeKind::ALL.map(|kind| Case { name: format!("{} alone", kind.name()), params: kind.example(), eta: 1.5, sampling: Sampling::Bsdf }));
     out
 }
 

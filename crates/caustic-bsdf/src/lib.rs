@@ -12,20 +12,12 @@
 //! numbers the GPU reads); [`chi_square`] tests that a
 //! sampler draws what its pdf says.
 
-pub mod ashikhmin;
 pub mod bsdf;
 pub mod catalog;
 pub mod chi_square;
-pub mod conductor;
-pub mod dielectric;
 mod frame;
-pub mod lambert;
 pub mod lobes;
-pub mod microfacet;
 pub mod params;
-pub mod phong;
-pub mod rough_dielectric;
-pub mod translucent;
 
 pub use frame::{Frame, cosine_hemisphere, fresnel_dielectric, fresnel_schlick, luminance, reflect, refract, uniform_hemisphere};
 

@@ -1,82 +1,136 @@
-//! The numbers a material hands the path tracer's BSDF: the weight and parameters of each
-//! lobe of [`crate::bsdf::Bsdf`]. `caustic_kernels::gpu_types::GpuMaterial` carries the same
-//! fields to `shaders/bsdf/bsdf.wgsl`; the constructors here are how every material model of
-//! the scene language and glTF becomes lobes (`docs/MATERIALS.md`).
+//! The numbers a material hands the path tracer's BSDF: [`BsdfParams`], whose fields the lobe
+//! registry declares kind by kind (`crate::lobes`, with [`declare_parameters!`]), packed for the
+//! device as WGSL's `BsdfParams` lays them out ([`BsdfParams::packed`]; the member `bsdf` of
+//! `caustic_kernels::gpu_types::GpuMaterial` and of WGSL `Material`). The constructors here are
+//! how every material model of the scene language and glTF becomes lobes (`docs/MATERIALS.md`).
 
+use crate::lobes::LobeKind;
+pub use crate::lobes::{BSDF_FLOATS, BsdfParams, OFFSETS, PARAMETERS};
 use glam::Vec3;
 
-/// Lobe weights and parameters. A zero weight switches a lobe off.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct BsdfParams {
-    /// Lambertian reflection albedo.
-    pub diffuse: Vec3,
-    /// Schlick F0 of a dielectric coat over the diffuse lobe: the diffuse lobe is multiplied
-    /// by `1 - coat_weight * F_schlick(coat_f0, cos theta)` for both directions (glTF's
-    /// Fresnel mix, made reciprocal and energy-conserving).
-    pub coat_f0: f32,
-    /// Strength of that coat (glTF specular factor x the dielectric share).
-    pub coat_weight: f32,
-    /// Diffuse transmission albedo (thin translucent surfaces).
-    pub translucent: Vec3,
-    /// Modified Phong lobe albedo ks.
-    pub phong: Vec3,
-    /// Phong exponent.
-    pub phong_exponent: f32,
-    /// Weight of the GGX reflection lobe (specular coat, metal, CSE168 `brdf ggx`).
-    pub specular_weight: f32,
-    /// Its Schlick F0 per channel.
-    pub specular_f0: Vec3,
-    /// Its microfacet alpha.
-    pub specular_alpha: f32,
-    /// Weight of a glossy mirror (GGX with F = 1; scene language `reflectance`).
-    pub mirror: f32,
-    /// Its microfacet alpha (scene language `gloss`; below 1e-3 a perfect mirror).
-    pub mirror_alpha: f32,
-    /// Weight (tint) of the dielectric interface (glTF transmission, scene language
-    /// `transparency`).
-    pub dielectric: Vec3,
-    /// Its microfacet alpha (`frost`; below 1e-3 smooth glass).
-    pub dielectric_alpha: f32,
-    /// Index of refraction of the inside.
-    pub ior: f32,
-    /// Weight of the anisotropic Phong lobe (Ashikhmin-Shirley specular + coupled diffuse;
-    /// scene language `anisotropic`).
-    pub anisotropic: f32,
-    /// Its specular reflectance at normal incidence rs (Schlick F0), per channel.
-    pub anisotropic_rs: Vec3,
-    /// Its coupled diffuse reflectance rd.
-    pub anisotropic_rd: Vec3,
-    /// Its exponent nu along the shading frame's tangent (x).
-    pub anisotropic_nu: f32,
-    /// Its exponent nv along the bitangent (y).
-    pub anisotropic_nv: f32,
+/// One material number of a lobe, as the registry declares it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Parameter {
+    /// The kind whose lobe reads it.
+    pub kind: LobeKind,
+    /// Its name: the field of [`BsdfParams`] and the member of WGSL `BsdfParams`.
+    pub name: &'static str,
+    /// Its width in floats: 1 (`f32`) or 3 (`Vec3`, WGSL `vec3<f32>`).
+    pub width: usize,
 }
 
-impl Default for BsdfParams {
-    fn default() -> Self {
-        BsdfParams {
-            diffuse: Vec3::ZERO,
-            coat_f0: 0.0,
-            coat_weight: 0.0,
-            translucent: Vec3::ZERO,
-            phong: Vec3::ZERO,
-            phong_exponent: 1.0,
-            specular_weight: 0.0,
-            specular_f0: Vec3::ZERO,
-            specular_alpha: 1.0,
-            mirror: 0.0,
-            mirror_alpha: 0.0,
-            dielectric: Vec3::ZERO,
-            dielectric_alpha: 0.0,
-            ior: 1.5,
-            anisotropic: 0.0,
-            anisotropic_rs: Vec3::ZERO,
-            anisotropic_rd: Vec3::ZERO,
-            anisotropic_nu: 1.0,
-            anisotropic_nv: 1.0,
-        }
+impl Parameter {
+    /// Its WGSL type.
+    pub const fn wgsl_type(&self) -> &'static str {
+        if self.width == 3 { "vec3<f32>" } else { "f32" }
     }
 }
+
+/// The value types a parameter may have: `f32` and `Vec3`.
+pub trait ParameterValue: Copy {
+    /// Its width in floats.
+    const WIDTH: usize;
+    /// Its floats.
+    fn floats(&self) -> &[f32];
+    /// The value in the first [`ParameterValue::WIDTH`] floats of `floats`.
+    fn from_floats(floats: &[f32]) -> Self;
+}
+
+impl ParameterValue for f32 {
+    const WIDTH: usize = 1;
+    fn floats(&self) -> &[f32] {
+        std::slice::from_ref(self)
+    }
+    fn from_floats(floats: &[f32]) -> Self {
+        floats[0]
+    }
+}
+
+impl ParameterValue for Vec3 {
+    const WIDTH: usize = 3;
+    fn floats(&self) -> &[f32] {
+        AsRef::<[f32; 3]>::as_ref(self)
+    }
+    fn from_floats(floats: &[f32]) -> Self {
+        Vec3::from_slice(floats)
+    }
+}
+
+/// Each parameter's first float in the packed block: WGSL's layout of a struct of these
+/// members in order (a `vec3<f32>` starts at a multiple of 16 bytes, an `f32` anywhere).
+pub const fn packed_offsets<const N: usize>(parameters: &[Parameter; N]) -> [usize; N] {
+    let mut offsets = [0; N];
+    let (mut end, mut i) = (0usize, 0);
+    while i < N {
+        let width = parameters[i].width;
+        let start = if width == 1 { end } else { end.div_ceil(4) * 4 };
+        offsets[i] = start;
+        end = start + width;
+        i += 1;
+    }
+    offsets
+}
+
+/// The packed block's length in floats: past the last parameter, rounded up to whole `vec4`s
+/// (WGSL rounds the struct's size to its 16-byte alignment).
+pub const fn packed_len<const N: usize>(parameters: &[Parameter; N]) -> usize {
+    let offsets = packed_offsets(parameters);
+    if N == 0 { 0 } else { (offsets[N - 1] + parameters[N - 1].width).div_ceil(4) * 4 }
+}
+
+/// Declares [`BsdfParams`] from the registry's list of each kind's parameters (name, type,
+/// default, doc): the struct, its `Default`, [`PARAMETERS`] and the packing for the device.
+macro_rules! declare_parameters {
+    ($($kind:ident { $($(#[$doc:meta])* $field:ident: $ty:ty = $default:expr),* $(,)? })*) => {
+        /// Lobe weights and parameters, declared kind by kind in the registry
+        /// (`crate::lobes`): a zero weight switches a lobe off.
+        #[derive(Clone, Copy, Debug, PartialEq)]
+        pub struct BsdfParams {
+            $($($(#[$doc])* pub $field: $ty,)*)*
+        }
+
+        impl Default for BsdfParams {
+            fn default() -> Self {
+                BsdfParams { $($($field: $default,)*)* }
+            }
+        }
+
+        /// Every parameter, kind by kind in slot order: the order of [`BsdfParams`]' fields
+        /// and of WGSL `BsdfParams`' members.
+        pub const PARAMETERS: [$crate::params::Parameter; [$($(stringify!($field),)*)*].len()] = [
+            $($($crate::params::Parameter {
+                kind: LobeKind::$kind,
+                name: stringify!($field),
+                width: <$ty as $crate::params::ParameterValue>::WIDTH,
+            },)*)*
+        ];
+
+        /// Each parameter's first float in [`BsdfParams::packed`].
+        pub const OFFSETS: [usize; PARAMETERS.len()] = $crate::params::packed_offsets(&PARAMETERS);
+
+        /// The length in floats of [`BsdfParams::packed`] (WGSL `BsdfParams`' size / 4).
+        pub const BSDF_FLOATS: usize = $crate::params::packed_len(&PARAMETERS);
+
+        impl BsdfParams {
+            /// The parameters laid out as WGSL's `BsdfParams` holds them (unused floats 0).
+            pub fn packed(&self) -> [f32; BSDF_FLOATS] {
+                let mut out = [0.0; BSDF_FLOATS];
+                let values: [&[f32]; PARAMETERS.len()] = [$($($crate::params::ParameterValue::floats(&self.$field),)*)*];
+                for (value, offset) in values.into_iter().zip(OFFSETS) {
+                    out[offset..offset + value.len()].copy_from_slice(value);
+                }
+                out
+            }
+
+            /// The parameters of a packed block ([`BsdfParams::packed`]'s inverse).
+            pub fn from_packed(packed: &[f32; BSDF_FLOATS]) -> BsdfParams {
+                let mut offsets = OFFSETS.into_iter();
+                BsdfParams { $($($field: $crate::params::ParameterValue::from_floats(&packed[offsets.next().unwrap_or(0)..]),)*)* }
+            }
+        }
+    };
+}
+pub(crate) use declare_parameters;
 
 /// Scales `a` and `b` together so that no channel of `a + b` exceeds 1.
 fn energy_conserving(a: Vec3, b: Vec3) -> (Vec3, Vec3) {
@@ -114,7 +168,7 @@ impl BsdfParams {
 
     /// The Ashikhmin-Shirley anisotropic Phong model alone (scene language `anisotropic`):
     /// specular reflectance `rs`, exponents `nu` (along the tangent) and `nv`, coupled
-    /// diffuse `rd` ([`crate::ashikhmin::AnisotropicPhong`]; it conserves energy by itself).
+    /// diffuse `rd` ([`crate::lobes::ashikhmin::AnisotropicPhong`]; it conserves energy by itself).
     pub fn anisotropic_phong(rs: Vec3, rd: Vec3, nu: f32, nv: f32) -> BsdfParams {
         BsdfParams { anisotropic: 1.0, anisotropic_rs: rs, anisotropic_rd: rd, anisotropic_nu: nu, anisotropic_nv: nv, ..BsdfParams::default() }
     }
@@ -156,12 +210,9 @@ impl BsdfParams {
         let (r, t) = (reflectance / sum, transparency / sum);
         let base = 1.0 - r - t;
         let mut out = self;
-        out.diffuse *= base;
-        out.translucent *= base;
-        out.phong *= base;
-        out.specular_weight *= base;
-        out.dielectric *= base;
-        out.anisotropic *= base;
+        for kind in LobeKind::ALL {
+            kind.scale_weight(&mut out, base);
+        }
         out.mirror = r;
         out.mirror_alpha = gloss.clamp(0.0, 1.0);
         if t > 0.0 {

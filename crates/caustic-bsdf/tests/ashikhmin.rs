@@ -1,13 +1,13 @@
-//! The Ashikhmin-Shirley anisotropic Phong lobe (`caustic_bsdf::ashikhmin`) against its own
+//! The Ashikhmin-Shirley anisotropic Phong lobe (`caustic_bsdf::lobes::ashikhmin`) against its own
 //! pdf and physics, at several exponent pairs (isotropic, mildly and strongly anisotropic,
 //! both orientations) and outgoing angles: chi-square goodness of fit of the sampler, the
 //! pdf integrating to at most 1, albedo by sampling equal to quadrature and never above 1 for
 //! a white (rs = 1) lobe, reciprocity, and the highlight stretched along the axis with the
 //! smaller exponent.
 
-use caustic_bsdf::ashikhmin::AshikhminShirley;
 use caustic_bsdf::catalog::{ASHIKHMIN_EXPONENTS as EXPONENTS, TEST_ANGLES, outgoing};
 use caustic_bsdf::chi_square::{ChiSquareTest, corrected_level};
+use caustic_bsdf::lobes::ashikhmin::AshikhminShirley;
 use caustic_bsdf::{Bxdf, luminance};
 use glam::{Vec2, Vec3};
 

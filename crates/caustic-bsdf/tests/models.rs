@@ -5,10 +5,10 @@
 use caustic_bsdf::bsdf::{Bsdf, Sampling};
 use caustic_bsdf::catalog::{TEST_ANGLES, outgoing, reference_cases};
 use caustic_bsdf::chi_square::{ChiSquareTest, corrected_level};
-use caustic_bsdf::conductor::Conductor;
+use caustic_bsdf::lobes::conductor::Conductor;
+use caustic_bsdf::lobes::phong::PhongLobe;
+use caustic_bsdf::lobes::rough_dielectric::RoughDielectric;
 use caustic_bsdf::params::BsdfParams;
-use caustic_bsdf::phong::PhongLobe;
-use caustic_bsdf::rough_dielectric::RoughDielectric;
 use caustic_bsdf::{Bxdf, luminance};
 use glam::{Vec2, Vec3};
 

@@ -257,7 +257,7 @@ const MIRROR_REFLECTANCE: f32 = 0.5;
 /// reflectance at least [`MIRROR_REFLECTANCE`]). The quality presets render such scenes with
 /// photon mapping (docs/PHOTON_MAPPING.md has the measurements that decided it).
 pub fn focuses_light(scene: &Scene) -> bool {
-    use caustic_bsdf::microfacet::ALPHA_SMOOTH;
+    use caustic_bsdf::lobes::microfacet::ALPHA_SMOOTH;
     scene.materials.iter().any(|m| {
         let p = crate::scene_data::bsdf_params(m);
         let glass = p.dielectric.max_element() > 0.0 && p.dielectric_alpha < ALPHA_SMOOTH;

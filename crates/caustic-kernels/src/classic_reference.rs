@@ -77,7 +77,7 @@ impl ClassicReference {
         {
             return Err(format!("the classic reference has point and directional lights without spread, not kind {}", light.kind));
         }
-        let frosted = |m: &GpuMaterial| m.transparency > 0.0 && m.dielectric_alpha > 0.0 && constants.mask & FEATURE_FROSTED != 0;
+        let frosted = |m: &GpuMaterial| m.transparency > 0.0 && m.bsdf_params().dielectric_alpha > 0.0 && constants.mask & FEATURE_FROSTED != 0;
         if data.materials.iter().any(|m| m.base_color_texture != 0 || (m.gloss > 0.0 && constants.mask & FEATURE_GLOSSY != 0) || frosted(m)) {
             return Err("the classic reference has no textures, no glossy reflection and no frosted refraction".into());
         }
@@ -159,20 +159,20 @@ impl ClassicReference {
         let m = &si.material;
         let mut out = Split { reflect: Vec3::ZERO, refract: Vec3::ZERO, refracted: Vec3::ZERO };
         if self.on(FEATURE_REFLECTION) {
-            out.reflect = (Vec3::from(m.specular) + Vec3::splat(m.mirror)).min(Vec3::ONE);
+            out.reflect = (Vec3::from(m.specular) + Vec3::splat(m.bsdf_params().mirror)).min(Vec3::ONE);
         }
         if !self.on(FEATURE_REFRACTION) || m.transparency <= 0.0 {
             return out;
         }
         let wi = -direction;
         let n = if wi.dot(si.ns) > 0.0 { si.ns } else { si.ng };
-        let ior = m.ior.max(1e-3);
+        let ior = m.bsdf_params().ior.max(1e-3);
         let eta = if si.front_face { ior } else { 1.0 / ior };
         let fresnel = classic_fresnel(wi.dot(n).clamp(0.0, 1.0), eta, self.constants.fresnel);
         out.reflect = (out.reflect + Vec3::splat(fresnel * m.transparency)).min(Vec3::ONE);
         if fresnel < 1.0 {
             out.refracted = refract(wi, n, eta).unwrap_or(Vec3::ZERO);
-            out.refract = (1.0 - fresnel) * Vec3::from(m.dielectric);
+            out.refract = (1.0 - fresnel) * m.bsdf_params().dielectric;
         }
         out
     }
@@ -230,7 +230,7 @@ impl ClassicReference {
             if !self.on(FEATURE_LIGHT_TRANSPARENCY) || m.transparency <= 0.0 {
                 return Vec3::ZERO;
             }
-            tint *= Vec3::from(m.dielectric);
+            tint *= m.bsdf_params().dielectric;
             if tint.max_element() <= 0.0 {
                 return Vec3::ZERO;
             }

@@ -3,6 +3,7 @@
 //! Sizes are checked against naga's layout of the WGSL in this crate's tests.
 
 use bytemuck::{Pod, Zeroable};
+use caustic_bsdf::params::{BSDF_FLOATS, BsdfParams};
 
 /// Per-dispatch constants of the path tracer (`Frame` in WGSL).
 #[repr(C)]
@@ -179,7 +180,7 @@ pub const FLAG_LIGHT_LISTED: u32 = 8;
 
 /// A material as the kernels see it (`Material` in WGSL).
 #[repr(C)]
-#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct GpuMaterial {
     /// Diffuse albedo.
     pub base_color: [f32; 3],
@@ -199,34 +200,9 @@ pub struct GpuMaterial {
     pub specular: [f32; 3],
     /// Classic ray tracer: radius of the glossy reflection lobe (scene language `gloss`).
     pub gloss: f32,
-    /// Path tracer: Lambertian albedo ([`caustic_bsdf::params::BsdfParams`] has every lobe field).
-    pub diffuse: [f32; 3],
-    /// Schlick F0 of the coat over the diffuse lobe.
-    pub coat_f0: f32,
-    /// Diffuse transmission albedo.
-    pub translucent: [f32; 3],
-    /// Strength of the coat.
-    pub coat_weight: f32,
-    /// Modified Phong lobe albedo.
-    pub phong: [f32; 3],
-    /// Modified Phong exponent.
-    pub phong_exponent: f32,
-    /// GGX reflection Schlick F0.
-    pub specular_f0: [f32; 3],
-    /// GGX reflection weight.
-    pub specular_weight: f32,
-    /// Dielectric interface tint.
-    pub dielectric: [f32; 3],
-    /// GGX reflection alpha.
-    pub specular_alpha: f32,
-    /// Glossy mirror weight.
-    pub mirror: f32,
-    /// Glossy mirror alpha.
-    pub mirror_alpha: f32,
-    /// Dielectric alpha.
-    pub dielectric_alpha: f32,
-    /// Index of refraction of the inside.
-    pub ior: f32,
+    /// Path tracer: the lobes' weights and parameters, packed as WGSL's `BsdfParams` lays
+    /// them out ([`caustic_bsdf::params::BsdfParams::packed`]; the lobe registry declares them).
+    pub bsdf: [f32; BSDF_FLOATS],
     /// Base colour texture: the row of its `KHR_texture_transform` giving u' from (u, v, 1).
     pub uv_transform_u: [f32; 3],
     /// Base colour texture: 1 + its index in the packed texture buffer, 0 for none.
@@ -272,20 +248,20 @@ pub struct GpuMaterial {
     pub metallic_roughness_model: u32,
     /// Rounds the glTF block to 16 bytes.
     pub _gltf_pad: u32,
-    /// Anisotropic Phong lobe (slot 6, `shaders/bsdf/ashikhmin.wgsl`): specular reflectance
-    /// at normal incidence rs.
-    pub anisotropic_rs: [f32; 3],
-    /// Weight of the anisotropic Phong slot (0: unused).
-    pub anisotropic_weight: f32,
-    /// Coupled diffuse reflectance rd of the anisotropic Phong slot.
-    pub anisotropic_rd: [f32; 3],
-    /// Its exponent nu along the tangent.
-    pub anisotropic_nu: f32,
-    /// World-space axis whose projection onto the tangent plane is the shading tangent of
-    /// anisotropic surfaces (`anisotropic_frame`; zero: the default frame's tangent).
-    pub anisotropic_axis: [f32; 3],
-    /// Its exponent nv along the bitangent.
-    pub anisotropic_nv: f32,
+}
+
+impl Default for GpuMaterial {
+    /// Every field zero (every lobe off).
+    fn default() -> Self {
+        Zeroable::zeroed()
+    }
+}
+
+impl GpuMaterial {
+    /// The lobes' parameters ([`GpuMaterial::bsdf`] unpacked).
+    pub fn bsdf_params(&self) -> BsdfParams {
+        BsdfParams::from_packed(&self.bsdf)
+    }
 }
 
 /// [`GpuMaterial::flags`]: the albedo is a 3D checker pattern (`checkered` in

@@ -114,8 +114,9 @@ pub fn wgsl_constants() -> String {
     text
 }
 
-/// [`wgsl_constants`], made once per process.
-pub(crate) static INTERFACE_SOURCE: LazyLock<String> = LazyLock::new(wgsl_constants);
+/// The text of [`INTERFACE_FILE`], made once per process: [`wgsl_constants`] and the lobes'
+/// parameter struct ([`crate::lobes::wgsl_bsdf_params`]).
+pub(crate) static INTERFACE_SOURCE: LazyLock<String> = LazyLock::new(|| wgsl_constants() + "\n" + &crate::lobes::wgsl_bsdf_params());
 
 /// The members of WGSL struct `name` in `source` as (name, offset, size), padding (`_`
 /// names) left out, and the struct's size: for checking a host mirror by naga reflection

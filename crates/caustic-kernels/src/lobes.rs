@@ -12,6 +12,7 @@
 //! docs/MATERIALS.md, "Adding a lobe").
 
 use caustic_bsdf::lobes::{Condition, LOBE_SLOTS, LobeCode, LobeKind};
+use caustic_bsdf::params::PARAMETERS;
 use std::fmt::Write;
 
 /// Where [`wgsl_dispatch`]'s text appears in the program.
@@ -154,23 +155,24 @@ pub fn wgsl_dispatch() -> String {
     t
 }
 
-/// The `vec4`s of a slot's packed parameters: per field its vector, first component and width.
-fn packing(parameters: &[(&'static str, usize)]) -> Vec<(&'static str, usize, usize, usize)> {
+/// The `vec4`s of a kind's packed parameters ([`LobeKind::parameters`], in their order, a
+/// field never straddling two `vec4`s): per field its name, vector, first component and width.
+fn packing(kind: LobeKind) -> Vec<(&'static str, usize, usize, usize)> {
     let (mut vector, mut offset) = (0, 0);
     let mut placed = Vec::new();
-    for &(field, width) in parameters {
-        if offset + width > 4 {
+    for p in kind.parameters() {
+        if offset + p.width > 4 {
             (vector, offset) = (vector + 1, 0);
         }
-        placed.push((field, vector, offset, width));
-        offset += width;
+        placed.push((p.name, vector, offset, p.width));
+        offset += p.width;
     }
     placed
 }
 
 /// How many `vec4`s hold the widest kind's parameters.
 fn parameter_vectors() -> usize {
-    LobeKind::ALL.into_iter().map(|k| packing(k.code().parameters).last().map_or(0, |p| p.1 + 1)).max().unwrap_or(1)
+    LobeKind::ALL.into_iter().map(|k| packing(k).last().map_or(0, |p| p.1 + 1)).max().unwrap_or(1)
 }
 
 /// The WGSL name of `LobeParameters`' `vector`th member.
@@ -180,7 +182,7 @@ fn member(vector: usize) -> char {
 
 /// `generated/lobe_parameters.wgsl`: a slot's parameters packed into `vec4`s
 /// (`LobeParameters`, `lobe_parameters`) and set back into a material
-/// (`with_lobe_parameters`), from each kind's [`LobeCode::parameters`].
+/// (`with_lobe_parameters`), from each kind's [`LobeKind::parameters`].
 pub fn wgsl_parameters() -> String {
     let vectors = parameter_vectors();
     let mut t = String::from("// Generated from caustic_kernels::lobes (the lobe registry). A material's BSDF kept for\n");
@@ -193,9 +195,9 @@ pub fn wgsl_parameters() -> String {
     }
     t.push_str("}\n\nfn lobe_parameters(m: Material, slot: u32) -> LobeParameters {\n    let none = vec4<f32>(0.0);\n");
     t.push_str(&value_switch(|k| {
-        let placed = packing(k.code().parameters);
+        let placed = packing(k);
         let vector = |v: usize| {
-            let mut parts: Vec<String> = placed.iter().filter(|p| p.1 == v).map(|p| format!("m.{}", p.0)).collect();
+            let mut parts: Vec<String> = placed.iter().filter(|p| p.1 == v).map(|p| format!("m.bsdf.{}", p.0)).collect();
             if parts.is_empty() {
                 return "none".to_string();
             }
@@ -207,15 +209,32 @@ pub fn wgsl_parameters() -> String {
     }));
     t.push_str("}\n\nfn with_lobe_parameters(m: Material, slot: u32, p: LobeParameters) -> Material {\n    var r = m;\n    switch slot {\n");
     let assignments = |kind: LobeKind, indent: &str| {
-        packing(kind.code().parameters)
+        packing(kind)
             .iter()
-            .map(|&(field, v, offset, width)| format!("{indent}r.{field} = p.{}.{};\n", member(v), &"xyzw"[offset..offset + width]))
+            .map(|&(field, v, offset, width)| format!("{indent}r.bsdf.{field} = p.{}.{};\n", member(v), &"xyzw"[offset..offset + width]))
             .collect::<String>()
     };
     for kind in LobeKind::ALL.into_iter().filter(|&k| k != DEFAULT_ARM) {
         let _ = write!(t, "        case {}: {{\n{}        }}\n", slot(kind), assignments(kind, "            "));
     }
     let _ = write!(t, "        default: {{\n{}        }}\n    }}\n    return r;\n}}\n", assignments(DEFAULT_ARM, "            "));
+    t
+}
+
+/// WGSL's `BsdfParams`, the lobes' parameters in a material (`Material.bsdf`): the registry's
+/// [`PARAMETERS`] as members in their order, laid out as [`caustic_bsdf::params::BsdfParams::packed`]
+/// packs them (a test checks the offsets by naga reflection). Part of `generated/interface.wgsl`.
+pub fn wgsl_bsdf_params() -> String {
+    let mut t = String::from("// The lobes' parameters, declared kind by kind in caustic_bsdf::lobes (the lobe registry).\nstruct BsdfParams {\n");
+    let mut kind = None;
+    for p in PARAMETERS {
+        if kind != Some(p.kind) {
+            let _ = writeln!(t, "    // {} (slot {})", p.kind.name(), p.kind.slot());
+            kind = Some(p.kind);
+        }
+        let _ = writeln!(t, "    {}: {},", p.name, p.wgsl_type());
+    }
+    t.push_str("}\n");
     t
 }
 
@@ -257,8 +276,8 @@ mod tests {
         }
     }
 
-    /// A kept surface restores what the lobe code reads: every field a kind's WGSL names is in
-    /// its parameters, and its parameters fit `LobeParameters` without straddling a vec4.
+    /// A kept surface restores what the lobe code reads: every field a kind's WGSL names is one
+    /// of its parameters, and its parameters fit `LobeParameters` without straddling a vec4.
     #[test]
     fn parameters_cover_what_each_kind_reads() {
         for kind in LobeKind::ALL {
@@ -266,14 +285,25 @@ mod tests {
             let condition = |c: Condition| if let Condition::When(holds) = c { holds } else { "" };
             let text = [c.weight, c.selection.unwrap_or(""), c.eval, c.pdf, c.sample, condition(c.delta), condition(c.replaced)].join(" ")
                 + &c.frame.map(|f| format!("{} {}", f.when, f.frame)).unwrap_or_default();
-            let read: Vec<&str> = text.split("m.").skip(1).map(|rest| rest.split(|ch: char| !(ch.is_alphanumeric() || ch == '_')).next().unwrap()).collect();
+            let read: Vec<&str> =
+                text.split("m.bsdf.").skip(1).map(|rest| rest.split(|ch: char| !(ch.is_alphanumeric() || ch == '_')).next().unwrap()).collect();
+            assert!(!text.replace("m.bsdf.", "").contains("m."), "{} reads a material field outside its parameters", kind.name());
             for field in &read {
-                assert!(c.parameters.iter().any(|(p, _)| p == field), "{} reads m.{field} but does not keep it", kind.name());
+                assert!(kind.parameters().any(|p| p.name == *field), "{} reads m.bsdf.{field} but does not declare it", kind.name());
             }
-            for (field, v, offset, width) in packing(c.parameters) {
+            for (field, v, offset, width) in packing(kind) {
                 assert!(offset + width <= 4 && v < 3, "{}: {field} does not fit", kind.name());
             }
         }
+    }
+
+    /// The generated struct lists every parameter once, in the order (and so at the offsets)
+    /// of the Rust packing.
+    #[test]
+    fn the_bsdf_params_struct_lists_every_parameter_in_order() {
+        let text = wgsl_bsdf_params();
+        let members: Vec<&str> = text.lines().filter_map(|l| l.trim().strip_suffix(',')).map(|l| l.split(':').next().unwrap()).collect();
+        assert_eq!(members, PARAMETERS.map(|p| p.name));
     }
 
     #[test]

@@ -284,7 +284,6 @@ fn gpu_material(m: &caustic_scene::Material) -> GpuMaterial {
         alpha: m.alpha,
         alpha_mode,
         metallic_roughness_model: u32::from(m.model == ShadingModel::Lambert && m.reflectance == 0.0 && m.transparency == 0.0 && m.anisotropy.is_none()),
-        anisotropic_axis: m.anisotropy.map_or([0.0; 3], |a| a.axis.to_array()),
         ..material_with_bsdf(&bsdf_params(m))
     }
 }
@@ -359,7 +358,8 @@ pub fn pack_textures(textures: &[Texture]) -> Vec<u32> {
 pub fn bsdf_params(m: &caustic_scene::Material) -> BsdfParams {
     let alpha = m.roughness * m.roughness;
     if let Some(a) = m.anisotropy {
-        return BsdfParams::anisotropic_phong(a.rs, a.rd, a.nu, a.nv).with_layers(m.reflectance, m.gloss, m.transparency, m.frost, m.ior);
+        let model = BsdfParams { anisotropic_axis: a.axis, ..BsdfParams::anisotropic_phong(a.rs, a.rd, a.nu, a.nv) };
+        return model.with_layers(m.reflectance, m.gloss, m.transparency, m.frost, m.ior);
     }
     let base = match m.model {
         ShadingModel::Lambert => BsdfParams::metallic_roughness(m.base_color, m.metallic, m.roughness, m.specular, m.specular_tint, m.ior, m.transmission),
@@ -367,6 +367,7 @@ pub fn bsdf_params(m: &caustic_scene::Material) -> BsdfParams {
         ShadingModel::Ggx => BsdfParams::diffuse_ggx(m.base_color, m.specular_color, alpha),
         ShadingModel::Translucent => BsdfParams::translucent(m.base_color, m.specular_color),
         ShadingModel::Flat | ShadingModel::Checkers => BsdfParams::lambert(m.base_color),
+        ShadingModel::OrenNayar => BsdfParams { rough_diffuse: m.base_color, rough_diffuse_sigma: alpha, ..BsdfParams::default() },
     };
     base.with_layers(m.reflectance, m.gloss, m.transparency, m.frost, m.ior)
 }
@@ -374,28 +375,7 @@ pub fn bsdf_params(m: &caustic_scene::Material) -> BsdfParams {
 /// A material that only carries `params`' lobes (black and non-emissive for the classic
 /// integrators), for kernels that evaluate the BSDF alone.
 pub fn material_with_bsdf(p: &BsdfParams) -> GpuMaterial {
-    GpuMaterial {
-        diffuse: p.diffuse.to_array(),
-        coat_f0: p.coat_f0,
-        translucent: p.translucent.to_array(),
-        coat_weight: p.coat_weight,
-        phong: p.phong.to_array(),
-        phong_exponent: p.phong_exponent,
-        specular_f0: p.specular_f0.to_array(),
-        specular_weight: p.specular_weight,
-        dielectric: p.dielectric.to_array(),
-        specular_alpha: p.specular_alpha,
-        mirror: p.mirror,
-        mirror_alpha: p.mirror_alpha,
-        dielectric_alpha: p.dielectric_alpha,
-        ior: p.ior,
-        anisotropic_rs: p.anisotropic_rs.to_array(),
-        anisotropic_weight: p.anisotropic,
-        anisotropic_rd: p.anisotropic_rd.to_array(),
-        anisotropic_nu: p.anisotropic_nu,
-        anisotropic_nv: p.anisotropic_nv,
-        ..Default::default()
-    }
+    GpuMaterial { bsdf: p.packed(), ..Default::default() }
 }
 
 /// Per-triangle shading entries (vertex normals, `TEXCOORD_0`, material, flags) of `meshes`,

@@ -147,6 +147,10 @@ pub enum ShadingModel {
     /// A 3D checker albedo for debugging: one-unit world cells numbered by truncation towards
     /// zero (a double-width band at each main axis plane), odd cells darker.
     Checkers,
+    /// Rough diffuse reflection (Oren-Nayar): the base colour as albedo, the roughness
+    /// squared (the scene language's `roughness` value) as sigma in the path tracer;
+    /// Lambertian in the classic ray tracer.
+    OrenNayar,
 }
 
 impl Material {

@@ -1,14 +1,14 @@
 //! The Ashikhmin-Shirley lobe's WGSL (`shaders/bsdf/ashikhmin.wgsl`) against its CPU twin
-//! (`caustic_bsdf::ashikhmin`) through the kernel-test harness: eval, pdf and sample on the
+//! (`caustic_bsdf::lobes::ashikhmin`) through the kernel-test harness: eval, pdf and sample on the
 //! same random inputs, and chi-square goodness of fit of the directions the device itself
 //! draws, at every exponent pair and angle the CPU tests use.
 
 use crate::support::device;
 use bytemuck::{Pod, Zeroable};
 use caustic_bsdf::Bxdf;
-use caustic_bsdf::ashikhmin::AshikhminShirley;
 use caustic_bsdf::catalog::{ASHIKHMIN_EXPONENTS, TEST_ANGLES, outgoing};
 use caustic_bsdf::chi_square::{ChiSquareTest, corrected_level};
+use caustic_bsdf::lobes::ashikhmin::AshikhminShirley;
 use caustic_gpu::kernel_test::KernelTest;
 use caustic_kernels::shaders::bsdf_library;
 use glam::{Vec2, Vec3};

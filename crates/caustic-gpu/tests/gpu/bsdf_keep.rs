@@ -6,7 +6,8 @@
 
 use crate::support::{Pcg, device};
 use bytemuck::{Pod, Zeroable};
-use caustic_bsdf::params::BsdfParams;
+use caustic_bsdf::lobes::{LOBE_SLOTS, LobeKind};
+use caustic_bsdf::params::{BSDF_FLOATS, BsdfParams, OFFSETS, PARAMETERS};
 use caustic_gpu::kernel_test::KernelTest;
 use caustic_gpu::material_with_bsdf;
 use caustic_kernels::gpu_types::GpuMaterial;
@@ -61,7 +62,8 @@ fn kept_slot(kept: Material, m: Material, slot: u32, left_out: u32) -> Material 
     return with_lobe_parameters(kept, slot, lobe_parameters(m, slot));
 }
 
-// m kept slot by slot into an otherwise zero material, without slot left_out (7: none).
+// m kept slot by slot into an otherwise zero material, without slot left_out (LOBE_SLOTS:
+// none).
 fn kept(m: Material, left_out: u32) -> Material {
     var k: Material;
     for (var slot = 0u; slot < LOBE_SLOTS; slot++) {
@@ -74,7 +76,7 @@ fn test_kernel(index: u32) -> TestOutput {
     let t = test_inputs[index];
     let n = normalize(vec3<f32>(0.3, 0.4, 0.87));
     var out: TestOutput;
-    let materials = array<Material, 3>(t.material, kept(t.material, 7u), kept(t.material, t.left_out));
+    let materials = array<Material, 3>(t.material, kept(t.material, LOBE_SLOTS), kept(t.material, t.left_out));
     for (var i = 0u; i < 3u; i++) {
         let m = materials[i];
         out.values[i] = vec4<f32>(eval_bsdf(m, t.eta, t.wo, t.wi), pdf_bsdf(m, t.eta, t.wo, t.wi, SAMPLING_BSDF));
@@ -105,32 +107,22 @@ impl Draw for Pcg {
     }
 }
 
-/// Every slot in use with rough (non-delta) lobes, so each one shows in eval and pdf, and the
-/// material's other fields (classic, emission, texture transforms) set to nonzero values.
+/// Every slot in use with rough (non-delta) lobes, so each one shows in eval and pdf: each
+/// kind's parameters from its registry example ([`LobeKind::example`]) scaled by random
+/// factors in [0.5, 1) and a random anisotropic axis; and the material's other fields
+/// (classic, emission, texture transforms) set to nonzero values.
 fn every_slot(rng: &mut Pcg) -> GpuMaterial {
-    let params = BsdfParams {
-        diffuse: rng.colour(),
-        coat_f0: rng.range(0.02, 0.1),
-        coat_weight: rng.range(0.1, 0.9),
-        translucent: rng.colour(),
-        phong: rng.colour(),
-        phong_exponent: rng.range(2.0, 40.0),
-        specular_weight: rng.range(0.1, 0.3),
-        specular_f0: rng.colour() * 3.0,
-        specular_alpha: rng.range(0.2, 0.8),
-        mirror: rng.range(0.1, 0.3),
-        mirror_alpha: rng.range(0.2, 0.8),
-        dielectric: rng.colour(),
-        dielectric_alpha: rng.range(0.2, 0.8),
-        ior: rng.range(1.2, 1.8),
-        anisotropic: rng.range(0.1, 0.3),
-        anisotropic_rs: rng.colour(),
-        anisotropic_rd: rng.colour(),
-        anisotropic_nu: rng.range(2.0, 100.0),
-        anisotropic_nv: rng.range(2.0, 100.0),
-    };
+    let mut packed = [0.0; BSDF_FLOATS];
+    for kind in LobeKind::ALL {
+        let example = kind.example().packed();
+        for (parameter, offset) in PARAMETERS.iter().zip(OFFSETS).filter(|(p, _)| p.kind == kind) {
+            for k in offset..offset + parameter.width {
+                packed[k] = example[k] * rng.range(0.5, 1.0);
+            }
+        }
+    }
+    let params = BsdfParams { anisotropic_axis: rng.direction(), ..BsdfParams::from_packed(&packed) };
     let mut m = material_with_bsdf(&params);
-    m.anisotropic_axis = rng.direction().to_array();
     m.base_color = rng.colour().to_array();
     m.emission = rng.colour().to_array();
     m.ambient = rng.colour().to_array();
@@ -155,12 +147,12 @@ fn a_material_kept_slot_by_slot_is_the_whole_bsdf() {
             let wo = rng.direction();
             let eta = if rng.next() < 0.5 { 1.0 / 1.5 } else { 1.5 };
             let (wi, u_lobe, u) = (rng.direction(), rng.next(), [rng.next(), rng.next()]);
-            Query { material, wo: wo.to_array(), eta, wi: wi.to_array(), u_lobe, u, left_out: i % 7, _pad: 0 }
+            Query { material, wo: wo.to_array(), eta, wi: wi.to_array(), u_lobe, u, left_out: i % LOBE_SLOTS as u32, _pad: 0 }
         })
         .collect();
     let answers: Vec<Answer> = kernel.run(&queries, queries.len()).expect("kernel runs");
     let mut worst = 0.0f32;
-    let mut changed = [0usize; 7];
+    let mut changed = [0usize; LOBE_SLOTS];
     let mut nonzero = 0;
     for (q, a) in queries.iter().zip(&answers) {
         let v = &a.values;
@@ -178,7 +170,7 @@ fn a_material_kept_slot_by_slot_is_the_whole_bsdf() {
             changed[q.left_out as usize] += 1;
         }
     }
-    let per_slot = queries.len() / 7;
+    let per_slot = queries.len() / LOBE_SLOTS;
     println!("kept against whole: worst relative difference {worst:.2e}; {nonzero} of {} queries with a nonzero BSDF", queries.len());
     println!("queries changed by leaving one slot out, per slot of about {per_slot}: {changed:?}");
     assert!(worst <= 1e-6, "the kept material differs from the whole by {worst:e}");

@@ -4,6 +4,7 @@
 //! proves the struct check fails.
 
 use bytemuck::{Pod, Zeroable};
+use caustic_bsdf::params::{BSDF_FLOATS, OFFSETS, PARAMETERS};
 use caustic_gpu::bindings::{Access, INTEGRATOR_BINDINGS};
 use caustic_gpu::wavefront::{WavefrontControl, WavefrontPath, WavefrontShadow};
 use caustic_kernels::gpu_types::{AccumTexel, Frame, GpuLight, GpuMaterial, InspectBounce, InspectConnection, InspectRecord, SppmPixel, TriangleShading};
@@ -43,6 +44,13 @@ fn mismatch(module: &naga::Module, name: &str, (size, fields): &RustLayout) -> O
         return Some(format!("{name}: WGSL {span} bytes {wgsl:?}\n  Rust {size} bytes {rust:?}"));
     }
     None
+}
+
+/// WGSL `BsdfParams`' layout as the lobe registry packs it (`BsdfParams::packed`): each
+/// parameter at its offset with its width, and the block's length.
+fn registry_layout() -> RustLayout {
+    let fields = PARAMETERS.iter().zip(OFFSETS).map(|(p, offset)| (p.name, 4 * offset, 4 * p.width)).collect();
+    (4 * BSDF_FLOATS, fields)
 }
 
 /// Every struct the host writes or reads, with its Rust mirror.
@@ -103,20 +111,7 @@ fn mirrors() -> Vec<(&'static str, RustLayout)> {
                 transparency,
                 specular,
                 gloss,
-                diffuse,
-                coat_f0,
-                translucent,
-                coat_weight,
-                phong,
-                phong_exponent,
-                specular_f0,
-                specular_weight,
-                dielectric,
-                specular_alpha,
-                mirror,
-                mirror_alpha,
-                dielectric_alpha,
-                ior,
+                bsdf,
                 uv_transform_u,
                 base_color_texture,
                 uv_transform_v,
@@ -136,14 +131,9 @@ fn mirrors() -> Vec<(&'static str, RustLayout)> {
                 alpha_mode,
                 metallic_roughness_model,
                 _gltf_pad,
-                anisotropic_rs,
-                anisotropic_weight,
-                anisotropic_rd,
-                anisotropic_nu,
-                anisotropic_axis,
-                anisotropic_nv,
             }),
         ),
+        ("BsdfParams", registry_layout()),
         (
             "Light",
             rust_layout!(GpuLight { v0, cdf, e1, area, e2, kind, radiance, select_pdf, color_end, flags, color_far, emitter_material, color_side, samples }),

@@ -50,6 +50,7 @@ mod path_regeneration;
 mod photon_mapping;
 mod requirements;
 mod restart;
+mod rough_diffuse;
 mod sampler;
 mod sampler_convergence;
 mod sampler_stratified;

@@ -18,7 +18,7 @@ fn fresh_material(model: ShadingModel) -> Material {
     Material { model, ambient: Vec3::ZERO, ..default_material() }
 }
 
-const MODELS: [(&str, ShadingModel); 9] = [
+const MODELS: [(&str, ShadingModel); 10] = [
     ("flat", ShadingModel::Flat),
     ("lambert", ShadingModel::Lambert),
     ("phong", ShadingModel::Phong),
@@ -26,6 +26,7 @@ const MODELS: [(&str, ShadingModel); 9] = [
     ("ggx", ShadingModel::Ggx),
     ("translucent", ShadingModel::Translucent),
     ("checkers", ShadingModel::Checkers),
+    ("orennayar", ShadingModel::OrenNayar),
     ("mirror", ShadingModel::Phong),
     ("glass", ShadingModel::Phong),
 ];
@@ -107,7 +108,7 @@ impl Interpreter {
             }
             "brdf" => {
                 a.expect(&[1])?;
-                let model = [ShadingModel::Phong, ShadingModel::Ggx][a.keyword(0, &["phong", "ggx"])?.min(1)];
+                let model = [ShadingModel::Phong, ShadingModel::Ggx, ShadingModel::OrenNayar][a.keyword(0, &["phong", "ggx", "orennayar"])?.min(2)];
                 w.set_material(|m| m.model = model);
             }
             "ambient" | "diffuse" | "specular" | "emission" => {

@@ -166,11 +166,13 @@ fn material_state_applies_to_later_geometry() {
         ("checkers", ShadingModel::Checkers),
         ("mirror", ShadingModel::Phong),
         ("glass", ShadingModel::Phong),
+        ("orennayar", ShadingModel::OrenNayar),
     ] {
         let s = scene(&format!("material {kind}\nsphere 0 0 0 1\n"));
         assert_eq!(s.materials[0].model, model, "material {kind}");
     }
     assert_eq!(scene("brdf ggx\nbrdf phong\nsphere 0 0 0 1\n").materials[0].model, ShadingModel::Phong);
+    assert_eq!(scene("brdf orennayar\nsphere 0 0 0 1\n").materials[0].model, ShadingModel::OrenNayar);
     let (interpreter, _) = run("diffuse 0.5 0.5 0.5\n");
     assert_eq!(interpreter.material().base_color, Vec3::splat(0.5));
 }

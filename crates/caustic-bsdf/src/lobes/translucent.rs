@@ -6,7 +6,7 @@ use glam::{Vec2, Vec3};
 use std::f32::consts::FRAC_1_PI;
 
 /// Light scattered diffusely through a thin sheet to the other side: a Lambertian lobe on
-/// the hemisphere opposite `wo`. Paired with [`crate::lambert::Lambert`] reflection it makes
+/// the hemisphere opposite `wo`. Paired with [`crate::lobes::lambert::Lambert`] reflection it makes
 /// the thin translucent model (paper, leaves, lamp shades).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DiffuseTransmission {

@@ -7,7 +7,7 @@
 //! several percent at alpha 0.5 and up to about 35% at alpha 1 and grazing angles; Heitz et
 //! al. 2016, Kulla & Conty 2017). The furnace tests measure and bound it.
 
-use crate::microfacet::{ALPHA_SMOOTH, Ggx};
+use crate::lobes::microfacet::{ALPHA_SMOOTH, Ggx};
 use crate::{BsdfSample, Bxdf, fresnel_schlick, reflect};
 use glam::{Vec2, Vec3};
 

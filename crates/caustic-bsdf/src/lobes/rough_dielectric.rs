@@ -2,11 +2,11 @@
 //! `frost`): GGX microfacets, each a smooth interface; visible normals are sampled and the
 //! Fresnel reflectance of the chosen microfacet picks reflection or refraction. Twin of
 //! `shaders/bsdf/dielectric.wgsl`. Transmitted radiance is scaled by `1 / eta^2` as in
-//! [`crate::dielectric`]. Single scattering: like [`crate::conductor`], rough interfaces lose
+//! [`crate::lobes::dielectric`]. Single scattering: like [`crate::lobes::conductor`], rough interfaces lose
 //! the energy of multiple microfacet bounces.
 
-use crate::dielectric::Dielectric;
-use crate::microfacet::{ALPHA_SMOOTH, Ggx};
+use crate::lobes::dielectric::Dielectric;
+use crate::lobes::microfacet::{ALPHA_SMOOTH, Ggx};
 use crate::{BsdfSample, Bxdf, fresnel_dielectric, reflect, refract};
 use glam::{Vec2, Vec3};
 
