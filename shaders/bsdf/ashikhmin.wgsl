@@ -1,5 +1,5 @@
 // The specular lobe of the Ashikhmin-Shirley anisotropic Phong model (2000), twin of
-// crates/caustic-bsdf/src/ashikhmin.rs: f = sqrt((nu + 1)(nv + 1)) / (8 pi) (n.h)^e /
+// crates/caustic-bsdf/src/lobes/ashikhmin.rs: f = sqrt((nu + 1)(nv + 1)) / (8 pi) (n.h)^e /
 // ((wi.h) max(cos theta_o, cos theta_i)) F_schlick(rs, wi.h), with the half-vector exponent
 // e = (nu h_x^2 + nv h_y^2) / (1 - h_z^2): nu shapes the highlight along the local x
 // (tangent) axis, nv along y. Sampled exactly by its half-vector density

@@ -2,7 +2,7 @@
 // mirror reflection and refraction, delta lobes) below ALPHA_SMOOTH or at eta 1, otherwise
 // rough (Walter et al. 2007, visible normals sampled). `eta` is the far side's index over wo's
 // side; refracted radiance is scaled by 1 / eta^2. Twin of
-// crates/caustic-bsdf/src/{dielectric,rough_dielectric}.rs.
+// crates/caustic-bsdf/src/lobes/{dielectric,rough_dielectric}.rs.
 
 fn dielectric_is_smooth(alpha: f32, eta: f32) -> bool {
     return alpha < ALPHA_SMOOTH || eta == 1.0;

@@ -1,7 +1,7 @@
 // GGX microfacet reflection with Schlick's Fresnel term (metals, specular coats, CSE168's
 // `brdf ggx`, glossy mirrors); a delta mirror below ALPHA_SMOOTH. Single scattering: the
 // albedo with F = 1 falls below 1 as alpha grows (docs/MATERIALS.md). Twin of
-// crates/caustic-bsdf/src/conductor.rs.
+// crates/caustic-bsdf/src/lobes/conductor.rs.
 
 // Half vector of a reflection pair, or the zero vector where there is none.
 fn conductor_half(wo: vec3<f32>, wi: vec3<f32>) -> vec3<f32> {

@@ -1,6 +1,6 @@
 // Ideal diffuse reflection and diffuse transmission (the thin translucent sheet's second
 // lobe), with unit albedo: bsdf.wgsl applies the weights. Twins of
-// crates/caustic-bsdf/src/{lambert,translucent}.rs.
+// crates/caustic-bsdf/src/lobes/{lambert,translucent}.rs.
 
 fn lambert_eval(wo: vec3<f32>, wi: vec3<f32>) -> f32 {
     if wo.z <= 0.0 || wi.z <= 0.0 {

@@ -1,5 +1,5 @@
 // The GGX microfacet distribution, height-correlated Smith masking-shadowing and
-// visible-normal sampling (Heitz 2018). Twin of crates/caustic-bsdf/src/microfacet.rs;
+// visible-normal sampling (Heitz 2018). Twin of crates/caustic-bsdf/src/lobes/microfacet.rs;
 // `alpha` arguments are already clamped to [ALPHA_SMOOTH, 1] by ggx_alpha.
 
 // Below this alpha a surface is smooth: its lobes become delta lobes.

@@ -1,6 +1,6 @@
 // The normalised specular lobe of the modified Phong model (Lafortune & Willems 1994) with
 // unit albedo: (n + 2) / (2 pi) cos^n(alpha), alpha the angle from the mirror direction of wo,
-// sampled by its own shape. Twin of crates/caustic-bsdf/src/phong.rs.
+// sampled by its own shape. Twin of crates/caustic-bsdf/src/lobes/phong.rs.
 
 fn phong_lobe(wo: vec3<f32>, wi: vec3<f32>, exponent: f32) -> f32 {
     let cos_alpha = dot(mirror_local(wo), wi);

@@ -1,15 +1,15 @@
 //! The lobe registry's WGSL: the BSDF's dispatch generated from every kind's device code
 //! ([`caustic_bsdf::lobes::LobeKind::code`], declared with the kind's slot, parameters and CPU
-//! model in `caustic-bsdf/src/lobes.rs`): the per-slot switches, the unrolled sums over the
-//! slots and the shading frame ([`wgsl_dispatch`], `generated/lobes.wgsl`), the packing of a
+//! model in `caustic-bsdf/src/lobes/mod.rs`): the per-slot switches, the unrolled sums over the
+//! slots and the shading frame ([`wgsl_dispatch`], `generated/lobes.wgsl`), the material's
+//! `BsdfParams` struct ([`wgsl_bsdf_params`], in `generated/interface.wgsl`), the packing of a
 //! slot's parameters for BDPT's light vertices ([`wgsl_parameters`],
 //! `generated/lobe_parameters.wgsl`) and the integrators' per-slot steps ([`wgsl_steps`]).
 //!
 //! No hand-written WGSL names a slot: `shaders/bsdf/slots.wgsl` holds the mask and
 //! `shaders/bsdf/bsdf.wgsl` one slot's step of each sum, the choice and `sample_bsdf`. The
-//! generated text declares the BSDF's functions where the hand-written file had them, so the
-//! path tracer's kernels kept their SPIR-V (docs/ARCHITECTURE.md, "One source of truth";
-//! docs/MATERIALS.md, "Adding a lobe").
+//! generated text declares the BSDF's functions where the hand-written file had them
+//! (docs/ARCHITECTURE.md, "One source of truth"; docs/MATERIALS.md, "Adding a lobe").
 
 use caustic_bsdf::lobes::{Condition, LOBE_SLOTS, LobeCode, LobeKind};
 use caustic_bsdf::params::PARAMETERS;
@@ -25,8 +25,8 @@ pub const PARAMETERS_FILE: &str = "generated/lobe_parameters.wgsl";
 pub const STEPS_FILE: &str = "generated/lobe_steps.wgsl";
 
 /// The kind whose code a switch's `default:` arm holds (WGSL requires one; every slot the
-/// switch does not list is this kind). The dielectric held it in the hand-written switches, so
-/// the generated ones keep it there and the kernels' SPIR-V is unchanged.
+/// switch does not list is this kind). The dielectric held it in the hand-written switches and
+/// still does: any kind would do, and moving it would change every kernel's SPIR-V for nothing.
 pub const DEFAULT_ARM: LobeKind = LobeKind::Dielectric;
 
 /// `kind`'s slot as a WGSL literal.

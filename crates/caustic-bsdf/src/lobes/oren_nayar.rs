@@ -7,8 +7,9 @@
 //! f = albedo (A + B s / t), with s = wi.wo - cos_i cos_o (the azimuthal term), t = 1 where
 //! s <= 0 and max(cos_i, cos_o) elsewhere, A = 1 / (pi + (pi / 2 - 2 / 3) sigma), B = sigma A.
 //! sigma = 0 is Lambert; for sigma in [0, 1] the value is never negative, and the model loses
-//! some energy at grazing angles as the original does (single scattering between facets).
-//! Sampled proportionally to the cosine, as Lambert is.
+//! energy as the original does (single scattering between facets; no multiple-scattering
+//! term), most at normal incidence: a white surface's albedo at sigma 1 is 0.78 there and 0.95
+//! at 80 degrees (the tests print it). Sampled proportionally to the cosine, as Lambert is.
 
 use super::lambert::Lambert;
 use crate::{BsdfSample, Bxdf, cosine_hemisphere, sample_at};
@@ -86,8 +87,8 @@ mod tests {
         }
     }
 
-    /// Reciprocal, never negative, and never above unit albedo; rough surfaces retro-reflect
-    /// (brighter towards the light than away from it) and lose energy at grazing angles only.
+    /// Reciprocal, never negative, never above unit albedo nor far below it; rough surfaces
+    /// retro-reflect (brighter towards the light than away from it).
     #[test]
     fn reciprocal_bounded_and_retroreflective() {
         for sigma in [0.25, 0.5, 1.0] {

@@ -51,7 +51,10 @@ fn each_error_names_the_place_and_what_was_expected() {
         ("reset\npostprocess blur 2\n", "bad.test:2:1: postprocess: nothing has been rendered yet: postprocess needs a render line before it"),
         ("postprocess sepia\n", "bad.test:1:13: postprocess: expected monochrome or blur, found 'sepia'"),
         ("postprocess monochrome 2\n", "bad.test:1:24: postprocess: expected 1 argument (postprocess monochrome|blur [radius]), found 2"),
-        ("material wood\n", "bad.test:1:10: material: expected flat, lambert, phong, blinnphong, ggx, translucent, checkers, mirror or glass, found 'wood'"),
+        (
+            "material wood\n",
+            "bad.test:1:10: material: expected flat, lambert, phong, blinnphong, ggx, translucent, checkers, orennayar, mirror or glass, found 'wood'",
+        ),
         ("rotate 0 0 0 45\n", "bad.test:1:8: rotate: the rotation axis must not be zero"),
         ("camera 1 1 1 1 1 1 0 1 0 45\n", "bad.test:1:14: camera: the centre must differ from the eye"),
         ("camera 0 0 1 0 0 0 0 0 1 45\n", "bad.test:1:20: camera: the up vector must not be zero or parallel to the view direction"),
