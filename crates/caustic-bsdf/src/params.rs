@@ -56,26 +56,75 @@ impl ParameterValue for Vec3 {
     }
 }
 
-/// Each parameter's first float in the packed block: WGSL's layout of a struct of these
-/// members in order (a `vec3<f32>` starts at a multiple of 16 bytes, an `f32` anywhere).
+/// Each parameter's first float in the packed block, compact as a hand-laid-out struct: each
+/// `vec3<f32>` starts a row of four floats (WGSL aligns it to 16 bytes), each kind's `f32`s fill
+/// the fourth lanes of its own rows, and the ones left over fill the first free lanes of any
+/// row, then new rows. Parameters are 1 or 3 floats wide ([`ParameterValue`]).
 pub const fn packed_offsets<const N: usize>(parameters: &[Parameter; N]) -> [usize; N] {
-    let mut offsets = [0; N];
-    let (mut end, mut i) = (0usize, 0);
+    let mut offsets = [usize::MAX; N];
+    // fill[r]: the floats row r holds, always a prefix of its four lanes; at most N rows.
+    let mut fill = [0usize; N];
+    let (mut rows, mut i) = (0, 0);
     while i < N {
-        let width = parameters[i].width;
-        let start = if width == 1 { end } else { end.div_ceil(4) * 4 };
-        offsets[i] = start;
-        end = start + width;
-        i += 1;
+        let slot = parameters[i].kind.slot();
+        let mut end = i;
+        while end < N && parameters[end].kind.slot() == slot {
+            end += 1;
+        }
+        let first_row = rows;
+        let mut k = i;
+        while k < end {
+            if parameters[k].width == 3 {
+                offsets[k] = 4 * rows;
+                fill[rows] = 3;
+                rows += 1;
+            }
+            k += 1;
+        }
+        k = i;
+        while k < end {
+            let mut r = first_row;
+            while r < rows && fill[r] == 4 {
+                r += 1;
+            }
+            if parameters[k].width == 1 && r < rows {
+                offsets[k] = 4 * r + fill[r];
+                fill[r] += 1;
+            }
+            k += 1;
+        }
+        i = end;
+    }
+    let mut k = 0;
+    while k < N {
+        if offsets[k] == usize::MAX {
+            let mut r = 0;
+            while r < rows && fill[r] == 4 {
+                r += 1;
+            }
+            if r == rows {
+                rows += 1;
+            }
+            offsets[k] = 4 * r + fill[r];
+            fill[r] += 1;
+        }
+        k += 1;
     }
     offsets
 }
 
-/// The packed block's length in floats: past the last parameter, rounded up to whole `vec4`s
-/// (WGSL rounds the struct's size to its 16-byte alignment).
+/// The packed block's length in floats: whole rows of four (WGSL rounds the struct's size to
+/// its 16-byte alignment).
 pub const fn packed_len<const N: usize>(parameters: &[Parameter; N]) -> usize {
     let offsets = packed_offsets(parameters);
-    if N == 0 { 0 } else { (offsets[N - 1] + parameters[N - 1].width).div_ceil(4) * 4 }
+    let (mut end, mut k) = (0, 0);
+    while k < N {
+        if offsets[k] + parameters[k].width > end {
+            end = offsets[k] + parameters[k].width;
+        }
+        k += 1;
+    }
+    end.div_ceil(4) * 4
 }
 
 /// Declares [`BsdfParams`] from the registry's list of each kind's parameters (name, type,
@@ -96,7 +145,7 @@ macro_rules! declare_parameters {
         }
 
         /// Every parameter, kind by kind in slot order: the order of [`BsdfParams`]' fields
-        /// and of WGSL `BsdfParams`' members.
+        /// (WGSL `BsdfParams` lists its members by their offsets, [`OFFSETS`]).
         pub const PARAMETERS: [$crate::params::Parameter; [$($(stringify!($field),)*)*].len()] = [
             $($($crate::params::Parameter {
                 kind: LobeKind::$kind,

@@ -12,7 +12,7 @@
 //! (docs/ARCHITECTURE.md, "One source of truth"; docs/MATERIALS.md, "Adding a lobe").
 
 use caustic_bsdf::lobes::{Condition, LOBE_SLOTS, LobeCode, LobeKind};
-use caustic_bsdf::params::PARAMETERS;
+use caustic_bsdf::params::{OFFSETS, PARAMETERS, Parameter};
 use std::fmt::Write;
 
 /// Where [`wgsl_dispatch`]'s text appears in the program.
@@ -222,17 +222,23 @@ pub fn wgsl_parameters() -> String {
 }
 
 /// WGSL's `BsdfParams`, the lobes' parameters in a material (`Material.bsdf`): the registry's
-/// [`PARAMETERS`] as members in their order, laid out as [`caustic_bsdf::params::BsdfParams::packed`]
-/// packs them (a test checks the offsets by naga reflection). Part of `generated/interface.wgsl`.
+/// [`PARAMETERS`] as members in the order of their offsets in
+/// [`caustic_bsdf::params::BsdfParams::packed`] ([`OFFSETS`]), each commented with its kind,
+/// with `_pad` members where the packing leaves a float out (a naga reflection test checks the
+/// offsets). Part of `generated/interface.wgsl`.
 pub fn wgsl_bsdf_params() -> String {
-    let mut t = String::from("// The lobes' parameters, declared kind by kind in caustic_bsdf::lobes (the lobe registry).\nstruct BsdfParams {\n");
-    let mut kind = None;
-    for p in PARAMETERS {
-        if kind != Some(p.kind) {
-            let _ = writeln!(t, "    // {} (slot {})", p.kind.name(), p.kind.slot());
-            kind = Some(p.kind);
+    let mut t = String::from("// The lobes' parameters, declared kind by kind in caustic_bsdf::lobes (the lobe registry)\n");
+    t.push_str("// and laid out by caustic_bsdf::params::packed_offsets.\nstruct BsdfParams {\n");
+    let mut members: Vec<(usize, Parameter)> = OFFSETS.into_iter().zip(PARAMETERS).collect();
+    members.sort_by_key(|&(offset, _)| offset);
+    let mut cursor = 0;
+    for (offset, p) in members {
+        while cursor < offset && p.width == 1 {
+            let _ = writeln!(t, "    _pad{cursor}: f32,");
+            cursor += 1;
         }
-        let _ = writeln!(t, "    {}: {},", p.name, p.wgsl_type());
+        let _ = writeln!(t, "    {}: {}, // {} (slot {})", p.name, p.wgsl_type(), p.kind.name(), p.kind.slot());
+        cursor = offset + p.width;
     }
     t.push_str("}\n");
     t
@@ -297,13 +303,19 @@ mod tests {
         }
     }
 
-    /// The generated struct lists every parameter once, in the order (and so at the offsets)
-    /// of the Rust packing.
+    /// The generated struct lists every parameter once, in the order of its offset.
     #[test]
-    fn the_bsdf_params_struct_lists_every_parameter_in_order() {
+    fn the_bsdf_params_struct_lists_every_parameter_by_offset() {
         let text = wgsl_bsdf_params();
-        let members: Vec<&str> = text.lines().filter_map(|l| l.trim().strip_suffix(',')).map(|l| l.split(':').next().unwrap()).collect();
-        assert_eq!(members, PARAMETERS.map(|p| p.name));
+        let members: Vec<&str> = text
+            .lines()
+            .filter_map(|l| l.split("//").next().unwrap().trim().strip_suffix(','))
+            .map(|l| l.split(':').next().unwrap())
+            .filter(|n| !n.starts_with('_'))
+            .collect();
+        let mut by_offset: Vec<(usize, &str)> = OFFSETS.into_iter().zip(PARAMETERS.map(|p| p.name)).collect();
+        by_offset.sort_unstable();
+        assert_eq!(members, by_offset.iter().map(|(_, name)| *name).collect::<Vec<_>>());
     }
 
     #[test]

@@ -540,4 +540,16 @@ mod tests {
         assert_eq!(used.len(), count, "two parameters share a float");
         assert!(LobeKind::ALL.iter().all(|k| k.parameters().count() > 0), "a kind without parameters");
     }
+
+    /// The packing leaves no float out while a scalar sits in a row of its own: a `vec3` row's
+    /// fourth lane stays empty only when no scalar is left to fill it.
+    #[test]
+    fn packing_is_compact() {
+        let scalar_rows = PARAMETERS.iter().zip(OFFSETS).any(|(p, o)| p.width == 1 && o % 4 == 0);
+        let open_lanes = PARAMETERS.iter().zip(OFFSETS).filter(|(p, o)| p.width == 3 && !PARAMETERS.iter().zip(OFFSETS).any(|(_, q)| q == o + 3)).count();
+        let used: usize = PARAMETERS.iter().map(|p| p.width).sum();
+        println!("{} parameters in {BSDF_FLOATS} floats ({used} used)", PARAMETERS.len());
+        assert!(!(scalar_rows && open_lanes > 0), "{open_lanes} vec3 rows keep a lane free while scalars take rows of their own");
+        assert!(BSDF_FLOATS - used < 4 || !scalar_rows, "{BSDF_FLOATS} floats for {used}");
+    }
 }

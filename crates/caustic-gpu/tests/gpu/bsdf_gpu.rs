@@ -312,6 +312,7 @@ fn path_traced_white_furnace_per_material() {
         ("language glass layer ior 1.33", Material { model: ShadingModel::Phong, transparency: 1.0, ior: 1.33, ..white.clone() }, true),
         ("rough glass roughness 0.5", Material { transmission: 1.0, roughness: 0.5, ..white.clone() }, false),
         ("rough metal roughness 0.5", Material { metallic: 1.0, roughness: 0.5, ..white.clone() }, false),
+        ("Oren-Nayar sigma 1", Material { model: ShadingModel::OrenNayar, roughness: 1.0, ..white.clone() }, false),
         ("white plastic roughness 0.4", Material { specular: 1.0, roughness: 0.4, ..white.clone() }, false),
         (
             "phong kd 0.5 ks 0.5 n 20",

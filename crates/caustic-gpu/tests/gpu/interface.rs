@@ -47,9 +47,10 @@ fn mismatch(module: &naga::Module, name: &str, (size, fields): &RustLayout) -> O
 }
 
 /// WGSL `BsdfParams`' layout as the lobe registry packs it (`BsdfParams::packed`): each
-/// parameter at its offset with its width, and the block's length.
+/// parameter at its offset with its width, in the order of the offsets, and the block's length.
 fn registry_layout() -> RustLayout {
-    let fields = PARAMETERS.iter().zip(OFFSETS).map(|(p, offset)| (p.name, 4 * offset, 4 * p.width)).collect();
+    let mut fields: Vec<(&'static str, usize, usize)> = PARAMETERS.iter().zip(OFFSETS).map(|(p, offset)| (p.name, 4 * offset, 4 * p.width)).collect();
+    fields.sort_by_key(|&(_, offset, _)| offset);
     (4 * BSDF_FLOATS, fields)
 }
 
