@@ -1,5 +1,5 @@
 //! The numbers a material hands the path tracer's BSDF: [`BsdfParams`], whose fields the lobe
-//! registry declares kind by kind (`crate::lobes`, with [`declare_parameters!`]), packed for the
+//! registry declares kind by kind (`crate::lobes`, with `declare_parameters!`), packed for the
 //! device as WGSL's `BsdfParams` lays them out ([`BsdfParams::packed`]; the member `bsdf` of
 //! `caustic_kernels::gpu_types::GpuMaterial` and of WGSL `Material`). The constructors here are
 //! how every material model of the scene language and glTF becomes lobes (`docs/MATERIALS.md`).

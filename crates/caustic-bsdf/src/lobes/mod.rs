@@ -507,6 +507,8 @@ mod tests {
         for (slot, kind) in LobeKind::ALL.iter().enumerate() {
             assert_eq!(kind.slot(), slot, "{} is listed at {slot}", kind.name());
         }
+        let slots: Vec<usize> = PARAMETERS.iter().map(|p| p.kind.slot()).collect();
+        assert!(slots.is_sorted(), "declare_parameters! lists the kinds out of slot order: {slots:?}");
     }
 
     /// Each kind reads its own weight: a kind's example switches on that slot and no other.
