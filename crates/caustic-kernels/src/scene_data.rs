@@ -350,7 +350,8 @@ pub fn pack_textures(textures: &[Texture]) -> Vec<u32> {
 /// The path tracer's BSDF for a scene material (`docs/MATERIALS.md`): the shading model picks
 /// the base lobes (glTF metallic-roughness for `Lambert`, which is pure diffuse with the
 /// default fields; modified Phong; CSE168's diffuse + GGX; thin translucent with the specular
-/// colour as transmittance; `Flat` and `Checkers` diffuse), then the scene language's
+/// colour as transmittance; `Flat` and `Checkers` diffuse; `OrenNayar` rough diffuse with
+/// sigma = roughness^2, the scene language's `roughness` value), then the scene language's
 /// `reflectance` (glossy mirror, `gloss` as alpha) and `transparency` (dielectric, `frost` as
 /// alpha) layers take their share. A material with an `anisotropy` is the Ashikhmin-Shirley
 /// model instead of its shading model's lobes (its own coupled diffuse replaces the base).
