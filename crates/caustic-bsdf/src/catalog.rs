@@ -33,7 +33,6 @@ impl Case {
 pub fn reference_cases() -> Vec<Case> {
     let mut out = Vec::new();
     let mut add = |name: String, params: BsdfParams, eta: f32, sampling: Sampling| out.push(Case { name, params, eta, sampling });
-    add("lambert".into(), BsdfParams::lambert(Vec3::splat(0.8)), 1.5, Sampling::Bsdf);
     for n in [0.0, 1.0, 10.0, 60.0] {
         add(format!("phong n={n}"), BsdfParams::phong(Vec3::splat(0.3), Vec3::splat(0.6), n), 1.5, Sampling::Bsdf);
     }

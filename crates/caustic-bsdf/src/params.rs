@@ -56,6 +56,15 @@ impl ParameterValue for Vec3 {
     }
 }
 
+/// The first of rows `from..rows` with a free lane (`fill[r] < 4`), or `rows` for none.
+const fn open_row(fill: &[usize], from: usize, rows: usize) -> usize {
+    let mut r = from;
+    while r < rows && fill[r] == 4 {
+        r += 1;
+    }
+    r
+}
+
 /// Each parameter's first float in the packed block, compact as a hand-laid-out struct: each
 /// `vec3<f32>` starts a row of four floats (WGSL aligns it to 16 bytes), each kind's `f32`s fill
 /// the fourth lanes of its own rows, and the ones left over fill the first free lanes of any
@@ -66,49 +75,36 @@ pub const fn packed_offsets<const N: usize>(parameters: &[Parameter; N]) -> [usi
     let mut fill = [0usize; N];
     let (mut rows, mut i) = (0, 0);
     while i < N {
-        let slot = parameters[i].kind.slot();
+        let (first_row, slot) = (rows, parameters[i].kind.slot());
         let mut end = i;
         while end < N && parameters[end].kind.slot() == slot {
-            end += 1;
-        }
-        let first_row = rows;
-        let mut k = i;
-        while k < end {
-            if parameters[k].width == 3 {
-                offsets[k] = 4 * rows;
+            if parameters[end].width == 3 {
+                offsets[end] = 4 * rows;
                 fill[rows] = 3;
                 rows += 1;
             }
-            k += 1;
+            end += 1;
         }
-        k = i;
-        while k < end {
-            let mut r = first_row;
-            while r < rows && fill[r] == 4 {
-                r += 1;
-            }
-            if parameters[k].width == 1 && r < rows {
-                offsets[k] = 4 * r + fill[r];
+        while i < end {
+            let r = open_row(&fill, first_row, rows);
+            if parameters[i].width == 1 && r < rows {
+                offsets[i] = 4 * r + fill[r];
                 fill[r] += 1;
             }
-            k += 1;
+            i += 1;
         }
-        i = end;
     }
-    let mut k = 0;
-    while k < N {
-        if offsets[k] == usize::MAX {
-            let mut r = 0;
-            while r < rows && fill[r] == 4 {
-                r += 1;
-            }
+    i = 0;
+    while i < N {
+        if offsets[i] == usize::MAX {
+            let r = open_row(&fill, 0, rows);
             if r == rows {
                 rows += 1;
             }
-            offsets[k] = 4 * r + fill[r];
+            offsets[i] = 4 * r + fill[r];
             fill[r] += 1;
         }
-        k += 1;
+        i += 1;
     }
     offsets
 }

@@ -156,23 +156,23 @@ impl ClassicReference {
 
     /// The weights a ray along `direction` passes on at `si` (`split_at`).
     pub fn split_at(&self, si: &Interaction, direction: Vec3) -> Split {
-        let m = &si.material;
+        let (m, bsdf) = (&si.material, si.material.bsdf_params());
         let mut out = Split { reflect: Vec3::ZERO, refract: Vec3::ZERO, refracted: Vec3::ZERO };
         if self.on(FEATURE_REFLECTION) {
-            out.reflect = (Vec3::from(m.specular) + Vec3::splat(m.bsdf_params().mirror)).min(Vec3::ONE);
+            out.reflect = (Vec3::from(m.specular) + Vec3::splat(bsdf.mirror)).min(Vec3::ONE);
         }
         if !self.on(FEATURE_REFRACTION) || m.transparency <= 0.0 {
             return out;
         }
         let wi = -direction;
         let n = if wi.dot(si.ns) > 0.0 { si.ns } else { si.ng };
-        let ior = m.bsdf_params().ior.max(1e-3);
+        let ior = bsdf.ior.max(1e-3);
         let eta = if si.front_face { ior } else { 1.0 / ior };
         let fresnel = classic_fresnel(wi.dot(n).clamp(0.0, 1.0), eta, self.constants.fresnel);
         out.reflect = (out.reflect + Vec3::splat(fresnel * m.transparency)).min(Vec3::ONE);
         if fresnel < 1.0 {
             out.refracted = refract(wi, n, eta).unwrap_or(Vec3::ZERO);
-            out.refract = (1.0 - fresnel) * m.bsdf_params().dielectric;
+            out.refract = (1.0 - fresnel) * bsdf.dielectric;
         }
         out
     }

@@ -6,12 +6,12 @@
 //! (The mixture's samplers with the slot are chi-square tested on the device by
 //! `bsdf_gpu.rs`, through `caustic_bsdf::catalog::anisotropic_cases`.)
 
-use crate::support::device;
+use crate::support::{device, plane_directions_to_camera, plane_lit_from_camera};
 use caustic_bsdf::Frame;
 use caustic_bsdf::bsdf::{Bsdf, Sampling};
 use caustic_gpu::{GpuScene, PathTracer, RenderSettings, bsdf_params};
 use caustic_scene::lang::Interpreter;
-use caustic_scene::{Anisotropy, Attenuation, Camera, Environment, Light, Material, Scene, Shape};
+use caustic_scene::{Anisotropy, Camera, Environment, Material, Scene, Shape};
 use glam::{Mat4, Vec2, Vec3};
 use std::path::Path;
 
@@ -155,20 +155,10 @@ fn hash2(seed: u32, k: u32) -> Vec2 {
 const PLANE_SIZE: u32 = 96;
 const PLANE_HEIGHT: f32 = 2.0;
 
-/// A metal plane (y = 0, no diffuse) under a point light at the camera, seen from straight
-/// above (image x = world x, image y = world z).
+/// A metal plane (no diffuse) lit from the camera ([`plane_lit_from_camera`]).
 fn highlight_scene(nu: f32, nv: f32, axis: Vec3) -> Scene {
-    let eye = Vec3::new(0.0, PLANE_HEIGHT, 0.0);
     let metal = Material { anisotropy: Some(Anisotropy { rs: Vec3::splat(0.9), rd: Vec3::ZERO, nu, nv, axis }), ..Material::default() };
-    Scene {
-        name: "anisotropic highlight".into(),
-        materials: vec![metal],
-        shapes: vec![Shape::plane(Mat4::IDENTITY, Vec3::ZERO, Vec3::Y, 0)],
-        lights: vec![Light::Point { position: eye, color: Vec3::ONE, attenuation: Attenuation { constant: 1.0, linear: 0.0, quadratic: 0.0 }, spread: 0.0 }],
-        camera: Camera { eye, target: Vec3::ZERO, up: Vec3::NEG_Z, fov_y: 90f32.to_radians(), ..Camera::default() },
-        resolution: (PLANE_SIZE, PLANE_SIZE),
-        ..Scene::default()
-    }
+    plane_lit_from_camera("anisotropic highlight", metal, PLANE_HEIGHT, PLANE_SIZE)
 }
 
 /// The image the CPU model predicts for [`highlight_scene`] at pixel centres: f cos / 1 from
@@ -177,16 +167,11 @@ fn predicted_highlight(scene: &Scene) -> Vec<f32> {
     let material = &scene.materials[0];
     let bsdf = Bsdf::new(bsdf_params(material), 1.5);
     let axis = material.anisotropy.map(|a| a.axis).unwrap_or(Vec3::X);
-    let camera = &scene.camera;
-    let (right, up, forward) = camera.frame();
-    let half = (camera.fov_y * 0.5).tan();
-    (0..PLANE_SIZE * PLANE_SIZE)
-        .map(|i| {
-            let (x, y) = ((i % PLANE_SIZE) as f32 + 0.5, (i / PLANE_SIZE) as f32 + 0.5);
-            let d = (forward + right * (2.0 * x / PLANE_SIZE as f32 - 1.0) * half + up * (1.0 - 2.0 * y / PLANE_SIZE as f32) * half).normalize();
-            let p = camera.eye + d * (camera.eye.y / -d.y);
-            let frame = Frame::with_tangent_axis(Vec3::Y, axis);
-            let w = frame.to_local((camera.eye - p).normalize());
+    let frame = Frame::with_tangent_axis(Vec3::Y, axis);
+    plane_directions_to_camera(scene)
+        .into_iter()
+        .map(|to_camera| {
+            let w = frame.to_local(to_camera);
             let f = bsdf.eval(w, w);
             (f.x + f.y + f.z) / 3.0
         })

@@ -4,13 +4,14 @@
 //! predicts, flatter than Lambert's (retro-reflection). The samplers are covered by
 //! `bsdf_gpu.rs` through the catalog's "rough diffuse alone" case.
 
-use crate::support::device;
+use crate::support::{device, plane_directions_to_camera, plane_lit_from_camera};
+use caustic_bsdf::Frame;
 use caustic_bsdf::bsdf::Bsdf;
 use caustic_bsdf::lobes::LobeKind;
-use caustic_gpu::{GpuScene, PathTracer, RenderSettings, bsdf_params};
+use caustic_gpu::{GpuContext, GpuScene, PathTracer, RenderSettings, bsdf_params};
 use caustic_scene::lang::Interpreter;
-use caustic_scene::{Attenuation, Camera, Light, Material, Scene, ShadingModel, Shape};
-use glam::{Mat4, Vec3};
+use caustic_scene::{Material, ShadingModel};
+use glam::Vec3;
 use std::path::Path;
 
 #[test]
@@ -30,39 +31,24 @@ fn material_orennayar_is_slot_7_with_roughness_as_sigma() {
 
 const SIZE: u32 = 64;
 
-/// A plane (y = 0) of `material` under a point light at the camera (no falloff), seen from
-/// straight above with a 90-degree field: every pixel sees it with wo = wi.
-fn plane_scene(material: Material) -> Scene {
-    let eye = Vec3::new(0.0, 1.0, 0.0);
-    Scene {
-        name: "rough diffuse plane".into(),
-        materials: vec![material],
-        shapes: vec![Shape::plane(Mat4::IDENTITY, Vec3::ZERO, Vec3::Y, 0)],
-        lights: vec![Light::Point { position: eye, color: Vec3::ONE, attenuation: Attenuation { constant: 1.0, linear: 0.0, quadratic: 0.0 }, spread: 0.0 }],
-        camera: Camera { eye, target: Vec3::ZERO, up: Vec3::NEG_Z, fov_y: 90f32.to_radians(), ..Camera::default() },
-        resolution: (SIZE, SIZE),
-        ..Scene::default()
-    }
-}
-
-/// The device's image (mean of the channels) and the CPU model's at pixel centres.
-fn rendered_and_predicted(scene: &Scene) -> (Vec<f32>, Vec<f32>) {
-    let ctx = device();
-    let gpu = GpuScene::upload(&ctx, scene).expect("upload");
+/// The device's image (mean of the channels) of `material` on [`plane_lit_from_camera`]'s
+/// plane, one unit below the camera, and the CPU model's at pixel centres.
+fn rendered_and_predicted(ctx: &GpuContext, material: Material) -> (Vec<f32>, Vec<f32>) {
+    let scene = plane_lit_from_camera("rough diffuse plane", material, 1.0, SIZE);
+    let gpu = GpuScene::upload(ctx, &scene).expect("upload");
     let settings = RenderSettings { max_depth: Some(1), ..RenderSettings::default() };
-    let mut tracer = PathTracer::new(&ctx, scene, &gpu, &settings).expect("tracer");
+    let mut tracer = PathTracer::new(ctx, &scene, &gpu, &settings).expect("tracer");
     for _ in 0..16 {
         tracer.render_sample().expect("pass");
     }
     assert_eq!(tracer.nonfinite_samples().expect("counter"), 0);
     let device: Vec<f32> = tracer.image().expect("image").pixels.iter().map(|p| (p[0] + p[1] + p[2]) / 3.0).collect();
     let bsdf = Bsdf::new(bsdf_params(&scene.materials[0]), 1.0);
-    let predicted = (0..SIZE * SIZE)
-        .map(|i| {
-            let (x, y) = ((i % SIZE) as f32 + 0.5, (i / SIZE) as f32 + 0.5);
-            let p = Vec3::new(2.0 * x / SIZE as f32 - 1.0, 0.0, 2.0 * y / SIZE as f32 - 1.0);
-            let to_eye = (scene.camera.eye - p).normalize();
-            let w = Vec3::new(to_eye.x, to_eye.z, to_eye.y);
+    let frame = Frame::from_normal(Vec3::Y);
+    let predicted = plane_directions_to_camera(&scene)
+        .into_iter()
+        .map(|to_camera| {
+            let w = frame.to_local(to_camera);
             let f = bsdf.eval(w, w);
             (f.x + f.y + f.z) / 3.0
         })
@@ -86,9 +72,10 @@ fn a_plane_lit_from_the_camera_is_flatter_than_lambert() {
     let grey = Vec3::splat(0.7);
     let rough = Material { model: ShadingModel::OrenNayar, base_color: grey, roughness: 1.0, ..Material::default() };
     let lambert = Material { model: ShadingModel::Phong, base_color: grey, specular_color: Vec3::ZERO, ..Material::default() };
+    let ctx = device();
     let mut ratios = Vec::new();
     for (name, material) in [("Oren-Nayar sigma 1", rough), ("Lambert", lambert)] {
-        let (device, predicted) = rendered_and_predicted(&plane_scene(material));
+        let (device, predicted) = rendered_and_predicted(&ctx, material);
         let worst = device.iter().zip(&predicted).map(|(d, p)| (d / p - 1.0).abs()).fold(0.0f32, f32::max);
         let ratio = corner_over_centre(&device);
         println!("{name}: corner/centre {ratio:.4} (CPU model {:.4}); worst pixel {:.2}% from the CPU model", corner_over_centre(&predicted), 100.0 * worst);
